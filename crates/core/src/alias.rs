@@ -1,0 +1,337 @@
+//! Walker's alias method, built with Vose's algorithm.
+//!
+//! # The table
+//! For `N` lights with pmf `p_i`, scale to `q_i = N·p_i` (mean 1). Column `i` keeps light `i`
+//! with probability `threshold_i` and otherwise yields `alias_i`. Sampling picks a column
+//! uniformly (probability `1/N`), then keeps or aliases, so the pmf the table realizes is
+//!
+//! `P(i) = ( threshold_i + Σ_{j : alias_j = i} (1 − threshold_j) ) / N`,
+//!
+//! which equals `p_i` ([`AliasTable::implied_pmf`] recomputes it from the table).
+//!
+//! # Construction (Vose 1991, "A linear algorithm for generating random numbers with a
+//! given distribution", IEEE TSE 17(9))
+//! Repeatedly pair a *small* column (`q < 1`) with a *large* one (`q ≥ 1`): the small one's
+//! threshold is its `q` and its alias the large one, which gives away `1 − q_small`:
+//! `q_large ← (q_large + q_small) − 1`. Written this way the update subtracts two numbers of
+//! the same magnitude last, which keeps the rounding error of long chains of donations
+//! bounded (the naive `q_large − (1 − q_small)` loses the small column's low bits). Columns
+//! left over when one kind runs out have `q = 1` up to rounding: their threshold is exactly 1
+//! and their alias themselves. A zero power gets threshold 0, and since only large columns
+//! ever serve as aliases, a zero-power light is never sampled.
+//!
+//! Instead of Vose's two work lists, two cursors sweep the array for the next small and the
+//! next large column (no allocation beyond the outputs, sequential memory access).
+//!
+//! # The packed GPU form
+//! [`PackedAliasEntry`] holds the threshold as a `u32` (`round(threshold·2^32)`, saturating at
+//! `2^32 − 1`, and at least 1 for a positive threshold so every positive power stays
+//! reachable) and the alias as a `u32`. Sampling takes two independent 32-bit randoms:
+//! column `⌊r1·N / 2^32⌋` (a multiply-high, exact for every `N < 2^32`, unlike `f32(u)·N`
+//! which cannot reach every index past `2^24`) and keep if `r2 < threshold_u32`. Both the
+//! CPU and the GPU sample from this form, so their picks agree bit for bit. The quantization
+//! moves each column's split by at most `2^-32`, so the realized pmf of light `i` differs from
+//! `p_i` by at most `(1 + a_i)·2^-32 / N`, where `a_i` counts the columns aliasing to `i`.
+
+use crate::powers::LightPowers;
+
+/// One column of the packed alias table, as the GPU stores it (8 bytes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[repr(C)]
+pub struct PackedAliasEntry {
+    /// Keep probability of the column's own light, times `2^32` (saturating).
+    pub threshold: u32,
+    /// The light taken when the column is not kept.
+    pub alias: u32,
+}
+
+/// Walker's alias table over a set of validated powers, with its exact `f64` form (for
+/// reporting and analysis) and its packed `u32` form (for sampling on CPU and GPU).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AliasTable {
+    pmf: Vec<f64>,
+    threshold: Vec<f64>,
+    alias: Vec<u32>,
+    packed: Vec<PackedAliasEntry>,
+}
+
+impl AliasTable {
+    /// Builds the table in `O(N)` with Vose's algorithm in `f64`.
+    ///
+    /// The seed powers `2, 5, 20` give thresholds `6/27, 15/27, 1` and aliases `2, 2, 2`,
+    /// each threshold the correctly rounded `f64` of its fraction.
+    pub fn build(powers: &LightPowers) -> Self {
+        let (weights, sum) = powers.normalized();
+        let n = weights.len();
+        let n_f = n as f64;
+        let mut pmf = Vec::with_capacity(n);
+        let mut q = Vec::with_capacity(n);
+        for &w in &weights {
+            pmf.push(w / sum);
+            // (w·N)/S rather than p·N: for integer powers w·N is exact, so q is correctly
+            // rounded (2·3/27 is exactly the f64 nearest 6/27).
+            q.push((w * n_f) / sum);
+        }
+        drop(weights);
+        let mut alias: Vec<u32> = (0..n as u32).collect();
+        pair_columns(&mut q, &mut alias);
+        let packed = q
+            .iter()
+            .zip(&alias)
+            .map(|(&t, &a)| PackedAliasEntry {
+                threshold: quantize_threshold(t),
+                alias: a,
+            })
+            .collect();
+        Self {
+            pmf,
+            threshold: q,
+            alias,
+            packed,
+        }
+    }
+
+    /// Number of lights (columns) `N`.
+    pub fn len(&self) -> usize {
+        self.pmf.len()
+    }
+
+    /// Always `false`: a table has at least one column.
+    pub fn is_empty(&self) -> bool {
+        self.pmf.is_empty()
+    }
+
+    /// The normalized power `p_i = Φ_i / Σ Φ` of light `i`.
+    pub fn pmf(&self, i: usize) -> f64 {
+        self.pmf[i]
+    }
+
+    /// All normalized powers `p_i`.
+    pub fn pmf_slice(&self) -> &[f64] {
+        &self.pmf
+    }
+
+    /// Keep probability of each column, in `[0, 1]`.
+    pub fn thresholds(&self) -> &[f64] {
+        &self.threshold
+    }
+
+    /// Alias of each column: the light taken when the column is not kept.
+    pub fn aliases(&self) -> &[u32] {
+        &self.alias
+    }
+
+    /// The packed form the GPU uploads and both devices sample from.
+    pub fn packed(&self) -> &[PackedAliasEntry] {
+        &self.packed
+    }
+
+    /// The pmf the `f64` table realizes:
+    /// `P(i) = (threshold_i + Σ_{alias_j = i} (1 − threshold_j)) / N`.
+    pub fn implied_pmf(&self) -> Vec<f64> {
+        let n = self.len() as f64;
+        let mut mass = self.threshold.clone();
+        for (&t, &a) in self.threshold.iter().zip(&self.alias) {
+            mass[a as usize] += 1.0 - t;
+        }
+        mass.into_iter().map(|m| m / n).collect()
+    }
+
+    /// The pmf the packed `u32` table realizes, exactly as a rational `count / (N·2^32)`
+    /// evaluated in `f64`: `P(i) = (t_i + Σ_{alias_j = i} (2^32 − t_j)) / (N·2^32)`.
+    pub fn implied_pmf_packed(&self) -> Vec<f64> {
+        let n = self.len();
+        let mut mass = vec![0u64; n];
+        for (i, e) in self.packed.iter().enumerate() {
+            // The keep test is `r2 < t`, true for exactly t of the 2^32 values of r2.
+            mass[i] += u64::from(e.threshold);
+            mass[e.alias as usize] += (1u64 << 32) - u64::from(e.threshold);
+        }
+        let denom = n as f64 * 4_294_967_296.0;
+        mass.into_iter().map(|m| m as f64 / denom).collect()
+    }
+
+    /// Column pick by multiply-high: `⌊r·N / 2^32⌋`, uniform over `0..N` up to the
+    /// unavoidable `±1` count of `r` values per column (`2^32` is rarely a multiple of `N`).
+    #[inline]
+    pub fn column(&self, r: u32) -> usize {
+        ((u64::from(r) * self.packed.len() as u64) >> 32) as usize
+    }
+
+    /// Samples a light from two independent 32-bit randoms (the default, GPU-identical path).
+    #[inline]
+    pub fn sample_u32(&self, r1: u32, r2: u32) -> u32 {
+        let column = self.column(r1);
+        let entry = self.packed[column];
+        if r2 < entry.threshold {
+            column as u32
+        } else {
+            entry.alias
+        }
+    }
+
+    /// Samples a light from one 32-bit random: the column is the high word of `r·N` and the
+    /// keep test reuses the low word (the fraction of `u·N`) as the second random.
+    ///
+    /// A speed option, not the default: the low word only takes values on a lattice of step
+    /// `gcd(N, 2^32)` within a column, and columns differ by one in how many `r` values they
+    /// receive, so the realized pmf carries a bias of order `N·2^-32` (measured by the
+    /// precision lab) that the two-random path does not have.
+    #[inline]
+    pub fn sample_one_random(&self, r: u32) -> u32 {
+        let product = u64::from(r) * self.packed.len() as u64;
+        let column = (product >> 32) as usize;
+        let fraction = product as u32;
+        let entry = self.packed[column];
+        if fraction < entry.threshold {
+            column as u32
+        } else {
+            entry.alias
+        }
+    }
+}
+
+/// Vose's pairing on `q` (mean 1) in place: on return `q` holds the thresholds and `alias`
+/// the aliases (`alias` must enter as the identity).
+fn pair_columns(q: &mut [f64], alias: &mut [u32]) {
+    let mut small_scan = 0;
+    let mut large_scan = 0;
+    let mut small = next_small(q, &mut small_scan);
+    let mut large = next_large(q, &mut large_scan);
+    while let (Some(s), Some(l)) = (small, large) {
+        alias[s] = l as u32;
+        q[l] = (q[l] + q[s]) - 1.0;
+        if q[l] < 1.0 {
+            // The large column became small. If the small cursor already passed it, handle it
+            // now; otherwise the cursor will find it.
+            small = if l < small_scan {
+                Some(l)
+            } else {
+                next_small(q, &mut small_scan)
+            };
+            large = next_large(q, &mut large_scan);
+        } else {
+            small = next_small(q, &mut small_scan);
+        }
+    }
+    // Leftovers hold q = 1 up to rounding. Their threshold becomes exactly 1, alias self. A
+    // small column left without a donor can only be a rounding remnant near 1; a zero one
+    // cannot be (its deficit of 1 is far beyond rounding), but it is kept at 0 regardless.
+    let mut last_large = large.unwrap_or(0);
+    let mut tail = |i: usize, q: &mut [f64], alias: &mut [u32]| {
+        if q[i] > 0.0 {
+            q[i] = 1.0;
+            alias[i] = i as u32;
+            last_large = i;
+        } else {
+            alias[i] = last_large as u32;
+        }
+    };
+    if let Some(l) = large {
+        tail(l, q, alias);
+        while let Some(l) = next_large(q, &mut large_scan) {
+            tail(l, q, alias);
+        }
+    }
+    if let Some(s) = small {
+        tail(s, q, alias);
+        while let Some(s) = next_small(q, &mut small_scan) {
+            tail(s, q, alias);
+        }
+    }
+}
+
+/// The next column at or after `*cursor` with `q < 1`; the cursor moves past it.
+#[inline]
+fn next_small(q: &[f64], cursor: &mut usize) -> Option<usize> {
+    let found = q[*cursor..].iter().position(|&x| x < 1.0)? + *cursor;
+    *cursor = found + 1;
+    Some(found)
+}
+
+/// The next column at or after `*cursor` with `q ≥ 1`; the cursor moves past it.
+#[inline]
+fn next_large(q: &[f64], cursor: &mut usize) -> Option<usize> {
+    let found = q[*cursor..].iter().position(|&x| x >= 1.0)? + *cursor;
+    *cursor = found + 1;
+    Some(found)
+}
+
+/// `round(t·2^32)` clamped to `[1, 2^32 − 1]` for `t > 0`, and 0 for `t = 0`.
+fn quantize_threshold(t: f64) -> u32 {
+    if t <= 0.0 {
+        return 0;
+    }
+    let scaled = (t * 4_294_967_296.0).round();
+    if scaled >= 4_294_967_295.0 {
+        u32::MAX
+    } else {
+        (scaled as u32).max(1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(powers: &[f64]) -> AliasTable {
+        AliasTable::build(&LightPowers::new(powers.to_vec()).unwrap())
+    }
+
+    #[test]
+    fn seed_table_is_exact() {
+        let t = table(&[2.0, 5.0, 20.0]);
+        assert_eq!(t.thresholds(), &[6.0 / 27.0, 15.0 / 27.0, 1.0]);
+        assert_eq!(t.aliases(), &[2, 2, 2]);
+        assert_eq!(t.pmf_slice(), &[2.0 / 27.0, 5.0 / 27.0, 20.0 / 27.0]);
+    }
+
+    #[test]
+    fn seed_implied_pmf_matches() {
+        let t = table(&[2.0, 5.0, 20.0]);
+        for (implied, exact) in t.implied_pmf().iter().zip([2.0, 5.0, 20.0]) {
+            assert!((implied - exact / 27.0).abs() <= 1e-15, "{implied}");
+        }
+    }
+
+    #[test]
+    fn one_light_is_always_picked() {
+        let t = table(&[3.5]);
+        assert_eq!(t.thresholds(), &[1.0]);
+        assert_eq!(t.aliases(), &[0]);
+        for r in [0, 1, u32::MAX / 2, u32::MAX] {
+            assert_eq!(t.sample_u32(r, u32::MAX), 0);
+            assert_eq!(t.sample_one_random(r), 0);
+        }
+    }
+
+    #[test]
+    fn zero_power_columns_always_alias_to_a_positive_light() {
+        let t = table(&[0.0, 1.0, 0.0, 3.0]);
+        for (i, e) in t.packed().iter().enumerate() {
+            if i % 2 == 0 {
+                assert_eq!(e.threshold, 0);
+                assert_ne!(e.alias as usize % 2, 0);
+            }
+        }
+    }
+
+    #[test]
+    fn quantization_rounds_and_keeps_positive_thresholds_reachable() {
+        assert_eq!(quantize_threshold(0.0), 0);
+        assert_eq!(quantize_threshold(1e-300), 1);
+        assert_eq!(quantize_threshold(0.5), 1 << 31);
+        assert_eq!(quantize_threshold(1.0), u32::MAX);
+        assert_eq!(quantize_threshold(1.0 - 1e-12), u32::MAX);
+    }
+
+    #[test]
+    fn multiply_high_reaches_every_column() {
+        let t = table(&vec![1.0; 5]);
+        let first_r = |c: u64| (((c << 32) + 4) / 5) as u32;
+        for c in 0..5 {
+            assert_eq!(t.column(first_r(c)), c as usize);
+        }
+        assert_eq!(t.column(u32::MAX), 4);
+    }
+}

@@ -1,0 +1,36 @@
+//! # lightpick-core
+//!
+//! The numerics behind lightpick: picking one of many point lights at random in
+//! proportion to its power, and measuring what that buys.
+//!
+//! * [`LightPowers`] validates a set of powers (finite, non-negative, not all zero).
+//! * [`AliasTable`] is Walker's alias method, built with Vose's algorithm in `f64`, and its
+//!   packed `u32` form shared bit for bit with the GPU. [`CdfTable`] and [`Uniform`] are the
+//!   peers it is compared with; all three implement [`LightSampler`].
+//! * [`Rng`] is the one counter-based random number generator (the PCG hash of Jarzynski &
+//!   Olano 2020) that the CPU and the WGSL shaders both implement.
+//! * [`Welford`], [`analytic_moments`] and [`chi_square`] measure estimators and samplers.
+//!
+//! Nothing here depends on a UI toolkit.
+
+mod alias;
+mod cdf;
+mod chi_square;
+mod moments;
+mod powers;
+mod rng;
+mod sampler;
+mod seed_example;
+mod uniform;
+mod welford;
+
+pub use alias::{AliasTable, PackedAliasEntry};
+pub use cdf::CdfTable;
+pub use chi_square::{ChiSquare, chi_square};
+pub use moments::{EstimatorMoments, analytic_moments};
+pub use powers::{LightPowers, PowersError};
+pub use rng::{Rng, pcg_hash, unit_f64};
+pub use sampler::{LightSampler, Pick, Sampler, Scheme, UnknownScheme};
+pub use seed_example::SeedExample;
+pub use uniform::Uniform;
+pub use welford::Welford;

@@ -1,0 +1,271 @@
+//! Validated light powers: the only input every sampler is built from.
+
+/// Why a list of light powers was refused.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PowersError {
+    /// The list holds no light at all.
+    #[error("no lights: the power list is empty")]
+    Empty,
+    /// A power is NaN or infinite.
+    #[error("power of light {index} is not finite ({value})")]
+    NotFinite {
+        /// Index of the offending light (0-based).
+        index: usize,
+        /// The value found there.
+        value: f64,
+    },
+    /// A power is below zero.
+    #[error("power of light {index} is negative ({value})")]
+    Negative {
+        /// Index of the offending light (0-based).
+        index: usize,
+        /// The value found there.
+        value: f64,
+    },
+    /// Every power is zero, so no light can be picked with a probability proportional to it.
+    #[error("all {count} powers are zero: nothing emits light")]
+    AllZero {
+        /// How many lights there are.
+        count: usize,
+    },
+    /// More lights than a `u32` index (the GPU's alias word) can name.
+    #[error("{count} lights exceed the limit of {max} (u32 indices)")]
+    TooMany {
+        /// How many lights were given.
+        count: usize,
+        /// The largest accepted count, `u32::MAX`.
+        max: u32,
+    },
+}
+
+/// A non-empty list of finite, non-negative light powers `Φ_i`, not all zero, with at most
+/// `u32::MAX` entries.
+///
+/// Any finite non-negative `f64` is accepted, subnormals and values near `f64::MAX`
+/// included. Normalization ([`LightPowers::normalized`]) first rescales by an exact power of
+/// two, so `Σ Φ_i` never overflows even when every power is `f64::MAX`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightPowers {
+    powers: Vec<f64>,
+}
+
+impl LightPowers {
+    /// Validates `powers`; the error names the first offending index.
+    pub fn new(powers: Vec<f64>) -> Result<Self, PowersError> {
+        check_count(powers.len())?;
+        for (index, &value) in powers.iter().enumerate() {
+            if !value.is_finite() {
+                return Err(PowersError::NotFinite { index, value });
+            }
+            if value < 0.0 {
+                return Err(PowersError::Negative { index, value });
+            }
+        }
+        if powers.iter().all(|&p| p == 0.0) {
+            return Err(PowersError::AllZero {
+                count: powers.len(),
+            });
+        }
+        Ok(Self { powers })
+    }
+
+    /// The powers as given.
+    pub fn as_slice(&self) -> &[f64] {
+        &self.powers
+    }
+
+    /// Number of lights `N` (at least 1).
+    pub fn len(&self) -> usize {
+        self.powers.len()
+    }
+
+    /// Always `false`: validation refuses empty lists. Present for API symmetry.
+    pub fn is_empty(&self) -> bool {
+        self.powers.is_empty()
+    }
+
+    /// The total power `Σ Φ_i`, which may be `+inf` for powers near `f64::MAX`; use
+    /// [`LightPowers::normalized`] for probabilities.
+    pub fn total(&self) -> f64 {
+        self.powers.iter().sum()
+    }
+
+    /// The powers scaled by an exact power of two `2^-e` so that the largest lies in
+    /// `[1, 2)`, and their sum `S` (so `Φ_i / Σ Φ = w_i / S`). Scaling by a power of two is
+    /// exact, so small-integer inputs keep exact ratios (the seed's `6/27` stays `6/27`).
+    ///
+    /// Returns `(w, S)`. `S ≤ 2N`, far from overflow. A power below `2^-1074` times the
+    /// largest underflows to zero share: it is then treated like a zero power.
+    pub fn normalized(&self) -> (Vec<f64>, f64) {
+        let scale = pow2_scale_to_unit(self.max());
+        let scaled: Vec<f64> = self.powers.iter().map(|&p| scale.apply(p)).collect();
+        let sum = chunked_sum(&scaled);
+        (scaled, sum)
+    }
+
+    /// The largest power (positive, since not all are zero).
+    pub fn max(&self) -> f64 {
+        self.powers.iter().copied().fold(0.0, f64::max)
+    }
+
+    /// The normalized power `p_i = Φ_i / Σ Φ` of every light, computed without overflow.
+    pub fn pmf(&self) -> Vec<f64> {
+        let (w, sum) = self.normalized();
+        w.into_iter().map(|x| x / sum).collect()
+    }
+}
+
+/// Refuses lists that are empty or longer than `u32::MAX` (tested without allocating them).
+pub(crate) fn check_count(len: usize) -> Result<(), PowersError> {
+    if len == 0 {
+        return Err(PowersError::Empty);
+    }
+    if len > u32::MAX as usize {
+        return Err(PowersError::TooMany {
+            count: len,
+            max: u32::MAX,
+        });
+    }
+    Ok(())
+}
+
+/// An exact scaling by `2^k`, applied in up to two steps so `k` may exceed the `f64`
+/// exponent range (a subnormal maximum needs `k > 1023`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Pow2Scale {
+    first: f64,
+    second: f64,
+}
+
+impl Pow2Scale {
+    /// Multiplies `x` by `2^k`; exact unless the result leaves the `f64` range.
+    pub(crate) fn apply(self, x: f64) -> f64 {
+        x * self.first * self.second
+    }
+}
+
+/// The exact power-of-two scaling that maps `max > 0` into `[1, 2)`.
+pub(crate) fn pow2_scale_to_unit(max: f64) -> Pow2Scale {
+    debug_assert!(max > 0.0 && max.is_finite());
+    let bits = max.to_bits();
+    let biased = ((bits >> 52) & 0x7ff) as i32;
+    let exponent = if biased == 0 {
+        // Subnormal: 2^-1074 · mantissa, exponent of the leading bit.
+        let mantissa = bits & ((1 << 52) - 1);
+        -1074 + (63 - mantissa.leading_zeros() as i32)
+    } else {
+        biased - 1023
+    };
+    let k = -exponent;
+    let half = k / 2;
+    Pow2Scale {
+        first: pow2(half),
+        second: pow2(k - half),
+    }
+}
+
+/// `2^k` for `k` in the normal exponent range `[-1022, 1023]`.
+fn pow2(k: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&k));
+    f64::from_bits(((k + 1023) as u64) << 52)
+}
+
+/// Sum with eight independent accumulators: vectorizes, and its rounding error grows like
+/// `N/8` ulps in the worst case instead of `N`.
+pub(crate) fn chunked_sum(values: &[f64]) -> f64 {
+    let mut lanes = [0.0f64; 8];
+    let chunks = values.chunks_exact(8);
+    let rest = chunks.remainder();
+    for chunk in chunks {
+        for (lane, &v) in lanes.iter_mut().zip(chunk) {
+            *lane += v;
+        }
+    }
+    let mut total = lanes.iter().sum::<f64>();
+    for &v in rest {
+        total += v;
+    }
+    total
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn empty_is_refused() {
+        assert_eq!(LightPowers::new(vec![]), Err(PowersError::Empty));
+    }
+
+    #[test]
+    fn nan_and_infinity_name_their_index() {
+        let err = LightPowers::new(vec![1.0, f64::NAN]).unwrap_err();
+        assert!(matches!(err, PowersError::NotFinite { index: 1, .. }));
+        let err = LightPowers::new(vec![f64::INFINITY, 1.0]).unwrap_err();
+        assert!(matches!(err, PowersError::NotFinite { index: 0, .. }));
+        assert!(err.to_string().contains("light 0"), "{err}");
+    }
+
+    #[test]
+    fn negative_names_its_index() {
+        let err = LightPowers::new(vec![1.0, 2.0, -0.5]).unwrap_err();
+        assert_eq!(
+            err,
+            PowersError::Negative {
+                index: 2,
+                value: -0.5
+            }
+        );
+        assert_eq!(err.to_string(), "power of light 2 is negative (-0.5)");
+    }
+
+    #[test]
+    fn all_zero_is_refused() {
+        assert_eq!(
+            LightPowers::new(vec![0.0, 0.0, -0.0]),
+            Err(PowersError::AllZero { count: 3 })
+        );
+    }
+
+    #[test]
+    fn too_many_is_refused_by_count() {
+        assert!(check_count(u32::MAX as usize).is_ok());
+        let err = check_count(u32::MAX as usize + 1).unwrap_err();
+        assert!(matches!(err, PowersError::TooMany { .. }));
+        assert!(err.to_string().contains("4294967296 lights"), "{err}");
+    }
+
+    #[test]
+    fn two_max_powers_normalize_to_halves() {
+        let powers = LightPowers::new(vec![f64::MAX, f64::MAX]).unwrap();
+        assert_eq!(powers.pmf(), vec![0.5, 0.5]);
+    }
+
+    #[test]
+    fn subnormal_powers_normalize_exactly() {
+        let tiny = f64::from_bits(1); // 2^-1074
+        let powers = LightPowers::new(vec![tiny, 3.0 * tiny]).unwrap();
+        assert_eq!(powers.pmf(), vec![0.25, 0.75]);
+    }
+
+    #[test]
+    fn seed_pmf_is_correctly_rounded() {
+        let powers = LightPowers::new(vec![2.0, 5.0, 20.0]).unwrap();
+        assert_eq!(powers.pmf(), vec![2.0 / 27.0, 5.0 / 27.0, 20.0 / 27.0]);
+    }
+
+    #[test]
+    fn pow2_scale_lands_in_unit_interval() {
+        for max in [
+            f64::MAX,
+            1.0,
+            3.0,
+            1e-300,
+            f64::MIN_POSITIVE,
+            f64::from_bits(7),
+        ] {
+            let scaled = pow2_scale_to_unit(max).apply(max);
+            assert!((1.0..2.0).contains(&scaled), "{max} -> {scaled}");
+        }
+    }
+}

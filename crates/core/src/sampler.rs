@@ -1,0 +1,177 @@
+//! One interface over the light-selection schemes: each returns a light and the
+//! probability with which it was picked, which is all an estimator `f/p` needs.
+
+use crate::alias::AliasTable;
+use crate::cdf::CdfTable;
+use crate::powers::LightPowers;
+use crate::rng::Rng;
+use crate::uniform::Uniform;
+
+/// A picked light and the probability `p(light)` of that pick.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pick {
+    /// The light's index.
+    pub light: u32,
+    /// The probability the scheme assigns to it (`1/N` or `Φ_i / ΣΦ`).
+    pub probability: f64,
+}
+
+/// A way of picking one light at random.
+pub trait LightSampler {
+    /// Number of lights.
+    fn light_count(&self) -> usize;
+    /// The probability `p(i)` that a pick returns light `i`.
+    fn probability(&self, i: usize) -> f64;
+    /// Picks a light from `rng` (consuming [`LightSampler::draws_per_pick`] draws).
+    fn pick(&self, rng: &mut Rng) -> Pick;
+    /// How many 32-bit draws one pick consumes.
+    fn draws_per_pick(&self) -> u32;
+}
+
+/// The selection schemes lightpick compares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Scheme {
+    /// Every light with probability `1/N`.
+    Uniform,
+    /// Power-proportional, alias table, two independent randoms (the default).
+    Alias,
+    /// Power-proportional, alias table, one random whose fraction is reused (speed option).
+    AliasOneRandom,
+    /// Power-proportional, inverse CDF by binary search.
+    Cdf,
+}
+
+/// A scheme name that is not one of [`Scheme::ALL`].
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown scheme '{0}' (expected uniform, alias (or power), alias-one-random, cdf)")]
+pub struct UnknownScheme(pub String);
+
+impl Scheme {
+    /// Every scheme, in display order.
+    pub const ALL: [Scheme; 4] = [
+        Scheme::Uniform,
+        Scheme::Alias,
+        Scheme::AliasOneRandom,
+        Scheme::Cdf,
+    ];
+
+    /// The scheme's command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Scheme::Uniform => "uniform",
+            Scheme::Alias => "alias",
+            Scheme::AliasOneRandom => "alias-one-random",
+            Scheme::Cdf => "cdf",
+        }
+    }
+
+    /// Whether the scheme picks lights in proportion to their power.
+    pub fn is_power_proportional(self) -> bool {
+        !matches!(self, Scheme::Uniform)
+    }
+}
+
+impl std::fmt::Display for Scheme {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Scheme {
+    type Err = UnknownScheme;
+
+    /// Parses a scheme name; `power` is accepted for `alias` (the renderer's word).
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "uniform" => Ok(Scheme::Uniform),
+            "alias" | "power" => Ok(Scheme::Alias),
+            "alias-one-random" | "alias1" => Ok(Scheme::AliasOneRandom),
+            "cdf" => Ok(Scheme::Cdf),
+            other => Err(UnknownScheme(other.to_owned())),
+        }
+    }
+}
+
+/// A built sampler of one [`Scheme`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum Sampler {
+    /// See [`Scheme::Uniform`].
+    Uniform(Uniform),
+    /// See [`Scheme::Alias`].
+    Alias(AliasTable),
+    /// See [`Scheme::AliasOneRandom`].
+    AliasOneRandom(AliasTable),
+    /// See [`Scheme::Cdf`].
+    Cdf(CdfTable),
+}
+
+impl Sampler {
+    /// Builds the sampler for `scheme` over `powers` (`O(N)`).
+    pub fn build(scheme: Scheme, powers: &LightPowers) -> Self {
+        match scheme {
+            Scheme::Uniform => Sampler::Uniform(Uniform::new(powers.len() as u32)),
+            Scheme::Alias => Sampler::Alias(AliasTable::build(powers)),
+            Scheme::AliasOneRandom => Sampler::AliasOneRandom(AliasTable::build(powers)),
+            Scheme::Cdf => Sampler::Cdf(CdfTable::build(powers)),
+        }
+    }
+
+    /// The scheme this sampler realizes.
+    pub fn scheme(&self) -> Scheme {
+        match self {
+            Sampler::Uniform(_) => Scheme::Uniform,
+            Sampler::Alias(_) => Scheme::Alias,
+            Sampler::AliasOneRandom(_) => Scheme::AliasOneRandom,
+            Sampler::Cdf(_) => Scheme::Cdf,
+        }
+    }
+
+    /// The light picked by the scheme from the first draws of `rng`, without its probability.
+    #[inline]
+    pub fn pick_light(&self, rng: &mut Rng) -> u32 {
+        match self {
+            Sampler::Uniform(u) => u.sample_u32(rng.next_u32()),
+            Sampler::Alias(t) => {
+                let r1 = rng.next_u32();
+                t.sample_u32(r1, rng.next_u32())
+            }
+            Sampler::AliasOneRandom(t) => t.sample_one_random(rng.next_u32()),
+            Sampler::Cdf(c) => c.sample_u32(rng.next_u32()),
+        }
+    }
+}
+
+impl LightSampler for Sampler {
+    fn light_count(&self) -> usize {
+        match self {
+            Sampler::Uniform(u) => u.len(),
+            Sampler::Alias(t) | Sampler::AliasOneRandom(t) => t.len(),
+            Sampler::Cdf(c) => c.len(),
+        }
+    }
+
+    fn probability(&self, i: usize) -> f64 {
+        match self {
+            Sampler::Uniform(u) => 1.0 / u.len() as f64,
+            Sampler::Alias(t) | Sampler::AliasOneRandom(t) => t.pmf(i),
+            Sampler::Cdf(c) => c.pmf(i),
+        }
+    }
+
+    #[inline]
+    fn pick(&self, rng: &mut Rng) -> Pick {
+        let light = self.pick_light(rng);
+        Pick {
+            light,
+            probability: self.probability(light as usize),
+        }
+    }
+
+    fn draws_per_pick(&self) -> u32 {
+        match self {
+            Sampler::Alias(_) => 2,
+            Sampler::Uniform(_) | Sampler::AliasOneRandom(_) | Sampler::Cdf(_) => 1,
+        }
+    }
+}
