@@ -1,1 +1,114 @@
-fn main() {}
+//! Build and sample benchmarks of the alias table against its peers, in one run:
+//! `rand_distr::WeightedAliasIndex` (alias peer) and `rand::distr::weighted::WeightedIndex`
+//! (CDF peer), plus lightpick's own `CdfTable` and `Uniform`.
+//!
+//! Run with `cargo bench -p lightpick-core --bench alias`; `LIGHTPICK_BENCH_SIZES=3,1000`
+//! restricts the sizes.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
+use lightpick_core::{AliasTable, CdfTable, LightPowers, Rng, Uniform};
+use rand::SeedableRng as _;
+use rand::distr::Distribution as _;
+use rand::distr::weighted::WeightedIndex;
+use rand::rngs::SmallRng;
+use rand_distr::weighted::WeightedAliasIndex;
+
+fn sizes() -> Vec<usize> {
+    std::env::var("LIGHTPICK_BENCH_SIZES")
+        .ok()
+        .and_then(|s| s.split(',').map(|x| x.trim().parse().ok()).collect())
+        .unwrap_or_else(|| vec![3, 1_000, 1_000_000, 16_000_000])
+}
+
+/// Exponentially distributed powers (a realistic spread), reproducible.
+fn powers(n: usize) -> Vec<f64> {
+    let mut rng = Rng::new(2024, n as u64);
+    (0..n).map(|_| -(1.0 - rng.next_unit()).ln()).collect()
+}
+
+fn configure(
+    c: &mut Criterion,
+    n: usize,
+) -> criterion::BenchmarkGroup<'_, criterion::measurement::WallTime> {
+    let mut group = c.benchmark_group(if n >= 1_000_000 { "large" } else { "small" });
+    if n >= 1_000_000 {
+        group
+            .sample_size(10)
+            .measurement_time(Duration::from_secs(4));
+    } else {
+        group.measurement_time(Duration::from_secs(2));
+    }
+    group.warm_up_time(Duration::from_millis(500));
+    group
+}
+
+fn build(c: &mut Criterion) {
+    for n in sizes() {
+        let weights = powers(n);
+        let validated = LightPowers::new(weights.clone()).expect("valid powers");
+        let mut group = configure(c, n);
+        group.bench_with_input(BenchmarkId::new("build/alias", n), &validated, |b, p| {
+            b.iter(|| AliasTable::build(black_box(p)));
+        });
+        group.bench_with_input(BenchmarkId::new("build/cdf", n), &validated, |b, p| {
+            b.iter(|| CdfTable::build(black_box(p)));
+        });
+        group.bench_with_input(BenchmarkId::new("build/peer-alias", n), &weights, |b, w| {
+            b.iter_batched(
+                || w.clone(),
+                |w| WeightedAliasIndex::new(w).expect("valid"),
+                BatchSize::LargeInput,
+            );
+        });
+        group.bench_with_input(BenchmarkId::new("build/peer-cdf", n), &weights, |b, w| {
+            b.iter(|| WeightedIndex::new(black_box(w)).expect("valid"));
+        });
+        group.finish();
+    }
+}
+
+fn sample(c: &mut Criterion) {
+    for n in sizes() {
+        let weights = powers(n);
+        let validated = LightPowers::new(weights.clone()).expect("valid powers");
+        let alias = AliasTable::build(&validated);
+        let cdf = CdfTable::build(&validated);
+        let uniform = Uniform::new(n as u32);
+        let peer_alias = WeightedAliasIndex::new(weights.clone()).expect("valid");
+        let peer_cdf = WeightedIndex::new(&weights).expect("valid");
+        drop(weights);
+        drop(validated);
+        let mut group = configure(c, n);
+        group.bench_function(BenchmarkId::new("sample/alias", n), |b| {
+            let mut rng = Rng::new(1, 0);
+            b.iter(|| alias.sample_u32(rng.next_u32(), rng.next_u32()));
+        });
+        group.bench_function(BenchmarkId::new("sample/alias-one-random", n), |b| {
+            let mut rng = Rng::new(1, 0);
+            b.iter(|| alias.sample_one_random(rng.next_u32()));
+        });
+        group.bench_function(BenchmarkId::new("sample/cdf", n), |b| {
+            let mut rng = Rng::new(1, 0);
+            b.iter(|| cdf.sample_u32(rng.next_u32()));
+        });
+        group.bench_function(BenchmarkId::new("sample/uniform", n), |b| {
+            let mut rng = Rng::new(1, 0);
+            b.iter(|| uniform.sample_u32(rng.next_u32()));
+        });
+        group.bench_function(BenchmarkId::new("sample/peer-alias", n), |b| {
+            let mut rng = SmallRng::seed_from_u64(1);
+            b.iter(|| peer_alias.sample(&mut rng));
+        });
+        group.bench_function(BenchmarkId::new("sample/peer-cdf", n), |b| {
+            let mut rng = SmallRng::seed_from_u64(1);
+            b.iter(|| peer_cdf.sample(&mut rng));
+        });
+        group.finish();
+    }
+}
+
+criterion_group!(benches, build, sample);
+criterion_main!(benches);

@@ -28,6 +28,7 @@ impl Welford {
 
     /// Combines two accumulators (Chan's parallel formula):
     /// `M2 = M2_a + M2_b + δ²·n_a·n_b/n` with `δ = x̄_b − x̄_a`.
+    #[must_use]
     pub fn merge(&self, other: &Welford) -> Welford {
         if self.count == 0 {
             return *other;
@@ -82,7 +83,9 @@ mod tests {
     fn matches_two_pass_formulas() {
         let xs = [1.0, 2.0, 4.0, 8.0, 16.0];
         let mut w = Welford::new();
-        xs.iter().for_each(|&x| w.push(x));
+        for &x in &xs {
+            w.push(x);
+        }
         let mean = xs.iter().sum::<f64>() / 5.0;
         let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / 4.0;
         assert_eq!(w.count(), 5);
@@ -94,7 +97,9 @@ mod tests {
     fn merge_equals_sequential() {
         let xs: Vec<f64> = (0..100).map(|i| f64::from(i).sin() * 1e3 + 1e6).collect();
         let mut all = Welford::new();
-        xs.iter().for_each(|&x| all.push(x));
+        for &x in &xs {
+            all.push(x);
+        }
         let (mut a, mut b) = (Welford::new(), Welford::new());
         xs[..37].iter().for_each(|&x| a.push(x));
         xs[37..].iter().for_each(|&x| b.push(x));

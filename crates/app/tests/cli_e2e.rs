@@ -1,0 +1,172 @@
+//! End-to-end tests of the `lightpick` binary: output, JSON contract, exit codes.
+
+#![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
+
+use std::process::{Command, Output};
+
+fn lightpick(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lightpick"))
+        .args(args)
+        .output()
+        .expect("run lightpick")
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let out = lightpick(args);
+    assert!(
+        out.status.success(),
+        "{args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
+}
+
+/// Asserts exit code 2 and exactly one stderr line starting with `error:` containing `needle`.
+fn assert_usage_error(args: &[&str], needle: &str) {
+    let out = lightpick(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(
+        lines.len(),
+        1,
+        "{args:?}: expected one line, got {stderr:?}"
+    );
+    assert!(lines[0].starts_with("error:"), "{stderr}");
+    assert!(
+        stderr.contains(needle),
+        "{args:?}: {stderr:?} lacks {needle:?}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+fn as_f64s(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .expect("array")
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect()
+}
+
+#[test]
+fn table_json_is_the_seed_table() {
+    let v = json(&["table", "--powers", "2,5,20", "--json"]);
+    assert_eq!(v["n"], 3);
+    assert_eq!(v["total_power"], 27.0);
+    assert_eq!(as_f64s(&v["threshold"]), vec![6.0 / 27.0, 15.0 / 27.0, 1.0]);
+    assert_eq!(v["alias"], serde_json::json!([2, 2, 2]));
+    assert_eq!(
+        as_f64s(&v["pmf"]),
+        vec![2.0 / 27.0, 5.0 / 27.0, 20.0 / 27.0]
+    );
+}
+
+#[test]
+fn table_text_shows_the_seed_fractions() {
+    let out = lightpick(&["table", "--powers", "2,5,20"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    for needle in ["6/27", "15/27", "2/27", "20/27"] {
+        assert!(text.contains(needle), "{text}");
+    }
+}
+
+#[test]
+fn table_reads_a_powers_file() {
+    let dir = std::env::temp_dir().join(format!("lightpick-e2e-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("powers.txt");
+    std::fs::write(&file, "2\n5, 20\n").unwrap();
+    let v = json(&["table", "--powers-file", file.to_str().unwrap(), "--json"]);
+    assert_eq!(v["alias"], serde_json::json!([2, 2, 2]));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn sample_counts_fit_the_pmf() {
+    for scheme in ["uniform", "alias", "alias-one-random", "cdf"] {
+        let v = json(&[
+            "sample", "--powers", "2,5,20", "--scheme", scheme, "--count", "100000", "--seed", "7",
+            "--json",
+        ]);
+        assert_eq!(v["scheme"], scheme);
+        assert_eq!(v["device"], "cpu");
+        let counts: Vec<u64> = v["counts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c.as_u64().unwrap())
+            .collect();
+        assert_eq!(counts.iter().sum::<u64>(), 100_000);
+        assert_eq!(v["dof"], 2);
+        // Fixed seed, significance 0.001.
+        assert!(v["p_value"].as_f64().unwrap() > 1e-3, "{scheme}: {v}");
+    }
+}
+
+#[test]
+fn sample_is_deterministic() {
+    let args = [
+        "sample",
+        "--powers",
+        "1,2,3,0,4",
+        "--count",
+        "5000",
+        "--seed",
+        "3",
+        "--json",
+    ];
+    assert_eq!(json(&args)["counts"], json(&args)["counts"]);
+}
+
+#[test]
+fn estimate_averages_to_18() {
+    for (scheme, variance) in [("uniform", 366.0), ("alias", 14.85)] {
+        let v = json(&[
+            "estimate",
+            "--powers",
+            "2,5,20",
+            "--contrib",
+            "1,2,15",
+            "--scheme",
+            scheme,
+            "--count",
+            "200000",
+            "--seed",
+            "5",
+            "--json",
+        ]);
+        assert_eq!(v["exact"], 18.0);
+        let analytic = v["analytic_variance"].as_f64().unwrap();
+        assert!((analytic - variance).abs() < 1e-9, "{scheme}: {analytic}");
+        let mean = v["mean"].as_f64().unwrap();
+        let se = v["std_error"].as_f64().unwrap();
+        assert!((mean - 18.0).abs() <= 5.0 * se, "{scheme}: {mean} ± {se}");
+    }
+}
+
+#[test]
+fn bad_inputs_exit_2_with_one_error_line() {
+    assert_usage_error(&["table", "--powers", "2,-5,20"], "light 1 is negative");
+    assert_usage_error(&["table", "--powers", "2,NaN,20"], "light 1 is not finite");
+    assert_usage_error(&["table", "--powers", "2,inf"], "light 1 is not finite");
+    assert_usage_error(&["table", "--powers", "0,0"], "all 2 powers are zero");
+    assert_usage_error(&["table", "--powers", ""], "empty");
+    assert_usage_error(
+        &["table", "--powers", "2,x"],
+        "item 1 ('x') is not a number",
+    );
+    assert_usage_error(&["table"], "no powers given");
+    assert_usage_error(
+        &["table", "--powers-file", "/nonexistent/p.txt"],
+        "/nonexistent/p.txt",
+    );
+    assert_usage_error(&["sample", "--powers", "1,2", "--count", "0"], "--count");
+    assert_usage_error(&["sample", "--powers", "1,2", "--scheme", "magic"], "magic");
+    assert_usage_error(&["sample", "--powers", "1,2", "--count", "-3"], "-3");
+    assert_usage_error(
+        &["estimate", "--powers", "1,2", "--contrib", "1,2,3"],
+        "--contrib has 3 values but there are 2 lights",
+    );
+    assert_usage_error(&["frobnicate"], "frobnicate");
+}
