@@ -10,16 +10,23 @@
 //! * [`Rng`] is the one counter-based random number generator (the PCG hash of Jarzynski &
 //!   Olano 2020) that the CPU and the WGSL shaders both implement.
 //! * [`Welford`], [`analytic_moments`] and [`chi_square`] measure estimators and samplers.
+//! * [`precision`] measures what each numerical choice of the alias table costs.
+//! * [`draw`] renders the diagrams, plots and image sheets headless (tiny-skia → PNG).
 //!
 //! Nothing here depends on a UI toolkit.
 
 mod alias;
 mod cdf;
 mod chi_square;
+pub mod draw;
+pub mod gpu;
 mod moments;
 mod powers;
+pub mod precision;
+pub mod render;
 mod rng;
 mod sampler;
+pub mod scene;
 mod seed_example;
 mod uniform;
 mod welford;

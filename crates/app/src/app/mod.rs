@@ -1,8 +1,617 @@
 //! The egui/eframe desktop app.
+//!
+//! One [`AppState`] (in [`state`]) holds everything the panels show; each panel is one file
+//! with a `*_ui` function over it: [`lights_ui`], [`table_ui`] (table and diagram),
+//! [`histogram_ui`] (sampling), [`render_ui`] (images), [`convergence_ui`], plus
+//! [`controls_ui`] (menu, run controls, status bar) and [`file_dialog_ui`]. Progressive
+//! images come from the [`engine`], on a worker thread in the app and inline in tests.
+//! [`LightpickApp::ui`] draws the whole window into any [`egui::Ui`], so tests drive it with
+//! `egui_kittest` without eframe.
 
-/// Opens the app on the seed scene. Returns an error (exit code 2) when no display exists.
+pub mod colors;
+pub mod controls_ui;
+pub mod convergence_ui;
+pub mod engine;
+pub mod file_dialog_ui;
+pub mod fractions;
+pub mod gpu_images;
+pub mod histogram_ui;
+pub mod lights_ui;
+pub mod render_ui;
+pub mod scene_io;
+pub mod state;
+pub mod table_ui;
+
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+use egui::{Key, KeyboardShortcut, Modifiers, Ui};
+
+pub use state::{AppState, Settings};
+
+use convergence_ui::ConvergenceAxis;
+use engine::{Engine, EngineConfig, Published};
+use render_ui::ImageTextures;
+use state::{FileAction, MessageKind};
+
+/// The shortest time between frames while running (about 60 frames per second).
+const FRAME_PERIOD: std::time::Duration = std::time::Duration::from_millis(16);
+
+/// Storage key of the persisted [`Settings`].
+const SETTINGS_KEY: &str = "lightpick.settings";
+/// Storage key of the persisted scene (JSON).
+const SCENE_KEY: &str = "lightpick.scene";
+/// Scenes with more lights are not persisted light by light.
+const PERSIST_SCENE_LIMIT: usize = 20_000;
+
+/// The message for a machine without a display.
+const NO_DISPLAY: &str = "no display found (neither DISPLAY nor WAYLAND_DISPLAY is set): \
+     the desktop app needs one. Use the headless subcommands instead, e.g. \
+     `lightpick table --powers 2,5,20` (see `lightpick --help`)";
+
+/// Opens the app on the seed scene (or the last scene). Returns an error (exit code 2) when
+/// no display exists.
 pub fn run() -> anyhow::Result<()> {
-    anyhow::bail!(
-        "the desktop app is not built yet; use the headless subcommands (lightpick --help)"
+    if !display_available() {
+        anyhow::bail!(NO_DISPLAY);
+    }
+    let options = eframe::NativeOptions {
+        renderer: eframe::Renderer::Wgpu,
+        viewport: egui::ViewportBuilder::default()
+            .with_title("lightpick — point-light importance sampling")
+            .with_inner_size([1440.0, 900.0])
+            .with_min_inner_size([900.0, 600.0]),
+        // Dithering costs a noise evaluation per fragment; on software rasterizers
+        // (lavapipe) that is a large share of every frame, and the panels have no gradients.
+        dithering: false,
+        ..Default::default()
+    };
+    eframe::run_native(
+        "lightpick",
+        options,
+        Box::new(|cc| Ok(Box::new(LightpickApp::new(cc)))),
     )
+    .map_err(|e| {
+        anyhow::anyhow!(
+            "cannot open the app window ({e}). Without a working display use the headless \
+             subcommands, e.g. `lightpick table --powers 2,5,20` (see `lightpick --help`)"
+        )
+    })
+}
+
+/// Whether a window can be opened at all: on Linux and the BSDs, `DISPLAY` or
+/// `WAYLAND_DISPLAY` must name a display.
+fn display_available() -> bool {
+    if cfg!(any(
+        target_os = "linux",
+        target_os = "freebsd",
+        target_os = "openbsd",
+        target_os = "netbsd"
+    )) {
+        ["DISPLAY", "WAYLAND_DISPLAY"]
+            .iter()
+            .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()))
+    } else {
+        true
+    }
+}
+
+/// One panel of the app, for [`LightpickApp::panel_ui`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PanelKind {
+    /// The lights editor.
+    Lights,
+    /// The alias table and its diagram.
+    Table,
+    /// Histograms and chi-square.
+    Sampling,
+    /// The progressive images.
+    Images,
+    /// RMSE curves and efficiency.
+    Convergence,
+    /// The run controls.
+    Controls,
+}
+
+/// The app: the state, the render engine and the textures of its latest frame.
+pub struct LightpickApp {
+    /// Everything the panels show.
+    pub state: AppState,
+    engine: Option<Engine>,
+    threaded: bool,
+    textures: ImageTextures,
+    axis: ConvergenceAxis,
+    applied_dark: Option<bool>,
+    last_frame: Option<Instant>,
+    frame_ms: f32,
+    frame_log: Option<FrameLog>,
+    /// eframe's wgpu device, when it runs on wgpu (not in tests).
+    gpu: Option<gpu_images::GpuImages>,
+    /// Why the GPU images stopped (shown in the status bar; the CPU takes over).
+    gpu_error: Option<String>,
+}
+
+/// Frame-time log to stderr (`LIGHTPICK_FRAME_LOG=1`), for measuring responsiveness.
+struct FrameLog {
+    start: Instant,
+    frames: u32,
+    ui_seconds: f64,
+}
+
+impl LightpickApp {
+    /// The app as eframe creates it: restores the settings and the last scene.
+    pub fn new(cc: &eframe::CreationContext<'_>) -> Self {
+        let mut settings = Settings::default();
+        let mut scene = None;
+        let mut restore_error = None;
+        if let Some(storage) = cc.storage {
+            if let Some(s) = eframe::get_value::<Settings>(storage, SETTINGS_KEY) {
+                settings = s;
+            }
+            if let Some(text) = storage.get_string(SCENE_KEY) {
+                match scene_io::from_json_str(&text) {
+                    Ok(s) => scene = Some(s),
+                    Err(e) => restore_error = Some(format!("last scene not restored: {e}")),
+                }
+            }
+        }
+        let scene = scene.unwrap_or_else(scene_io::seed_scene);
+        let mut app = Self::with_state(AppState::new(scene, settings), true);
+        if let Some(e) = restore_error {
+            app.state.message(e, MessageKind::Error);
+        }
+        app
+    }
+
+    /// An app over `state`. With `threaded = false` the images render inline, only when
+    /// running or stepped, with virtual timings (deterministic, for tests).
+    pub fn with_state(state: AppState, threaded: bool) -> Self {
+        Self {
+            state,
+            engine: None,
+            threaded,
+            textures: ImageTextures::default(),
+            axis: ConvergenceAxis::Spp,
+            applied_dark: None,
+            last_frame: None,
+            frame_ms: 0.0,
+            frame_log: std::env::var_os("LIGHTPICK_FRAME_LOG").map(|_| FrameLog {
+                start: Instant::now(),
+                frames: 0,
+                ui_seconds: 0.0,
+            }),
+            gpu: None,
+            gpu_error: None,
+        }
+    }
+
+    /// The seed scene, paused, rendering inline: the starting point of every UI test.
+    pub fn for_tests() -> Self {
+        let mut state = AppState::seed();
+        state.settings.paused = true;
+        Self::with_state(state, false)
+    }
+
+    /// Asks for one frame of images and histograms on the next frame (the Step button).
+    pub fn step(&mut self) {
+        self.state.step_requested = true;
+    }
+
+    /// The latest published image frame (from the GPU when it renders the images).
+    pub fn published(&mut self) -> Option<Arc<Published>> {
+        if self.uses_gpu() {
+            return self.gpu.as_ref().and_then(gpu_images::GpuImages::latest);
+        }
+        self.engine.as_mut().and_then(Engine::latest)
+    }
+
+    /// Whether the GPU renders the images this frame.
+    fn uses_gpu(&self) -> bool {
+        self.state.settings.device == state::Device::Gpu
+            && self.gpu.is_some()
+            && self.gpu_error.is_none()
+    }
+
+    /// Draws the whole app into `ui` and advances it by one frame.
+    pub fn ui(&mut self, ui: &mut Ui) {
+        let started = Instant::now();
+        let published = self.begin_frame(ui.ctx());
+        let device_note = self.device_note(published.as_deref());
+        let frame_ms = if self.threaded {
+            Some(self.frame_ms)
+        } else {
+            None
+        };
+        // Software rasterizers (lavapipe) pay for every filled pixel: the panels draw no
+        // background of their own (no overdraw); the window's clear colour is the panel fill
+        // (see `clear_color`), and inline (test) rendering paints it once here.
+        if !self.threaded {
+            ui.painter()
+                .rect_filled(ui.max_rect(), 0.0, ui.visuals().panel_fill);
+        }
+        let frame = egui::Frame::NONE.inner_margin(6.0);
+        egui::Panel::top("lightpick_menu")
+            .frame(frame)
+            .show(ui, |ui| {
+                controls_ui::menu_ui(ui, &mut self.state);
+            });
+        egui::Panel::bottom("lightpick_status")
+            .frame(frame)
+            .show(ui, |ui| {
+                controls_ui::status_ui(ui, &self.state, &device_note, frame_ms);
+            });
+        egui::Panel::left("lightpick_lights")
+            .frame(frame)
+            .resizable(true)
+            .default_size(430.0)
+            .show(ui, |ui| {
+                lights_ui::lights_ui(ui, &mut self.state);
+            });
+        egui::Panel::right("lightpick_images")
+            .frame(frame)
+            .resizable(true)
+            .default_size(560.0)
+            .show(ui, |ui| {
+                egui::Panel::bottom("lightpick_convergence")
+                    .frame(frame)
+                    .resizable(true)
+                    .default_size(330.0)
+                    .show(ui, |ui| {
+                        convergence_ui::convergence_ui(
+                            ui,
+                            &self.state,
+                            published.as_deref(),
+                            &mut self.axis,
+                        );
+                    });
+                egui::CentralPanel::no_frame().show(ui, |ui| {
+                    render_ui::images_ui(ui, &mut self.state, published.as_deref(), &self.textures);
+                });
+            });
+        egui::CentralPanel::default().frame(frame).show(ui, |ui| {
+            egui::Panel::bottom("lightpick_sampling")
+                .frame(egui::Frame::NONE)
+                .resizable(true)
+                .default_size(360.0)
+                .show(ui, |ui| {
+                    histogram_ui::sampling_ui(ui, &mut self.state);
+                });
+            egui::CentralPanel::no_frame().show(ui, |ui| {
+                table_ui::table_panel_ui(ui, &mut self.state);
+            });
+        });
+        self.end_frame(ui, published.as_deref());
+        self.measure(started);
+    }
+
+    /// Draws one panel alone (filling `ui`), advancing the app by one frame like
+    /// [`Self::ui`]: for tests and for embedding.
+    pub fn panel_ui(&mut self, ui: &mut Ui, panel: PanelKind) {
+        let published = self.begin_frame(ui.ctx());
+        egui::CentralPanel::default().show(ui, |ui| match panel {
+            PanelKind::Lights => lights_ui::lights_ui(ui, &mut self.state),
+            PanelKind::Table => table_ui::table_panel_ui(ui, &mut self.state),
+            PanelKind::Sampling => histogram_ui::sampling_ui(ui, &mut self.state),
+            PanelKind::Images => {
+                render_ui::images_ui(ui, &mut self.state, published.as_deref(), &self.textures);
+            }
+            PanelKind::Convergence => {
+                convergence_ui::convergence_ui(
+                    ui,
+                    &self.state,
+                    published.as_deref(),
+                    &mut self.axis,
+                );
+            }
+            PanelKind::Controls => {
+                ui.horizontal_wrapped(|ui| controls_ui::controls_ui(ui, &mut self.state));
+            }
+        });
+        self.end_frame(ui, published.as_deref());
+    }
+
+    /// Everything a frame does before drawing: background builds, shortcuts, theme, engine
+    /// and histograms, texture uploads. Returns the latest image frame.
+    fn begin_frame(&mut self, ctx: &egui::Context) -> Option<Arc<Published>> {
+        if self.state.frame == 0 {
+            install_fonts(ctx);
+        }
+        self.state.frame += 1;
+        self.state.poll_build();
+        self.shortcuts(ctx);
+        self.apply_theme(ctx);
+        self.advance(ctx);
+        let published = self.published();
+        if let Some(p) = &published {
+            self.textures.update(ctx, p);
+        }
+        self.textures.native = if self.uses_gpu() {
+            self.gpu
+                .as_ref()
+                .and_then(gpu_images::GpuImages::texture_ids)
+        } else {
+            None
+        };
+        published
+    }
+
+    /// The file dialog, drawn over everything.
+    fn end_frame(&mut self, ui: &mut Ui, published: Option<&Published>) {
+        if let Some(confirmed) = file_dialog_ui::file_dialog_ui(ui, &mut self.state) {
+            self.file_action(confirmed.action, &confirmed.path, published);
+        }
+    }
+
+    /// Keyboard: Space pauses, R resets, N steps, Ctrl+O / Ctrl+S open and save.
+    fn shortcuts(&mut self, ctx: &egui::Context) {
+        let open = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
+        let save = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
+        if ctx.input_mut(|i| i.consume_shortcut(&open)) {
+            controls_ui::open_dialog(&mut self.state, FileAction::OpenScene);
+        }
+        if ctx.input_mut(|i| i.consume_shortcut(&save)) {
+            controls_ui::open_dialog(&mut self.state, FileAction::SaveScene);
+        }
+        // Plain keys only when no text field (or drag value being typed into) has focus.
+        if ctx.text_edit_focused() || self.state.file_dialog.action.is_some() {
+            return;
+        }
+        if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Space)) {
+            self.state.settings.paused = !self.state.settings.paused;
+        }
+        if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::R)) {
+            self.state.reset_requested = true;
+        }
+        if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::N)) {
+            self.state.step_requested = true;
+        }
+    }
+
+    fn apply_theme(&mut self, ctx: &egui::Context) {
+        let dark = self.state.settings.dark;
+        if self.applied_dark != Some(dark) {
+            ctx.set_theme(if dark {
+                egui::Theme::Dark
+            } else {
+                egui::Theme::Light
+            });
+            self.applied_dark = Some(dark);
+        }
+    }
+
+    /// Feeds the engine and the histograms: restarts on a new table or a reset, runs a
+    /// frame when running or stepped.
+    fn advance(&mut self, ctx: &egui::Context) {
+        let threaded = self.threaded;
+        let engine = self.engine.get_or_insert_with(|| {
+            if threaded {
+                Engine::threaded(ctx)
+            } else {
+                Engine::inline()
+            }
+        });
+        let s = &self.state.settings;
+        let running = !s.paused;
+        let config = EngineConfig {
+            spp_per_frame: s.spp_per_frame,
+            budget: s.budget,
+            exposure: s.exposure,
+            seed: s.seed,
+            running,
+        };
+        let use_gpu = self.state.settings.device == state::Device::Gpu
+            && self.gpu.is_some()
+            && self.gpu_error.is_none();
+        // The CPU engine idles while the GPU renders.
+        engine.sync_config(EngineConfig {
+            running: running && !use_gpu,
+            ..config
+        });
+        let reset = std::mem::take(&mut self.state.reset_requested);
+        let built = Arc::clone(&self.state.built);
+        engine.sync_scene(built.generation, &built.scene, reset);
+        if reset {
+            self.state.restart_sampling();
+        }
+        let step = std::mem::take(&mut self.state.step_requested);
+        if use_gpu {
+            if let Some(gpu) = self.gpu.as_mut()
+                && let Err(e) = gpu.frame(built.generation, &built.scene, &config, reset, step)
+            {
+                self.state
+                    .message(format!("GPU renderer stopped: {e}"), MessageKind::Error);
+                self.gpu_error = Some(e);
+            }
+        } else {
+            if step {
+                engine.step();
+            }
+            engine.tick();
+        }
+        if running || step {
+            let picks = self.state.settings.picks_per_frame;
+            self.state.sample_picks(picks);
+        }
+        if running {
+            // At most ~60 frames per second while running: faster repaints would only take
+            // CPU from the renderers (input still repaints at once).
+            let since_last = self.last_frame.map_or(FRAME_PERIOD, |t| t.elapsed());
+            ctx.request_repaint_after(FRAME_PERIOD.saturating_sub(since_last));
+        }
+    }
+
+    fn device_note(&self, published: Option<&Published>) -> String {
+        let base = published.map_or("CPU renderer", |p| p.device_note.as_str());
+        match (self.state.settings.device, &self.gpu, &self.gpu_error) {
+            (state::Device::Gpu, None, _) => {
+                format!("{base} (no wgpu compute device: the CPU renders the images)")
+            }
+            (state::Device::Gpu, Some(_), Some(e)) => {
+                format!("{base} (GPU failed: {e}; the CPU renders the images)")
+            }
+            _ => base.to_owned(),
+        }
+    }
+
+    fn measure(&mut self, started: Instant) {
+        let now = Instant::now();
+        if let Some(last) = self.last_frame {
+            let ms = (now - last).as_secs_f32() * 1e3;
+            self.frame_ms = if self.frame_ms == 0.0 {
+                ms
+            } else {
+                0.9 * self.frame_ms + 0.1 * ms
+            };
+        }
+        self.last_frame = Some(now);
+        if let Some(log) = &mut self.frame_log {
+            log.frames += 1;
+            log.ui_seconds += (now - started).as_secs_f64();
+            let elapsed = log.start.elapsed().as_secs_f64();
+            if elapsed >= 2.0 {
+                eprintln!(
+                    "lightpick frames: {:.1} fps, {:.2} ms/frame, ui() {:.2} ms/frame, {} lights",
+                    f64::from(log.frames) / elapsed,
+                    elapsed * 1e3 / f64::from(log.frames),
+                    log.ui_seconds * 1e3 / f64::from(log.frames),
+                    self.state.built.len()
+                );
+                *log = FrameLog {
+                    start: Instant::now(),
+                    frames: 0,
+                    ui_seconds: 0.0,
+                };
+            }
+        }
+    }
+
+    /// Carries out a confirmed file action; on failure the message is shown in the dialog
+    /// and the status bar, and the current scene is kept.
+    pub fn file_action(&mut self, action: FileAction, path: &str, published: Option<&Published>) {
+        let result = match action {
+            FileAction::OpenScene => scene_io::load(Path::new(path)).map(|scene| {
+                let n = scene.light_count();
+                self.state.load_scene(scene);
+                format!("opened {path} ({n} lights)")
+            }),
+            FileAction::SaveScene => scene_io::save(Path::new(path), &self.state.built.scene)
+                .map(|()| format!("saved {path}")),
+            FileAction::ExportImages => {
+                export_images(Path::new(path), published).map(|()| format!("exported {path}"))
+            }
+            FileAction::ExportDiagram => {
+                export_diagram(Path::new(path), &self.state).map(|()| format!("exported {path}"))
+            }
+        };
+        match result {
+            Ok(message) => {
+                self.state.file_dialog.action = None;
+                self.state.file_dialog.error = None;
+                self.state.message(message, MessageKind::Success);
+            }
+            Err(e) => {
+                self.state.file_dialog.error = Some(e.clone());
+                self.state.message(
+                    format!("{}: {e} — nothing changed", action.title()),
+                    MessageKind::Error,
+                );
+            }
+        }
+    }
+}
+
+/// `DejaVu Sans` (the subset the headless drawings bundle) as a fallback after egui's own
+/// font, for the arrows, `≥` and math signs the panels write.
+static DEJAVU_SANS: &[u8] = include_bytes!("../../../core/src/draw/fonts/DejaVuSans.ttf");
+
+fn install_fonts(ctx: &egui::Context) {
+    use egui::epaint::text::{FontInsert, FontPriority, InsertFontFamily};
+    ctx.add_font(FontInsert::new(
+        "DejaVuSans",
+        egui::FontData::from_static(DEJAVU_SANS),
+        vec![
+            InsertFontFamily {
+                family: egui::FontFamily::Proportional,
+                priority: FontPriority::Lowest,
+            },
+            InsertFontFamily {
+                family: egui::FontFamily::Monospace,
+                priority: FontPriority::Lowest,
+            },
+        ],
+    ));
+}
+
+/// Writes uniform | importance | reference side by side as one PNG.
+fn export_images(path: &Path, published: Option<&Published>) -> Result<(), String> {
+    let p = published.ok_or("no image has been rendered yet")?;
+    let (w, h) = (p.width as usize, p.height as usize);
+    let mut parts: Vec<&[u8]> = vec![&p.uniform.rgba, &p.importance.rgba];
+    if let Some(r) = &p.reference_rgba {
+        parts.push(r);
+    }
+    let total_w = w * parts.len();
+    let mut out = vec![0u8; total_w * h * 4];
+    for (k, part) in parts.iter().enumerate() {
+        for y in 0..h {
+            let src = &part[y * w * 4..(y + 1) * w * 4];
+            let dst = (y * total_w + k * w) * 4;
+            out[dst..dst + w * 4].copy_from_slice(src);
+        }
+    }
+    image::save_buffer(
+        path,
+        &out,
+        total_w as u32,
+        h as u32,
+        image::ExtendedColorType::Rgba8,
+    )
+    .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Writes the alias-table diagram as a PNG (the headless drawing of `lightpick plot table`).
+fn export_diagram(path: &Path, state: &AppState) -> Result<(), String> {
+    let theme = if state.dark() {
+        lightpick_core::draw::Theme::Dark
+    } else {
+        lightpick_core::draw::Theme::Light
+    };
+    let style = lightpick_core::draw::Style {
+        theme,
+        ..Default::default()
+    };
+    let pixmap =
+        lightpick_core::draw::table_diagram(&state.built.table, state.built.denominator, &style)
+            .map_err(|e| e.to_string())?;
+    lightpick_core::draw::write_png(&pixmap, path).map_err(|e| e.to_string())
+}
+
+impl eframe::App for LightpickApp {
+    fn ui(&mut self, ui: &mut Ui, frame: &mut eframe::Frame) {
+        if self.gpu.is_none()
+            && self.gpu_error.is_none()
+            && let Some(render_state) = frame.wgpu_render_state()
+        {
+            self.gpu = Some(gpu_images::GpuImages::new(render_state));
+            // A software rasterizer (lavapipe) pays per triangle: without feathering every
+            // rectangle is 2 triangles instead of 10, which roughly halves the cost of a
+            // frame of this text-and-plot-heavy window. Real GPUs keep anti-aliasing.
+            if render_state.adapter.get_info().device_type == eframe::wgpu::DeviceType::Cpu {
+                ui.ctx().tessellation_options_mut(|o| o.feathering = false);
+            }
+        }
+        LightpickApp::ui(self, ui);
+    }
+
+    fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
+        visuals.panel_fill.to_normalized_gamma_f32()
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, SETTINGS_KEY, &self.state.settings);
+        if self.state.built.len() <= PERSIST_SCENE_LIMIT {
+            storage.set_string(SCENE_KEY, scene_io::to_json(&self.state.built.scene));
+        }
+    }
 }

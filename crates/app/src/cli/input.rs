@@ -1,10 +1,11 @@
-//! Where powers come from: `--powers`, `--powers-file` (later `--scene` / `--preset`).
+//! Where powers and scenes come from: `--powers`, `--powers-file`, `--scene`, `--preset`.
 
 use std::path::PathBuf;
 
 use anyhow::{Context as _, bail};
 use clap::Args;
 use lightpick_core::LightPowers;
+use lightpick_core::scene::{PRESET_NAMES, Scene};
 
 /// The sources of light powers shared by every subcommand; exactly one is used.
 #[derive(Debug, Args, Clone, Default)]
@@ -15,11 +16,53 @@ pub struct PowersArgs {
     /// A file of powers separated by commas or white space.
     #[arg(long, value_name = "FILE", conflicts_with = "powers")]
     pub powers_file: Option<PathBuf>,
+    /// The powers of a scene file's lights.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+}
+
+/// Where a scene comes from: a JSON file or a built-in preset.
+#[derive(Debug, Args, Clone, Default)]
+pub struct SceneArgs {
+    /// A JSON scene file.
+    #[arg(long, value_name = "FILE", conflicts_with = "preset")]
+    pub scene: Option<PathBuf>,
+    /// A built-in scene: seed, equal, dominant, zeros, heavy-tail, million, extreme-range.
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+}
+
+impl SceneArgs {
+    /// The scene named, or `None` when neither `--scene` nor `--preset` was given.
+    pub fn load(&self) -> anyhow::Result<Option<Scene>> {
+        if let Some(path) = &self.scene {
+            let scene = Scene::load(path).with_context(|| format!("--scene {}", path.display()))?;
+            return Ok(Some(scene));
+        }
+        if let Some(name) = &self.preset {
+            if !PRESET_NAMES.contains(&name.as_str()) {
+                bail!(
+                    "--preset: unknown preset '{name}' (expected one of {})",
+                    PRESET_NAMES.join(", ")
+                );
+            }
+            return Ok(Some(Scene::preset(name)?));
+        }
+        Ok(None)
+    }
 }
 
 impl PowersArgs {
     /// Reads and validates the powers from whichever source was given.
     pub fn load(&self) -> anyhow::Result<LightPowers> {
+        let given = [
+            self.powers.is_some(),
+            self.powers_file.is_some(),
+            self.scene.scene.is_some() || self.scene.preset.is_some(),
+        ];
+        if given.iter().filter(|&&g| g).count() > 1 {
+            bail!("give the powers once: --powers, --powers-file, or --scene/--preset");
+        }
         let values = if let Some(list) = &self.powers {
             parse_numbers(list, &[','], "--powers")?
         } else if let Some(path) = &self.powers_file {
@@ -30,8 +73,13 @@ impl PowersArgs {
                 &[',', ' ', '\t', '\n', '\r'],
                 &path.display().to_string(),
             )?
+        } else if let Some(scene) = self.scene.load()? {
+            return Ok(scene.powers);
         } else {
-            bail!("no powers given: use --powers 2,5,20 or --powers-file FILE");
+            bail!(
+                "no powers given: use --powers 2,5,20, --powers-file FILE, --scene FILE or \
+                 --preset NAME"
+            );
         };
         LightPowers::new(values).map_err(Into::into)
     }

@@ -1,9 +1,14 @@
 //! The headless subcommands. Every one prints text for people or, with `--json`, one JSON
 //! object for scripts. Any error prints one line `error: …` on stderr and exits with code 2.
 
+mod bench;
+mod device;
 mod estimate;
 mod fraction;
 mod input;
+mod plot;
+mod precision;
+mod render;
 mod sample;
 mod table;
 
@@ -38,6 +43,14 @@ pub enum Command {
     Sample(sample::SampleArgs),
     /// Estimate a sum of light contributions by sampling one light at a time.
     Estimate(estimate::EstimateArgs),
+    /// Draw the app's pictures headless: table, histogram, convergence, sheet (PNG).
+    Plot(plot::PlotArgs),
+    /// Render a scene progressively; report its error against the exact reference.
+    Render(render::RenderArgs),
+    /// Time the tables, the peers, the GPU and the renders (performance is measured here).
+    Bench(bench::BenchArgs),
+    /// The precision lab: what f32, one random or f32(u)·N would cost, computed exactly.
+    Precision(precision::PrecisionArgs),
 }
 
 /// Parses the command line, runs it, and maps errors to one `error:` line and exit code 2.
@@ -62,6 +75,10 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Table(args)) => table::run(&args),
         Some(Command::Sample(args)) => sample::run(&args),
         Some(Command::Estimate(args)) => estimate::run(&args),
+        Some(Command::Render(args)) => render::run(&args),
+        Some(Command::Plot(args)) => plot::run(&args),
+        Some(Command::Bench(args)) => bench::run(&args),
+        Some(Command::Precision(args)) => precision::run(&args),
     }
 }
 

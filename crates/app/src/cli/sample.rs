@@ -3,34 +3,16 @@
 use std::fmt::Write as _;
 
 use anyhow::bail;
-use clap::{Args, ValueEnum};
+use clap::Args;
 use lightpick_core::{ChiSquare, LightPowers, LightSampler as _, Rng, Sampler, Scheme, chi_square};
 use rayon::prelude::*;
 use serde_json::json;
 
+use super::device::{Device, choose};
 use super::input::PowersArgs;
 
 /// The largest `--count` accepted (about a minute of CPU sampling on two cores).
 pub(crate) const MAX_COUNT: u64 = 100_000_000_000;
-
-/// Where samples are drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Device {
-    /// The CPU (rayon).
-    Cpu,
-    /// The GPU (wgpu compute), bit-identical to the CPU.
-    Gpu,
-}
-
-impl Device {
-    /// The device's command-line name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Device::Cpu => "cpu",
-            Device::Gpu => "gpu",
-        }
-    }
-}
 
 /// Arguments of `lightpick sample`.
 #[derive(Debug, Args)]
@@ -47,7 +29,7 @@ pub struct SampleArgs {
     /// Random seed; sample k uses stream k of this seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Where to draw the samples.
+    /// Where to draw the samples (default: the CPU). GPU counts equal CPU counts exactly.
     #[arg(long, value_enum, default_value_t = Device::Cpu)]
     pub device: Device,
     /// Print one JSON object instead of text.
@@ -60,9 +42,10 @@ pub fn run(args: &SampleArgs) -> anyhow::Result<()> {
     check_count(args.count)?;
     let powers = args.powers.load()?;
     let sampler = Sampler::build(args.scheme, &powers);
-    let counts = match args.device {
-        Device::Cpu => count_cpu(&sampler, args.count, args.seed),
-        Device::Gpu => bail!("--device gpu: the GPU sampler is not available in this build"),
+    let counts = match choose(Some(args.device), true)? {
+        None => count_cpu(&sampler, args.count, args.seed),
+        Some(ctx) => lightpick_core::gpu::histogram(&ctx, &sampler, args.count, args.seed)
+            .map_err(|e| anyhow::anyhow!("--device gpu: {e}"))?,
     };
     let expected: Vec<f64> = (0..sampler.light_count())
         .map(|i| sampler.probability(i))

@@ -1,0 +1,149 @@
+//! The menu bar, the run controls (samples per frame, seed, pause/step/reset, device,
+//! exposure, budget mode, theme) and the status bar.
+
+use egui::Ui;
+
+use super::colors;
+use super::state::{AppState, BudgetMode, Device, FileAction, MessageKind};
+
+/// The menu bar: File (open, save, export) and View (theme).
+pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
+    egui::MenuBar::new().ui(ui, |ui| {
+        ui.menu_button("File", |ui| {
+            for (action, shortcut) in [
+                (FileAction::OpenScene, "Ctrl+O"),
+                (FileAction::SaveScene, "Ctrl+S"),
+                (FileAction::ExportImages, ""),
+                (FileAction::ExportDiagram, ""),
+            ] {
+                if ui
+                    .add(egui::Button::new(format!("{}…", action.title())).shortcut_text(shortcut))
+                    .on_hover_text(action.title())
+                    .clicked()
+                {
+                    open_dialog(state, action);
+                    ui.close();
+                }
+            }
+        });
+        ui.menu_button("View", |ui| {
+            if ui
+                .selectable_label(state.settings.dark, "Dark theme")
+                .on_hover_text("Dark background")
+                .clicked()
+            {
+                state.settings.dark = true;
+            }
+            if ui
+                .selectable_label(!state.settings.dark, "Light theme")
+                .on_hover_text("Light background (projectors in bright rooms)")
+                .clicked()
+            {
+                state.settings.dark = false;
+            }
+        });
+        ui.separator();
+        controls_ui(ui, state);
+    });
+}
+
+/// Opens the path dialog for `action` with a sensible default path.
+pub fn open_dialog(state: &mut AppState, action: FileAction) {
+    let default = match action {
+        FileAction::OpenScene | FileAction::SaveScene => format!("{}.json", state.edit.name),
+        FileAction::ExportImages => format!("{}-images.png", state.edit.name),
+        FileAction::ExportDiagram => format!("{}-alias-table.png", state.edit.name),
+    };
+    if state.file_dialog.path.is_empty() || state.file_dialog.action != Some(action) {
+        state.file_dialog.path = default;
+    }
+    state.file_dialog.action = Some(action);
+    state.file_dialog.error = None;
+}
+
+/// Run controls, on one line.
+pub fn controls_ui(ui: &mut Ui, state: &mut AppState) {
+    let s = &mut state.settings;
+    let pause_text = if s.paused { "Run" } else { "Pause" };
+    if ui
+        .button(pause_text)
+        .on_hover_text("Pause or resume sampling and accumulation (Space)")
+        .clicked()
+    {
+        s.paused = !s.paused;
+    }
+    if ui
+        .add_enabled(s.paused, egui::Button::new("Step"))
+        .on_hover_text("Accumulate one frame while paused (N)")
+        .on_disabled_hover_text("Pause first to step frame by frame")
+        .clicked()
+    {
+        state.step_requested = true;
+    }
+    if ui
+        .button("Reset")
+        .on_hover_text("Clear the images, curves and histograms and start again (R)")
+        .clicked()
+    {
+        state.reset_requested = true;
+    }
+    let s = &mut state.settings;
+    ui.separator();
+    let label = ui.label("spp/frame");
+    ui.add(egui::DragValue::new(&mut s.spp_per_frame).range(1..=256))
+        .labelled_by(label.id)
+        .on_hover_text("Samples per pixel each scheme adds per frame (equal-samples mode)");
+    let label = ui.label("seed");
+    ui.add(egui::DragValue::new(&mut s.seed).range(0..=u64::from(u32::MAX)))
+        .labelled_by(label.id)
+        .on_hover_text(
+            "Seed of every random stream: the same seed gives the same images and histograms",
+        );
+    let label = ui.label("exposure");
+    let speed = s.exposure * 0.01;
+    ui.add(
+        egui::DragValue::new(&mut s.exposure)
+            .range(1e-12..=1e12)
+            .speed(speed)
+            .max_decimals(4),
+    )
+    .labelled_by(label.id)
+    .on_hover_text("Tonemap exposure: irradiance is multiplied by this before display");
+    ui.separator();
+    ui.selectable_value(&mut s.budget, BudgetMode::EqualSamples, "equal samples")
+        .on_hover_text("Both schemes add the same samples per pixel per frame");
+    ui.selectable_value(&mut s.budget, BudgetMode::EqualTime, "equal time")
+        .on_hover_text("Both schemes get the same compute time per frame");
+    ui.separator();
+    ui.selectable_value(&mut s.device, Device::Gpu, "GPU")
+        .on_hover_text(
+            "Render with wgpu compute on the window's device (CPU fallback without one)",
+        );
+    ui.selectable_value(&mut s.device, Device::Cpu, "CPU")
+        .on_hover_text("Render with the CPU renderer");
+}
+
+/// The status bar: the last message, the device in use and the frame rate.
+pub fn status_ui(ui: &mut Ui, state: &AppState, device_note: &str, frame_ms: Option<f32>) {
+    let dark = state.dark();
+    ui.horizontal(|ui| {
+        let timing = frame_ms.map_or_else(|| "inline".to_owned(), |ms| format!("{ms:.1} ms/frame"));
+        ui.label(format!("{device_note} · {timing}"))
+            .on_hover_text("Where the images are rendered, and the UI's time per frame");
+        ui.separator();
+        ui.label(format!(
+            "scene '{}' · {} lights",
+            state.edit.name,
+            state.built.len()
+        ));
+        if let Some((text, kind)) = &state.status {
+            ui.separator();
+            let color = match kind {
+                MessageKind::Info => colors::foreground(dark),
+                MessageKind::Success => colors::good(dark),
+                MessageKind::Error => colors::error(dark),
+            };
+            ui.colored_label(color, text);
+        }
+    });
+}

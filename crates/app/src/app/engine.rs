@@ -1,0 +1,579 @@
+//! The progressive-image engine: two renderers (uniform and importance) over the last valid
+//! scene, their reference, errors, timings and convergence series.
+//!
+//! It runs on its own thread in the app (so rendering never blocks the window) or inline
+//! (`threaded = false`, for tests: every step is deterministic and timings are virtual).
+//! The UI sends [`Command`]s and reads the latest [`Published`] frame; every published frame
+//! carries the scene generation it belongs to, so a frame of an old scene is never shown as
+//! the new one's.
+
+use std::sync::mpsc;
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use lightpick_core::Scheme;
+use lightpick_core::render::{CpuRenderer, Reference, mean_variance_per_sample, tonemap_rgba8};
+use lightpick_core::scene::Scene;
+
+use super::colors;
+use super::state::BudgetMode;
+
+/// Compute time each scheme gets per frame in equal-time mode.
+const EQUAL_TIME_SLICE_S: f64 = 0.012;
+
+/// Virtual seconds per pixel sample in inline mode (deterministic timings for tests).
+const VIRTUAL_SECONDS_PER_SAMPLE: f64 = 1.0e-8;
+
+/// What the engine renders with, as the UI set it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EngineConfig {
+    /// Samples per pixel per frame (equal-samples mode).
+    pub spp_per_frame: u32,
+    /// Equal samples or equal time.
+    pub budget: BudgetMode,
+    /// Tonemap exposure.
+    pub exposure: f64,
+    /// The seed of the pixel streams.
+    pub seed: u64,
+    /// Whether frames accumulate continuously.
+    pub running: bool,
+}
+
+/// A message from the UI to the engine.
+#[derive(Clone, Debug)]
+pub enum Command {
+    /// Start over on this scene (new table, new seed, or reset).
+    Reset {
+        /// The scene generation (from `Built`).
+        generation: u64,
+        /// The scene.
+        scene: Arc<Scene>,
+    },
+    /// New settings (exposure re-tonemaps at once, even while paused).
+    Config(EngineConfig),
+    /// Accumulate one frame while paused.
+    Step,
+    /// The UI has taken the last published frame (the worker may render the next).
+    Shown,
+}
+
+/// One point of a convergence curve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConvergencePoint {
+    /// Samples per pixel so far.
+    pub spp: u32,
+    /// Render seconds so far.
+    pub seconds: f64,
+    /// RMSE against the reference.
+    pub rmse: f64,
+}
+
+/// One scheme's image and numbers.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SchemeImage {
+    /// Tonemapped RGBA8, row-major.
+    pub rgba: Vec<u8>,
+    /// Error map RGBA8 (|estimate − reference|), when a reference exists.
+    pub error_rgba: Option<Vec<u8>>,
+    /// Samples per pixel so far.
+    pub spp: u32,
+    /// Render seconds so far.
+    pub seconds: f64,
+    /// Seconds of the last frame.
+    pub last_frame_seconds: f64,
+    /// RMSE against the reference.
+    pub rmse: Option<f64>,
+    /// Mean per-sample variance over the pixels (for efficiency `1/(Var·T)`).
+    pub variance: f64,
+    /// Convergence curve.
+    pub series: Vec<ConvergencePoint>,
+}
+
+impl SchemeImage {
+    /// Seconds per pixel sample `T`.
+    pub fn seconds_per_sample(&self, pixels: usize) -> f64 {
+        let samples = f64::from(self.spp) * pixels as f64;
+        if samples > 0.0 {
+            self.seconds / samples
+        } else {
+            0.0
+        }
+    }
+
+    /// Efficiency `1/(Var·T)` (variance per sample times time per sample).
+    pub fn efficiency(&self, pixels: usize) -> Option<f64> {
+        let t = self.seconds_per_sample(pixels);
+        (self.variance > 0.0 && t > 0.0).then(|| 1.0 / (self.variance * t))
+    }
+}
+
+/// The latest frame the engine published.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Published {
+    /// The scene generation it renders.
+    pub generation: u64,
+    /// Counts published frames (the UI re-uploads textures when it changes).
+    pub frame: u64,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Uniform light selection.
+    pub uniform: SchemeImage,
+    /// Power-proportional selection (alias table).
+    pub importance: SchemeImage,
+    /// The tonemapped exact reference.
+    pub reference_rgba: Option<Vec<u8>>,
+    /// Why there is no reference, when there is none.
+    pub reference_note: Option<String>,
+    /// Where it was rendered ("CPU (rayon, 2 threads)").
+    pub device_note: String,
+}
+
+/// One scheme's renderer and totals.
+struct Lane {
+    renderer: CpuRenderer,
+    seconds: f64,
+    last_frame_seconds: f64,
+    series: Vec<ConvergencePoint>,
+}
+
+impl Lane {
+    fn new(scene: &Scene, scheme: Scheme, seed: u64) -> Self {
+        Self {
+            renderer: CpuRenderer::new(scene, scheme, seed),
+            seconds: 0.0,
+            last_frame_seconds: 0.0,
+            series: Vec::new(),
+        }
+    }
+
+    /// Adds `spp` samples per pixel; returns the seconds spent (real or virtual).
+    fn run(&mut self, spp: u32, virtual_time: bool, pixels: usize) -> f64 {
+        let start = Instant::now();
+        self.renderer.accumulate(spp);
+        if virtual_time {
+            f64::from(spp) * pixels as f64 * VIRTUAL_SECONDS_PER_SAMPLE
+        } else {
+            start.elapsed().as_secs_f64()
+        }
+    }
+}
+
+/// The state of one scene's rendering.
+struct Job {
+    generation: u64,
+    scene: Arc<Scene>,
+    uniform: Lane,
+    importance: Lane,
+    reference: Reference,
+    reference_note: Option<String>,
+    frame: u64,
+}
+
+impl Job {
+    fn new(generation: u64, scene: Arc<Scene>, seed: u64) -> Self {
+        let (reference, reference_note) = reference(&scene);
+        Self {
+            generation,
+            uniform: Lane::new(&scene, Scheme::Uniform, seed),
+            importance: Lane::new(&scene, Scheme::Alias, seed),
+            scene,
+            reference,
+            reference_note,
+            frame: 0,
+        }
+    }
+
+    fn pixels(&self) -> usize {
+        self.scene.plane.pixel_count()
+    }
+
+    /// Accumulates one frame of both schemes.
+    fn advance(&mut self, config: &EngineConfig, virtual_time: bool) {
+        let pixels = self.pixels();
+        let reference = &self.reference;
+        for lane in [&mut self.uniform, &mut self.importance] {
+            let spent = match config.budget {
+                BudgetMode::EqualSamples => {
+                    lane.run(config.spp_per_frame.max(1), virtual_time, pixels)
+                }
+                BudgetMode::EqualTime => {
+                    let mut spent = 0.0;
+                    loop {
+                        spent += lane.run(1, virtual_time, pixels);
+                        if virtual_time || spent >= EQUAL_TIME_SLICE_S {
+                            break;
+                        }
+                    }
+                    spent
+                }
+            };
+            lane.seconds += spent;
+            lane.last_frame_seconds = spent;
+            let acc = lane.renderer.accumulator();
+            lane.series.push(ConvergencePoint {
+                spp: acc.samples_per_pixel,
+                seconds: lane.seconds,
+                rmse: lightpick_core::render::rmse(acc, reference),
+            });
+            thin(&mut lane.series);
+        }
+    }
+
+    fn publish(&mut self, config: &EngineConfig, device_note: &str) -> Published {
+        self.frame += 1;
+        let reference = &self.reference;
+        let full = reference.image();
+        let exposure = config.exposure;
+        let error_scale = full.map(error_scale);
+        let scheme_image = |lane: &Lane| {
+            let acc = lane.renderer.accumulator();
+            let image = acc.image();
+            let variance = mean_variance_per_sample(acc);
+            SchemeImage {
+                rgba: tonemap_rgba8(&image, exposure),
+                error_rgba: full
+                    .zip(error_scale)
+                    .map(|(r, scale)| error_map(&image, r, scale)),
+                spp: acc.samples_per_pixel,
+                seconds: lane.seconds,
+                last_frame_seconds: lane.last_frame_seconds,
+                rmse: Some(lightpick_core::render::rmse(acc, reference)),
+                variance,
+                series: lane.series.clone(),
+            }
+        };
+        Published {
+            generation: self.generation,
+            frame: self.frame,
+            width: self.scene.plane.width,
+            height: self.scene.plane.height,
+            uniform: scheme_image(&self.uniform),
+            importance: scheme_image(&self.importance),
+            reference_rgba: full.map(|r| tonemap_rgba8(r, exposure)),
+            reference_note: self.reference_note.clone(),
+            device_note: device_note.to_owned(),
+        }
+    }
+}
+
+/// Keeps a convergence series short: past 1024 points, every other point of the older half
+/// is dropped (on a log axis the recent, dense end loses nothing visible).
+pub(crate) fn thin(series: &mut Vec<ConvergencePoint>) {
+    if series.len() <= 1024 {
+        return;
+    }
+    let half = series.len() / 2;
+    let mut k = 0;
+    series.retain(|_| {
+        k += 1;
+        k > half || k % 2 == 1
+    });
+}
+
+/// The error-map scale: errors are shown relative to the reference's mean.
+pub(crate) fn error_scale(reference: &[f64]) -> f64 {
+    let mean = reference.iter().sum::<f64>() / reference.len().max(1) as f64;
+    if mean > 0.0 { 1.0 / mean } else { 1.0 }
+}
+
+/// The error map: `|estimate − reference| · scale` through the palette's error ramp.
+pub(crate) fn error_map(image: &[f64], reference: &[f64], scale: f64) -> Vec<u8> {
+    image
+        .iter()
+        .zip(reference)
+        .flat_map(|(e, r)| {
+            let [red, green, blue] = colors::error_ramp((e - r).abs() * scale);
+            [red, green, blue, 255]
+        })
+        .collect()
+}
+
+/// The exact reference within the core's budget (every pixel, or a fixed subset for huge
+/// `N·P`), and a note when it is a subset.
+pub(crate) fn reference(scene: &Scene) -> (Reference, Option<String>) {
+    let reference = Reference::compute(scene);
+    let note = (!reference.is_complete()).then(|| {
+        format!(
+            "reference at {} of {} pixels ({} lights): RMSE over those pixels, no reference image",
+            reference.pixels().len(),
+            scene.plane.pixel_count(),
+            scene.light_count()
+        )
+    });
+    (reference, note)
+}
+
+/// Where the engine runs.
+#[allow(clippy::large_enum_variant)] // One engine per app; boxing would only add a hop.
+enum Mode {
+    /// A worker thread; frames come back through `shared`.
+    Threaded {
+        sender: mpsc::Sender<Command>,
+        shared: Arc<Mutex<Option<Arc<Published>>>>,
+        last_seen: Option<u64>,
+    },
+    /// On the caller's thread, with virtual timings (tests).
+    Inline {
+        job: Option<Job>,
+        config: Option<EngineConfig>,
+        latest: Option<Arc<Published>>,
+    },
+}
+
+/// The engine handle the app holds.
+pub struct Engine {
+    mode: Mode,
+    generation: Option<u64>,
+    config: Option<EngineConfig>,
+}
+
+const CPU_NOTE: &str = "CPU renderer";
+
+impl Engine {
+    /// A threaded engine that asks `ctx` to repaint whenever a frame is ready.
+    pub fn threaded(ctx: &egui::Context) -> Self {
+        let (sender, receiver) = mpsc::channel();
+        let shared = Arc::new(Mutex::new(None));
+        let worker_shared = Arc::clone(&shared);
+        let ctx = ctx.clone();
+        let spawned = std::thread::Builder::new()
+            .name("lightpick-render".to_owned())
+            .spawn(move || worker(&receiver, &worker_shared, &ctx));
+        if spawned.is_err() {
+            // Without a thread the engine still works, on the UI thread.
+            return Self::inline();
+        }
+        Self {
+            mode: Mode::Threaded {
+                sender,
+                shared,
+                last_seen: None,
+            },
+            generation: None,
+            config: None,
+        }
+    }
+
+    /// An engine that renders on the caller's thread, only when asked, with virtual
+    /// timings: deterministic frames for tests.
+    pub fn inline() -> Self {
+        Self {
+            mode: Mode::Inline {
+                job: None,
+                config: None,
+                latest: None,
+            },
+            generation: None,
+            config: None,
+        }
+    }
+
+    /// Whether frames render on a worker thread.
+    pub fn is_threaded(&self) -> bool {
+        matches!(self.mode, Mode::Threaded { .. })
+    }
+
+    /// Restarts on `scene` when its generation differs from the current one (or `force`).
+    pub fn sync_scene(&mut self, generation: u64, scene: &Arc<Scene>, force: bool) {
+        if !force && self.generation == Some(generation) {
+            return;
+        }
+        self.generation = Some(generation);
+        self.send(Command::Reset {
+            generation,
+            scene: Arc::clone(scene),
+        });
+    }
+
+    /// Sends the settings when they changed.
+    pub fn sync_config(&mut self, config: EngineConfig) {
+        if self.config == Some(config) {
+            return;
+        }
+        self.config = Some(config);
+        self.send(Command::Config(config));
+    }
+
+    /// Accumulates one frame (while paused).
+    pub fn step(&mut self) {
+        self.send(Command::Step);
+    }
+
+    /// In inline mode, renders a frame when running; a no-op when threaded.
+    pub fn tick(&mut self) {
+        if let Mode::Inline {
+            job: Some(job),
+            config: Some(config),
+            latest,
+        } = &mut self.mode
+            && config.running
+        {
+            job.advance(config, true);
+            *latest = Some(Arc::new(job.publish(config, CPU_NOTE)));
+        }
+    }
+
+    /// The latest frame. In threaded mode, taking a new frame lets the worker render the
+    /// next one: rendering never runs ahead of what the window shows, so the UI keeps
+    /// its share of the CPU.
+    pub fn latest(&mut self) -> Option<Arc<Published>> {
+        match &mut self.mode {
+            Mode::Threaded {
+                shared,
+                sender,
+                last_seen,
+            } => {
+                let latest = shared.lock().ok().and_then(|g| g.clone());
+                if let Some(p) = &latest
+                    && *last_seen != Some(p.frame)
+                {
+                    *last_seen = Some(p.frame);
+                    let _ = sender.send(Command::Shown);
+                }
+                latest
+            }
+            Mode::Inline { latest, .. } => latest.clone(),
+        }
+    }
+
+    fn send(&mut self, command: Command) {
+        match &mut self.mode {
+            Mode::Threaded { sender, .. } => {
+                // A stopped worker only happens at shutdown; nothing to report then.
+                let _ = sender.send(command);
+            }
+            Mode::Inline {
+                job,
+                config,
+                latest,
+            } => {
+                handle(command, job, config, true);
+                if let (Some(job), Some(config)) = (job.as_mut(), config.as_ref()) {
+                    *latest = Some(Arc::new(job.publish(config, CPU_NOTE)));
+                }
+            }
+        }
+    }
+}
+
+/// Applies one command; returns whether a frame must be accumulated now (a step).
+fn handle(
+    command: Command,
+    job: &mut Option<Job>,
+    config: &mut Option<EngineConfig>,
+    virtual_time: bool,
+) -> bool {
+    match command {
+        Command::Reset { generation, scene } => {
+            let seed = config.map_or(1, |c| c.seed);
+            *job = Some(Job::new(generation, scene, seed));
+            false
+        }
+        Command::Config(new) => {
+            let reseed = config.is_some_and(|old| old.seed != new.seed);
+            *config = Some(new);
+            if reseed && let Some(old) = job.take() {
+                *job = Some(Job::new(old.generation, old.scene, new.seed));
+            }
+            false
+        }
+        Command::Step => {
+            if let (Some(job), Some(config)) = (job.as_mut(), config.as_ref()) {
+                job.advance(config, virtual_time);
+            }
+            false
+        }
+        Command::Shown => false,
+    }
+}
+
+/// The worker loop: waits for commands while paused; while running renders one frame at a
+/// time, each after the UI has taken the previous one. Rendering uses a rayon pool that
+/// leaves one core to the UI thread.
+fn worker(
+    receiver: &mpsc::Receiver<Command>,
+    shared: &Mutex<Option<Arc<Published>>>,
+    ctx: &egui::Context,
+) {
+    let threads =
+        std::thread::available_parallelism().map_or(1, |n| n.get().saturating_sub(1).max(1));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("lightpick-render-{i}"))
+        .build()
+        .ok();
+    let mut job: Option<Job> = None;
+    let mut config: Option<EngineConfig> = None;
+    // Whether the UI has taken the last published frame.
+    let mut shown = true;
+    loop {
+        let running = job.is_some() && config.is_some_and(|c| c.running);
+        // Block unless a frame is due; then take whatever else arrived.
+        let mut commands = Vec::new();
+        if !(running && shown) {
+            match receiver.recv() {
+                Ok(c) => commands.push(c),
+                Err(_) => return,
+            }
+        }
+        loop {
+            match receiver.try_recv() {
+                Ok(c) => commands.push(c),
+                Err(mpsc::TryRecvError::Empty) => break,
+                Err(mpsc::TryRecvError::Disconnected) => return,
+            }
+        }
+        // Only the newest reset matters (a drag on a large scene sends one per frame).
+        if let Some(last_reset) = commands
+            .iter()
+            .rposition(|c| matches!(c, Command::Reset { .. }))
+        {
+            let mut k = 0;
+            commands.retain(|c| {
+                k += 1;
+                !matches!(c, Command::Reset { .. }) || k - 1 == last_reset
+            });
+        }
+        let mut changed = false;
+        for command in commands {
+            match command {
+                Command::Shown => shown = true,
+                other => {
+                    changed = true;
+                    let work = || handle(other, &mut job, &mut config, false);
+                    match &pool {
+                        Some(pool) => {
+                            pool.install(work);
+                        }
+                        None => {
+                            work();
+                        }
+                    }
+                }
+            }
+        }
+        let running = job.is_some() && config.is_some_and(|c| c.running);
+        if let (Some(job), Some(cfg)) = (job.as_mut(), config.as_ref()) {
+            if running && shown {
+                match &pool {
+                    Some(pool) => pool.install(|| job.advance(cfg, false)),
+                    None => job.advance(cfg, false),
+                }
+                changed = true;
+            }
+            if changed {
+                let frame = Arc::new(match &pool {
+                    Some(pool) => pool.install(|| job.publish(cfg, CPU_NOTE)),
+                    None => job.publish(cfg, CPU_NOTE),
+                });
+                if let Ok(mut slot) = shared.lock() {
+                    *slot = Some(frame);
+                }
+                shown = false;
+                ctx.request_repaint_after(std::time::Duration::from_millis(16));
+            }
+        }
+    }
+}

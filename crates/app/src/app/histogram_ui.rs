@@ -1,0 +1,155 @@
+//! The sampling panel: running histograms of uniform and alias picks against the pmf each
+//! realizes, their chi-square p-values, and "draw one sample" replayed on the diagram.
+
+use egui::Ui;
+use egui_plot::{Bar, BarChart, Legend, Plot, Points};
+use lightpick_core::{ChiSquare, Scheme};
+
+use super::colors;
+use super::state::AppState;
+use super::table_ui;
+
+/// The whole panel.
+pub fn sampling_ui(ui: &mut Ui, state: &mut AppState) {
+    let dark = state.dark();
+    ui.horizontal(|ui| {
+        ui.heading("Sampling");
+        ui.label(format!("{} picks per scheme", state.sampling.picks))
+            .on_hover_text(
+                "Light picks drawn so far by each scheme (both restart when the table changes)",
+            );
+    });
+    ui.horizontal(|ui| {
+        let label = ui.label("picks/frame");
+        ui.add(
+            egui::DragValue::new(&mut state.settings.picks_per_frame)
+                .range(1..=1_000_000)
+                .speed(10.0),
+        )
+        .labelled_by(label.id)
+        .on_hover_text("Light picks added to each histogram per frame while running");
+        if ui
+            .button("Draw one sample")
+            .on_hover_text("Draw U1 (picks a column) and U2 (compared with its threshold); shown on the diagram")
+            .clicked()
+        {
+            state.draw_one();
+        }
+        if ui
+            .button("Clear")
+            .on_hover_text("Clear the histograms")
+            .clicked()
+        {
+            state.restart_sampling();
+        }
+    });
+    if let Some(draw) = state.sampling.last_draw {
+        ui.label(
+            egui::RichText::new(table_ui::draw_sentence(state, &draw)).color(colors::pick(dark)),
+        );
+    }
+    ui.horizontal_wrapped(|ui| {
+        chi_label(ui, "uniform", state.sampling.uniform_chi, dark);
+        ui.separator();
+        chi_label(ui, "alias", state.sampling.alias_chi, dark);
+    });
+    histogram_plot_ui(ui, state);
+}
+
+fn chi_label(ui: &mut Ui, name: &str, chi: Option<ChiSquare>, dark: bool) {
+    let Some(c) = chi else {
+        ui.label(format!("{name}: no picks yet"));
+        return;
+    };
+    let color = if c.p_value >= 0.001 {
+        colors::good(dark)
+    } else {
+        colors::error(dark)
+    };
+    ui.colored_label(
+        color,
+        format!(
+            "{name}: χ² = {:.2}, dof = {}, p = {:.3}",
+            c.chi2, c.dof, c.p_value
+        ),
+    )
+    .on_hover_text(
+        "Pearson's chi-square test of the counts against the scheme's own pmf \
+         (uniform: 1/N, alias: Φ_i/ΣΦ). p-values are uniform on [0, 1] when the sampler is right; \
+         a p below 0.001 is shown in red.",
+    );
+}
+
+fn histogram_plot_ui(ui: &mut Ui, state: &AppState) {
+    let run = &state.sampling;
+    let per = run.per_bin;
+    let picks = run.picks.max(1) as f64;
+    let uniform_color = colors::scheme(Scheme::Uniform);
+    let alias_color = colors::scheme(Scheme::Alias);
+    let width = 0.38;
+    let x = |b: usize, side: f64| b as f64 + 1.0 + side * width / 2.0;
+    let uniform_bars: Vec<Bar> = run
+        .uniform_bins
+        .iter()
+        .enumerate()
+        .map(|(b, &c)| {
+            Bar::new(x(b, -1.0), c as f64 / picks)
+                .width(width)
+                .fill(uniform_color)
+        })
+        .collect();
+    let alias_bars: Vec<Bar> = run
+        .alias_bins
+        .iter()
+        .enumerate()
+        .map(|(b, &c)| {
+            Bar::new(x(b, 1.0), c as f64 / picks)
+                .width(width)
+                .fill(alias_color)
+        })
+        .collect();
+    let expected_alias: Vec<[f64; 2]> = run
+        .expected_bins
+        .iter()
+        .enumerate()
+        .map(|(b, &p)| [x(b, 1.0), p])
+        .collect();
+    let expected_uniform: Vec<[f64; 2]> = run
+        .flat_bins
+        .iter()
+        .enumerate()
+        .map(|(b, &p)| [x(b, -1.0), p])
+        .collect();
+    let x_label = if per == 1 {
+        "light".to_owned()
+    } else {
+        format!("lights, {per} per bar")
+    };
+    let fg = colors::foreground(state.dark());
+    Plot::new("histograms")
+        .legend(Legend::default().position(egui_plot::Corner::LeftTop))
+        .show_background(false)
+        .height(ui.available_height().max(140.0))
+        .allow_zoom(false)
+        .allow_drag(false)
+        .allow_scroll(false)
+        .include_y(0.0)
+        .x_axis_label(x_label)
+        .y_axis_label("frequency")
+        .show(ui, |plot_ui| {
+            plot_ui.bar_chart(BarChart::new("uniform picks", uniform_bars).color(uniform_color));
+            plot_ui.bar_chart(BarChart::new("alias picks", alias_bars).color(alias_color));
+            plot_ui.points(
+                Points::new("expected pmf", expected_alias)
+                    .shape(egui_plot::MarkerShape::Diamond)
+                    .radius(5.0)
+                    .color(fg),
+            );
+            plot_ui.points(
+                Points::new("expected 1/N", expected_uniform)
+                    .shape(egui_plot::MarkerShape::Circle)
+                    .radius(3.5)
+                    .color(colors::reference()),
+            );
+        });
+}

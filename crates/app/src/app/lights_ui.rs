@@ -1,0 +1,244 @@
+//! The lights panel: one row per light (colour, power drag value and slider, duplicate,
+//! remove), presets, randomize, generate `N`, and a powers text field. Rows are virtualized
+//! with `ScrollArea::show_rows`, so the `million` preset builds only the visible widgets.
+
+use egui::{RichText, Sense, Ui, vec2};
+
+use super::colors;
+use super::scene_io::{self, PowerDistribution};
+use super::state::{AppState, MessageKind, SliderScale};
+
+const ROW_HEIGHT: f32 = 22.0;
+
+/// The whole panel.
+pub fn lights_ui(ui: &mut Ui, state: &mut AppState) {
+    ui.heading("Lights");
+    presets_ui(ui, state);
+    ui.separator();
+    generate_ui(ui, state);
+    ui.separator();
+    powers_text_ui(ui, state);
+    if let Some(error) = &state.input_error {
+        ui.colored_label(colors::error(state.dark()), format!("Error: {error}"));
+    }
+    ui.separator();
+    scale_ui(ui, state);
+    ui.add_space(2.0);
+    rows_ui(ui, state);
+}
+
+fn presets_ui(ui: &mut Ui, state: &mut AppState) {
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Preset:")
+            .on_hover_text("Load one of the bundled scenes");
+        for name in scene_io::preset_names() {
+            let selected = state.edit.name == name;
+            if ui
+                .selectable_label(selected, name)
+                .on_hover_text(format!("Load the '{name}' scene"))
+                .clicked()
+            {
+                match scene_io::preset(name) {
+                    Ok(scene) => {
+                        state.load_scene(scene);
+                        state.message(format!("loaded preset '{name}'"), MessageKind::Info);
+                    }
+                    Err(e) => state.message(e, MessageKind::Error),
+                }
+            }
+        }
+    });
+}
+
+fn generate_ui(ui: &mut Ui, state: &mut AppState) {
+    ui.horizontal(|ui| {
+        let label = ui.label("Distribution");
+        egui::ComboBox::from_id_salt("power_distribution")
+            .selected_text(state.settings.distribution.label())
+            .show_ui(ui, |ui| {
+                for d in PowerDistribution::ALL {
+                    ui.selectable_value(&mut state.settings.distribution, d, d.label());
+                }
+            })
+            .response
+            .labelled_by(label.id)
+            .on_hover_text("Distribution of random powers for Randomize and Generate");
+    });
+    ui.horizontal(|ui| {
+        if ui
+            .button("Randomize")
+            .on_hover_text("Draw new powers for every light from the distribution")
+            .clicked()
+        {
+            state.randomize();
+        }
+        let label = ui.label("Count");
+        ui.add(
+            egui::DragValue::new(&mut state.settings.generate_count)
+                .range(1..=2_000_000)
+                .speed(1.0),
+        )
+        .labelled_by(label.id)
+        .on_hover_text("How many lights Generate makes (up to 2,000,000)");
+        if ui
+            .button("Generate")
+            .on_hover_text("Replace the scene by this many random lights")
+            .clicked()
+        {
+            let n = state.settings.generate_count;
+            state.generate(n);
+        }
+    });
+}
+
+fn powers_text_ui(ui: &mut Ui, state: &mut AppState) {
+    ui.horizontal(|ui| {
+        let label = ui.label("Powers");
+        let response = ui
+            .add(
+                egui::TextEdit::singleline(&mut state.powers_text)
+                    .desired_width(ui.available_width() - 60.0)
+                    .hint_text("2, 5, 20"),
+            )
+            .labelled_by(label.id)
+            .on_hover_text(
+                "Type powers separated by commas or spaces and press Enter (Apply). \
+                 A bad entry is named and the last valid table is kept.",
+            );
+        let enter = response.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+        if ui
+            .button("Apply")
+            .on_hover_text("Use the powers typed in the field")
+            .clicked()
+            || enter
+        {
+            state.apply_powers_text();
+        }
+    });
+}
+
+fn scale_ui(ui: &mut Ui, state: &mut AppState) {
+    ui.horizontal(|ui| {
+        ui.label("Slider")
+            .on_hover_text("Scale of the power sliders");
+        ui.selectable_value(
+            &mut state.settings.slider_scale,
+            SliderScale::Linear,
+            "linear",
+        )
+        .on_hover_text("Linear sliders from 0 to the maximum");
+        ui.selectable_value(&mut state.settings.slider_scale, SliderScale::Log, "log")
+            .on_hover_text("Logarithmic sliders over six decades below the maximum");
+        let label = ui.label("max");
+        ui.add(
+            egui::DragValue::new(&mut state.settings.slider_max)
+                .range(1e-300..=1e300)
+                .speed(0.1),
+        )
+        .labelled_by(label.id)
+        .on_hover_text("Upper end of the power sliders (typed powers may exceed it)");
+        if ui
+            .button("+ Add")
+            .on_hover_text("Add a light (power 1) at a random position")
+            .clicked()
+        {
+            state.add_light(1.0);
+        }
+    });
+}
+
+fn rows_ui(ui: &mut Ui, state: &mut AppState) {
+    let n = state.edit.powers.len();
+    let dark = state.dark();
+    let slider_max = state.settings.slider_max;
+    let log = state.settings.slider_scale == SliderScale::Log;
+    let mut changed = false;
+    let mut remove = None;
+    let mut duplicate = None;
+    egui::ScrollArea::vertical()
+        .id_salt("light_rows")
+        .auto_shrink([false, false])
+        .show_rows(ui, ROW_HEIGHT, n, |ui, rows| {
+            for i in rows {
+                ui.horizontal(|ui| {
+                    let (swatch, _) = ui.allocate_exact_size(vec2(14.0, 14.0), Sense::hover());
+                    ui.painter().rect_filled(swatch, 3.0, colors::light(i));
+                    let name = format!("light {}", i + 1);
+                    let bad = {
+                        let p = state.edit.powers[i];
+                        !p.is_finite() || p < 0.0
+                    };
+                    let text = RichText::new(format!("{:>3}", i + 1)).monospace();
+                    let text = if bad { text.color(colors::error(dark)) } else { text };
+                    ui.label(text).on_hover_text(format!(
+                        "Light {} at ({:.2}, {:.2}, {:.2})",
+                        i + 1,
+                        state.edit.positions.get(i).map_or(0.0, |p| p[0]),
+                        state.edit.positions.get(i).map_or(0.0, |p| p[1]),
+                        state.edit.positions.get(i).map_or(0.0, |p| p[2]),
+                    ));
+                    let p = &mut state.edit.powers[i];
+                    let speed = if p.is_finite() { (p.abs() * 0.01).max(0.01) } else { 0.01 };
+                    // egui compares old and new values to detect edits, and NaN never equals
+                    // itself: a non-finite power is shown as typed but edited through a
+                    // finite stand-in, so it stays until the user replaces it.
+                    let shown = *p;
+                    let mut stand_in = if shown.is_finite() { shown } else { 0.0 };
+                    let mut drag_value = egui::DragValue::new(&mut stand_in).speed(speed).max_decimals(6);
+                    if !shown.is_finite() {
+                        drag_value = drag_value.custom_formatter(move |_, _| format!("{shown}"));
+                    }
+                    let drag = ui
+                        .add_sized([78.0, ROW_HEIGHT - 2.0], drag_value)
+                        .accessible_name(format!("power of {name}"))
+                        .on_hover_text(format!(
+                            "Power Φ of {name}: drag, or click and type (NaN and negative values are refused)"
+                        ));
+                    if drag.changed() {
+                        *p = stand_in;
+                        changed = true;
+                    }
+                    let mut slider_value = if p.is_finite() { p.clamp(0.0, slider_max) } else { 0.0 };
+                    let slider = ui
+                        .add(
+                            egui::Slider::new(&mut slider_value, 0.0..=slider_max)
+                                .logarithmic(log)
+                                .smallest_positive(slider_max * 1e-6)
+                                .show_value(false),
+                        )
+                        .accessible_name(format!("power slider of {name}"))
+                        .on_hover_text(format!("Drag to set the power of {name}"));
+                    if slider.changed() {
+                        *p = slider_value;
+                        changed = true;
+                    }
+                    if ui
+                        .small_button("dup")
+                        .on_hover_text(format!("Duplicate {name}"))
+                        .accessible_name(format!("duplicate {name}"))
+                        .clicked()
+                    {
+                        duplicate = Some(i);
+                    }
+                    if ui
+                        .small_button("del")
+                        .on_hover_text(format!("Remove {name}"))
+                        .accessible_name(format!("remove {name}"))
+                        .clicked()
+                    {
+                        remove = Some(i);
+                    }
+                });
+            }
+        });
+    if let Some(i) = duplicate {
+        state.duplicate_light(i);
+    } else if let Some(i) = remove {
+        state.remove_light(i);
+    } else if changed {
+        if n <= 1000 {
+            state.powers_text = super::state::powers_to_text(&state.edit.powers);
+        }
+        state.powers_changed();
+    }
+}

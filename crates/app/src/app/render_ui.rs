@@ -1,0 +1,218 @@
+//! The images panel: uniform and importance progressive images side by side, the exact
+//! reference and the error maps, with spp, RMSE and frame time under each.
+
+use egui::{ColorImage, TextureHandle, TextureOptions, Ui};
+use lightpick_core::Scheme;
+
+use super::colors;
+use super::engine::{Published, SchemeImage};
+use super::fractions;
+use super::state::{AppState, BudgetMode};
+
+/// The textures of the latest published frame.
+#[derive(Default)]
+pub struct ImageTextures {
+    /// Native (GPU) textures of the uniform and importance images, which replace the
+    /// uploaded ones while the GPU renders.
+    pub native: Option<[egui::TextureId; 2]>,
+    frame: Option<(u64, u64)>,
+    uniform: Option<TextureHandle>,
+    importance: Option<TextureHandle>,
+    reference: Option<TextureHandle>,
+    uniform_error: Option<TextureHandle>,
+    importance_error: Option<TextureHandle>,
+}
+
+impl ImageTextures {
+    /// Uploads `published` when it is a frame not yet uploaded.
+    pub fn update(&mut self, ctx: &egui::Context, published: &Published) {
+        let key = (published.generation, published.frame);
+        if self.frame == Some(key) {
+            return;
+        }
+        self.frame = Some(key);
+        let size = [published.width as usize, published.height as usize];
+        upload(
+            ctx,
+            &mut self.uniform,
+            "uniform",
+            size,
+            Some(&published.uniform.rgba),
+        );
+        upload(
+            ctx,
+            &mut self.importance,
+            "importance",
+            size,
+            Some(&published.importance.rgba),
+        );
+        upload(
+            ctx,
+            &mut self.reference,
+            "reference",
+            size,
+            published.reference_rgba.as_deref(),
+        );
+        upload(
+            ctx,
+            &mut self.uniform_error,
+            "uniform_error",
+            size,
+            published.uniform.error_rgba.as_deref(),
+        );
+        upload(
+            ctx,
+            &mut self.importance_error,
+            "importance_error",
+            size,
+            published.importance.error_rgba.as_deref(),
+        );
+    }
+}
+
+fn upload(
+    ctx: &egui::Context,
+    slot: &mut Option<TextureHandle>,
+    name: &str,
+    size: [usize; 2],
+    rgba: Option<&[u8]>,
+) {
+    let Some(rgba) = rgba.filter(|r| r.len() == size[0] * size[1] * 4) else {
+        *slot = None;
+        return;
+    };
+    let image = ColorImage::from_rgba_unmultiplied(size, rgba);
+    match slot {
+        Some(handle) if handle.size() == size => handle.set(image, TextureOptions::NEAREST),
+        _ => {
+            *slot =
+                Some(ctx.load_texture(format!("lightpick_{name}"), image, TextureOptions::NEAREST));
+        }
+    }
+}
+
+/// The whole panel.
+pub fn images_ui(
+    ui: &mut Ui,
+    state: &mut AppState,
+    published: Option<&Published>,
+    textures: &ImageTextures,
+) {
+    ui.horizontal(|ui| {
+        ui.heading("Images");
+        ui.checkbox(&mut state.settings.show_reference, "reference")
+            .on_hover_text("Show the exact reference image (sum over every light)");
+        ui.checkbox(&mut state.settings.show_error, "error maps")
+            .on_hover_text("Show |estimate − reference| per pixel under each image");
+    });
+    let Some(published) = published else {
+        ui.label("waiting for the first frame…");
+        return;
+    };
+    let stale = published.generation != state.built.generation;
+    let columns = if state.settings.show_reference && textures.reference.is_some() {
+        3
+    } else {
+        2
+    };
+    let spacing = ui.spacing().item_spacing.x;
+    let side =
+        ((ui.available_width() - spacing * (columns as f32 - 1.0)) / columns as f32).max(64.0);
+    let aspect = published.height as f32 / published.width.max(1) as f32;
+    let size = egui::vec2(side, side * aspect);
+    let ids = textures.native.map_or_else(
+        || {
+            [
+                textures.uniform.as_ref().map(TextureHandle::id),
+                textures.importance.as_ref().map(TextureHandle::id),
+            ]
+        },
+        |[u, i]| [Some(u), Some(i)],
+    );
+    ui.horizontal_top(|ui| {
+        image_column(
+            ui,
+            "Uniform",
+            Scheme::Uniform,
+            &published.uniform,
+            ids[0],
+            if state.settings.show_error {
+                textures.uniform_error.as_ref()
+            } else {
+                None
+            },
+            size,
+        );
+        image_column(
+            ui,
+            "Importance (alias)",
+            Scheme::Alias,
+            &published.importance,
+            ids[1],
+            if state.settings.show_error {
+                textures.importance_error.as_ref()
+            } else {
+                None
+            },
+            size,
+        );
+        if columns == 3
+            && let Some(reference) = &textures.reference
+        {
+            ui.vertical(|ui| {
+                ui.colored_label(colors::reference(), "Reference (exact)");
+                ui.image((reference.id(), size))
+                    .on_hover_text("Exact irradiance: the sum over every light");
+            });
+        }
+    });
+    if stale {
+        ui.label("restarting on the new table…");
+    }
+    if let Some(note) = &published.reference_note {
+        ui.label(note);
+    }
+    let mode = match state.settings.budget {
+        BudgetMode::EqualSamples => "equal samples",
+        BudgetMode::EqualTime => "equal time",
+    };
+    ui.label(format!(
+        "{}×{} pixels, {mode}",
+        published.width, published.height
+    ));
+}
+
+fn image_column(
+    ui: &mut Ui,
+    title: &str,
+    scheme: Scheme,
+    image: &SchemeImage,
+    texture: Option<egui::TextureId>,
+    error: Option<&TextureHandle>,
+    size: egui::Vec2,
+) {
+    ui.vertical(|ui| {
+        ui.colored_label(colors::scheme(scheme), title);
+        if let Some(t) = texture {
+            ui.image((t, size))
+                .on_hover_text(format!("{title}: progressive estimate, {} spp", image.spp));
+        }
+        ui.label(format!("spp {}", image.spp))
+            .on_hover_text("Samples per pixel accumulated");
+        if let Some(rmse) = image.rmse {
+            ui.label(format!("RMSE {}", fractions::short(rmse)))
+                .on_hover_text("Root-mean-square error against the reference");
+        }
+        ui.label(format!(
+            "{:.1} ms/frame · {:.2} s total",
+            image.last_frame_seconds * 1e3,
+            image.seconds
+        ))
+        .on_hover_text("Render time of the last frame, and in total");
+        if let Some(e) = error {
+            ui.image((e.id(), size)).on_hover_text(format!(
+                "{title}: |estimate − reference| (brighter = larger)"
+            ));
+        }
+    });
+}

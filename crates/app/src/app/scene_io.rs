@@ -1,0 +1,147 @@
+//! The app's access to scenes: presets, JSON files, and scenes generated from a count.
+//!
+//! Every scene format question is answered by `lightpick_core::scene`; this module only
+//! adapts its errors to one-line messages for the status bar.
+
+use std::path::Path;
+
+use lightpick_core::scene::{ReceiverPlane, Scene};
+use lightpick_core::{LightPowers, Rng};
+
+/// The preset names, in menu order.
+pub fn preset_names() -> Vec<&'static str> {
+    lightpick_core::scene::PRESET_NAMES.to_vec()
+}
+
+/// The preset `name`, or a message saying why it could not be made.
+pub fn preset(name: &str) -> Result<Scene, String> {
+    Scene::preset(name).map_err(|e| format!("preset '{name}': {e}"))
+}
+
+/// The seed scene (powers 2, 5, 20): the app's first scene and its fallback.
+pub fn seed_scene() -> Scene {
+    preset("seed").unwrap_or_else(|_| fallback_seed_scene())
+}
+
+/// A seed scene made here, used only if the preset cannot be built.
+fn fallback_seed_scene() -> Scene {
+    Scene {
+        name: "seed".to_owned(),
+        plane: ReceiverPlane {
+            min: [-2.0, -2.0],
+            max: [2.0, 2.0],
+            width: 256,
+            height: 256,
+        },
+        positions: vec![[-1.2, 0.8, 0.8], [1.0, 1.0, 1.0], [0.0, -1.0, 1.5]],
+        powers: lightpick_core::SeedExample::powers(),
+    }
+}
+
+/// Parses scene JSON, or says (in one line) why the text is not a scene.
+pub fn from_json_str(text: &str) -> Result<Scene, String> {
+    Scene::from_json_str(text).map_err(|e| e.to_string())
+}
+
+/// Reads a scene file, or says (in one line, naming the file) why it could not be read.
+pub fn load(path: &Path) -> Result<Scene, String> {
+    Scene::load(path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The scene as JSON text.
+pub fn to_json(scene: &Scene) -> String {
+    scene.to_json()
+}
+
+/// Writes the scene as JSON to `path`.
+pub fn save(path: &Path, scene: &Scene) -> Result<(), String> {
+    let text = to_json(scene);
+    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// A distribution to draw random powers from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum PowerDistribution {
+    /// Uniform on `[0, 1)` times the scale.
+    Uniform,
+    /// Exponential with mean 1, times the scale.
+    Exponential,
+    /// Pareto with shape `α = 1.5` (heavy tail), times the scale.
+    Pareto,
+    /// Log-normal `exp(2·Z)` (powers spanning decades), times the scale.
+    LogNormal,
+}
+
+impl PowerDistribution {
+    /// Every distribution, in menu order.
+    pub const ALL: [PowerDistribution; 4] = [
+        PowerDistribution::Uniform,
+        PowerDistribution::Exponential,
+        PowerDistribution::Pareto,
+        PowerDistribution::LogNormal,
+    ];
+
+    /// The menu label.
+    pub fn label(self) -> &'static str {
+        match self {
+            PowerDistribution::Uniform => "uniform [0, 1)",
+            PowerDistribution::Exponential => "exponential (mean 1)",
+            PowerDistribution::Pareto => "Pareto (α = 1.5)",
+            PowerDistribution::LogNormal => "log-normal (σ = 2)",
+        }
+    }
+
+    /// One power from two independent uniforms in `[0, 1)` (inverse-CDF and Box–Muller
+    /// transforms, so the shared counter-based RNG drives everything).
+    pub fn draw(self, u1: f64, u2: f64) -> f64 {
+        match self {
+            PowerDistribution::Uniform => u1,
+            PowerDistribution::Exponential => -(1.0 - u1).ln(),
+            PowerDistribution::Pareto => (1.0 - u1).powf(-1.0 / 1.5),
+            PowerDistribution::LogNormal => {
+                let r = (-2.0 * (1.0 - u1).ln()).sqrt();
+                (2.0 * r * (std::f64::consts::TAU * u2).cos()).exp()
+            }
+        }
+    }
+}
+
+/// `count` powers drawn from `dist` with generator `seed`, scaled by `scale`.
+pub fn random_powers(count: usize, dist: PowerDistribution, scale: f64, seed: u64) -> Vec<f64> {
+    (0..count)
+        .map(|i| {
+            let mut rng = Rng::new(seed, i as u64);
+            scale * dist.draw(rng.next_unit(), rng.next_unit())
+        })
+        .collect()
+}
+
+/// `count` light positions scattered above `plane` (heights between 5% and 40% of the
+/// plane's extent), deterministic in `seed`.
+pub fn random_positions(count: usize, plane: &ReceiverPlane, seed: u64) -> Vec<[f64; 3]> {
+    let extent = (plane.max[0] - plane.min[0]).max(plane.max[1] - plane.min[1]);
+    (0..count)
+        .map(|i| {
+            let mut rng = Rng::new(seed ^ 0x05ee_d0f1_1167, i as u64);
+            let x = plane.min[0] + rng.next_unit() * (plane.max[0] - plane.min[0]);
+            let y = plane.min[1] + rng.next_unit() * (plane.max[1] - plane.min[1]);
+            let z = extent * (0.05 + 0.35 * rng.next_unit());
+            [x, y, z]
+        })
+        .collect()
+}
+
+/// A scene with `positions` and validated `powers` over `plane`.
+pub fn assemble(
+    name: &str,
+    plane: ReceiverPlane,
+    positions: Vec<[f64; 3]>,
+    powers: LightPowers,
+) -> Scene {
+    Scene {
+        name: name.to_owned(),
+        plane,
+        positions,
+        powers,
+    }
+}

@@ -1,0 +1,795 @@
+//! The one `AppState` every panel reads and edits: the scene being edited, the last valid
+//! table built from it, the running histograms and the persisted settings.
+//!
+//! # Edits and the last good state
+//! The powers the user edits live in [`SceneEdit`] exactly as typed, valid or not. Each change
+//! is validated at once; a valid list rebuilds [`Built`] (the scene, its alias table and its
+//! exact denominator) and bumps its generation, which restarts the histograms here and the
+//! progressive images in the engine. An invalid list leaves [`Built`] untouched and sets
+//! [`AppState::input_error`], a sentence naming the light (1-based, as the panels number
+//! them). Tables of up to [`SYNC_BUILD_LIMIT`] lights are built within the same frame;
+//! larger ones on a background thread, so dragging a power of the `million` preset never
+//! freezes the window (the old table stays on screen until the new one is ready).
+
+use std::sync::{Arc, mpsc};
+
+use lightpick_core::scene::{ReceiverPlane, Scene};
+use lightpick_core::{AliasTable, ChiSquare, LightPowers, PowersError, Rng, Uniform, chi_square};
+
+use super::scene_io::{self, PowerDistribution};
+
+/// Tables of at most this many lights are rebuilt on the UI thread, within the frame.
+pub const SYNC_BUILD_LIMIT: usize = 50_000;
+
+/// Where the progressive images are rendered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Device {
+    /// wgpu compute on eframe's own device (falls back to the CPU without one).
+    Gpu,
+    /// The CPU renderer (rayon).
+    Cpu,
+}
+
+/// How the two images share the work.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum BudgetMode {
+    /// Both schemes take the same samples per pixel per frame.
+    EqualSamples,
+    /// Both schemes get the same compute time per frame.
+    EqualTime,
+}
+
+/// The light-power slider scale.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum SliderScale {
+    /// Linear from 0 to the slider maximum.
+    Linear,
+    /// Logarithmic over six decades below the slider maximum.
+    Log,
+}
+
+/// Settings kept between sessions (eframe persistence).
+#[allow(clippy::struct_excessive_bools)] // Independent on/off switches of the UI, persisted as such.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    /// Samples per pixel each scheme adds per frame (equal-samples mode).
+    pub spp_per_frame: u32,
+    /// The seed of every random stream (images, histograms, generated scenes).
+    pub seed: u64,
+    /// Whether sampling and accumulation are paused.
+    pub paused: bool,
+    /// The preferred render device.
+    pub device: Device,
+    /// Tonemap exposure (irradiance multiplier).
+    pub exposure: f64,
+    /// Equal samples or equal time.
+    pub budget: BudgetMode,
+    /// Show the exact reference image.
+    pub show_reference: bool,
+    /// Show the error maps under the images.
+    pub show_error: bool,
+    /// Power slider scale.
+    pub slider_scale: SliderScale,
+    /// Upper end of the power sliders.
+    pub slider_max: f64,
+    /// Light picks per frame for the histograms (each scheme).
+    pub picks_per_frame: u32,
+    /// Distribution for "randomize" and "generate".
+    pub distribution: PowerDistribution,
+    /// How many lights "generate" makes.
+    pub generate_count: usize,
+    /// Dark theme (else light).
+    pub dark: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            spp_per_frame: 1,
+            seed: 1,
+            paused: false,
+            device: Device::Gpu,
+            exposure: 1.0,
+            budget: BudgetMode::EqualSamples,
+            show_reference: true,
+            show_error: true,
+            slider_scale: SliderScale::Linear,
+            slider_max: 40.0,
+            picks_per_frame: 200,
+            distribution: PowerDistribution::Exponential,
+            generate_count: 16,
+            dark: true,
+        }
+    }
+}
+
+/// The scene as the user is editing it: powers exactly as typed, valid or not.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneEdit {
+    /// Scene name.
+    pub name: String,
+    /// The receiver plane and its pixel grid.
+    pub plane: ReceiverPlane,
+    /// Light positions.
+    pub positions: Vec<[f64; 3]>,
+    /// Light powers as typed (may hold NaN or negatives until corrected).
+    pub powers: Vec<f64>,
+}
+
+impl SceneEdit {
+    /// The editable copy of a scene.
+    pub fn from_scene(scene: &Scene) -> Self {
+        Self {
+            name: scene.name.clone(),
+            plane: scene.plane.clone(),
+            positions: scene.positions.clone(),
+            powers: scene.powers.as_slice().to_vec(),
+        }
+    }
+}
+
+/// The last valid state: the scene, its alias table and display helpers.
+#[derive(Debug)]
+pub struct Built {
+    /// Bumped on every rebuild; the engine and histograms restart when it changes.
+    pub generation: u64,
+    /// The validated scene.
+    pub scene: Arc<Scene>,
+    /// Its alias table.
+    pub table: AliasTable,
+    /// `Σ Φ` when every power is a small integer (exact fractions), else `None`.
+    pub denominator: Option<u64>,
+    /// `Σ Φ` (for display).
+    pub total_power: f64,
+}
+
+impl Built {
+    /// Builds the table of a validated scene (`O(N)`).
+    pub fn new(generation: u64, scene: Scene) -> Self {
+        let table = AliasTable::build(&scene.powers);
+        let denominator = lightpick_core::draw::fraction_denominator(&scene.powers);
+        let total_power = scene.powers.as_slice().iter().sum();
+        Self {
+            generation,
+            scene: Arc::new(scene),
+            table,
+            denominator,
+            total_power,
+        }
+    }
+
+    /// Number of lights.
+    pub fn len(&self) -> usize {
+        self.table.len()
+    }
+
+    /// Always `false` (a valid scene has a light).
+    pub fn is_empty(&self) -> bool {
+        self.table.is_empty()
+    }
+}
+
+/// How a status message should look.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MessageKind {
+    /// Neutral information.
+    Info,
+    /// Something worked (a file was saved).
+    Success,
+    /// Something failed; the previous state was kept.
+    Error,
+}
+
+/// One "draw one sample" step, for the diagram to replay.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OneDraw {
+    /// First 32-bit random: picks the column by multiply-high.
+    pub r1: u32,
+    /// Second 32-bit random: compared with the column's threshold.
+    pub r2: u32,
+    /// The column `⌊r1·N/2^32⌋` (0-based).
+    pub column: usize,
+    /// `U1 = r1/2^32`.
+    pub u1: f64,
+    /// `U2 = r2/2^32`.
+    pub u2: f64,
+    /// The column's threshold.
+    pub threshold: f64,
+    /// Whether `U2 < threshold` (keep the column's own light).
+    pub kept: bool,
+    /// The light returned (0-based).
+    pub light: u32,
+}
+
+/// Running histograms of uniform and alias picks.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SamplingRun {
+    /// Generation of the table the counts belong to.
+    pub generation: u64,
+    /// Picks per light by uniform selection.
+    pub uniform_counts: Vec<u64>,
+    /// Picks per light by the alias table.
+    pub alias_counts: Vec<u64>,
+    /// Picks so far (each scheme).
+    pub picks: u64,
+    /// Chi-square of the uniform counts against `1/N`.
+    pub uniform_chi: Option<ChiSquare>,
+    /// Chi-square of the alias counts against the pmf.
+    pub alias_chi: Option<ChiSquare>,
+    /// The last "draw one sample".
+    pub last_draw: Option<OneDraw>,
+    /// How many single draws were made (their stream index).
+    pub draws: u64,
+    /// Lights per histogram bar (1 for small tables).
+    pub per_bin: usize,
+    /// Uniform picks per bar.
+    pub uniform_bins: Vec<u64>,
+    /// Alias picks per bar.
+    pub alias_bins: Vec<u64>,
+    /// Expected alias frequency per bar (`Σ p_i` over its lights).
+    pub expected_bins: Vec<f64>,
+    /// Expected uniform frequency per bar (its share of the lights).
+    pub flat_bins: Vec<f64>,
+}
+
+/// Histograms group lights into at most this many bars.
+pub const MAX_BARS: usize = 48;
+
+/// A file action waiting for its path in the in-app dialog.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FileAction {
+    /// Open a scene JSON file.
+    OpenScene,
+    /// Save the scene as JSON.
+    SaveScene,
+    /// Export the images as PNG files.
+    ExportImages,
+    /// Export the alias-table diagram as a PNG file.
+    ExportDiagram,
+}
+
+impl FileAction {
+    /// The dialog title.
+    pub fn title(self) -> &'static str {
+        match self {
+            FileAction::OpenScene => "Open scene",
+            FileAction::SaveScene => "Save scene",
+            FileAction::ExportImages => "Export images (PNG)",
+            FileAction::ExportDiagram => "Export alias-table diagram (PNG)",
+        }
+    }
+}
+
+/// The in-app path dialog (no native file picker).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FileDialog {
+    /// The pending action, `None` when the dialog is closed.
+    pub action: Option<FileAction>,
+    /// The path being typed.
+    pub path: String,
+    /// Why the last attempt failed (shown in the dialog, the path stays as typed).
+    pub error: Option<String>,
+}
+
+struct PendingBuild {
+    generation: u64,
+    receiver: mpsc::Receiver<Built>,
+}
+
+/// Everything the panels show and edit.
+pub struct AppState {
+    /// Persisted settings.
+    pub settings: Settings,
+    /// The scene as edited.
+    pub edit: SceneEdit,
+    /// The last valid scene and table.
+    pub built: Arc<Built>,
+    /// Why the edited powers are not valid (names the light), `None` when they are.
+    pub input_error: Option<String>,
+    /// The powers text field ("2, 5, 20"), kept as typed.
+    pub powers_text: String,
+    /// The last status message.
+    pub status: Option<(String, MessageKind)>,
+    /// Histograms and the last single draw.
+    pub sampling: SamplingRun,
+    /// The path dialog.
+    pub file_dialog: FileDialog,
+    /// First column shown by the alias-table diagram (large tables show a window).
+    pub diagram_offset: usize,
+    /// Frames drawn (for throttled work).
+    pub frame: u64,
+    /// Render one frame while paused (the "step" button or key).
+    pub step_requested: bool,
+    /// Clear the images and restart accumulation.
+    pub reset_requested: bool,
+    next_generation: u64,
+    pending: Option<PendingBuild>,
+    rebuild_queued: bool,
+}
+
+impl AppState {
+    /// A state showing `scene` with `settings`.
+    pub fn new(scene: Scene, settings: Settings) -> Self {
+        let edit = SceneEdit::from_scene(&scene);
+        let powers_text = powers_to_text(&edit.powers);
+        let built = Arc::new(Built::new(1, scene));
+        let mut state = Self {
+            settings,
+            edit,
+            built,
+            input_error: None,
+            powers_text,
+            status: None,
+            sampling: SamplingRun::default(),
+            file_dialog: FileDialog::default(),
+            diagram_offset: 0,
+            frame: 0,
+            step_requested: false,
+            reset_requested: false,
+            next_generation: 2,
+            pending: None,
+            rebuild_queued: false,
+        };
+        state.restart_sampling();
+        state
+    }
+
+    /// The seed scene (powers 2, 5, 20) with default settings.
+    pub fn seed() -> Self {
+        Self::new(scene_io::seed_scene(), Settings::default())
+    }
+
+    /// Whether the theme is dark.
+    pub fn dark(&self) -> bool {
+        self.settings.dark
+    }
+
+    /// Whether a table is being built in the background.
+    pub fn is_building(&self) -> bool {
+        self.pending.is_some()
+    }
+
+    /// Sets a status message.
+    pub fn message(&mut self, text: impl Into<String>, kind: MessageKind) {
+        self.status = Some((text.into(), kind));
+    }
+
+    /// Replaces the whole scene (preset, file, generated): the edit, the text field and the
+    /// table, and a slider range that fits it.
+    pub fn load_scene(&mut self, scene: Scene) {
+        self.edit = SceneEdit::from_scene(&scene);
+        self.powers_text = powers_to_text(&self.edit.powers);
+        self.input_error = None;
+        self.diagram_offset = 0;
+        self.settings.slider_max = nice_ceiling(2.0 * scene.powers.max());
+        self.settings.exposure = auto_exposure(&scene);
+        let n = scene.light_count();
+        self.pending = None;
+        self.rebuild_queued = false;
+        if n <= SYNC_BUILD_LIMIT {
+            let generation = self.take_generation();
+            self.install(Built::new(generation, scene));
+        } else {
+            self.spawn_build(scene);
+        }
+    }
+
+    /// Call after any change of `edit.powers`: validates and rebuilds, or names the problem
+    /// and keeps the last good table.
+    pub fn powers_changed(&mut self) {
+        if self.edit.powers.len() > SYNC_BUILD_LIMIT && self.pending.is_some() {
+            // One background build at a time: this edit is validated and built as soon as
+            // the running build lands (the latest values win; intermediate ones are skipped).
+            self.rebuild_queued = true;
+            return;
+        }
+        match LightPowers::new(self.edit.powers.clone()) {
+            Err(e) => {
+                self.input_error = Some(describe_powers_error(&e));
+            }
+            Ok(powers) => {
+                self.input_error = None;
+                self.sync_positions(powers.len());
+                let scene = scene_io::assemble(
+                    &self.edit.name,
+                    self.edit.plane.clone(),
+                    self.edit.positions.clone(),
+                    powers,
+                );
+                if scene.light_count() <= SYNC_BUILD_LIMIT {
+                    self.pending = None;
+                    self.rebuild_queued = false;
+                    let generation = self.take_generation();
+                    self.install(Built::new(generation, scene));
+                } else if self.pending.is_some() {
+                    self.rebuild_queued = true;
+                } else {
+                    self.spawn_build(scene);
+                }
+            }
+        }
+    }
+
+    /// Parses the powers text field ("2, 5, 20" or white space) and applies it; a word that
+    /// is not a number is named and nothing changes.
+    pub fn apply_powers_text(&mut self) {
+        match parse_powers(&self.powers_text) {
+            Ok(powers) => {
+                let n = powers.len();
+                self.edit.powers = powers;
+                if self.edit.positions.len() > n {
+                    self.edit.positions.truncate(n);
+                }
+                self.powers_changed();
+            }
+            Err(message) => self.input_error = Some(message),
+        }
+    }
+
+    /// Adds a light with power `power` at a fresh position.
+    pub fn add_light(&mut self, power: f64) {
+        let i = self.edit.powers.len();
+        let pos =
+            scene_io::random_positions(i + 1, &self.edit.plane, self.settings.seed ^ i as u64)[i];
+        self.edit.positions.push(pos);
+        self.edit.powers.push(power);
+        self.after_structure_change();
+    }
+
+    /// Removes light `i` (refused for the last light).
+    pub fn remove_light(&mut self, i: usize) {
+        if self.edit.powers.len() <= 1 || i >= self.edit.powers.len() {
+            self.message("a scene needs at least one light", MessageKind::Error);
+            return;
+        }
+        self.edit.powers.remove(i);
+        if i < self.edit.positions.len() {
+            self.edit.positions.remove(i);
+        }
+        self.after_structure_change();
+    }
+
+    /// Duplicates light `i` (same position and power) right after it.
+    pub fn duplicate_light(&mut self, i: usize) {
+        if i >= self.edit.powers.len() {
+            return;
+        }
+        self.edit.powers.insert(i + 1, self.edit.powers[i]);
+        let pos = self
+            .edit
+            .positions
+            .get(i)
+            .copied()
+            .unwrap_or([0.0, 0.0, 1.0]);
+        self.edit.positions.insert(i + 1, pos);
+        self.after_structure_change();
+    }
+
+    /// Draws new powers for every light from the chosen distribution.
+    pub fn randomize(&mut self) {
+        let n = self.edit.powers.len();
+        let scale = (self.settings.slider_max / 4.0).max(f64::MIN_POSITIVE);
+        let seed = self.settings.seed.wrapping_add(self.frame);
+        self.edit.powers = scene_io::random_powers(n, self.settings.distribution, scale, seed);
+        self.after_structure_change();
+    }
+
+    /// Replaces the scene by `count` random lights over the current plane.
+    pub fn generate(&mut self, count: usize) {
+        let count = count.clamp(1, 2_000_000);
+        let seed = self.settings.seed;
+        let powers = scene_io::random_powers(count, self.settings.distribution, 10.0, seed);
+        let positions = scene_io::random_positions(count, &self.edit.plane, seed);
+        match LightPowers::new(powers) {
+            Ok(powers) => {
+                let scene = scene_io::assemble(
+                    &format!("generated-{count}"),
+                    self.edit.plane.clone(),
+                    positions,
+                    powers,
+                );
+                self.load_scene(scene);
+                self.message(format!("generated {count} lights"), MessageKind::Info);
+            }
+            Err(e) => self.message(describe_powers_error(&e), MessageKind::Error),
+        }
+    }
+
+    /// Keeps one position per power: lights added through the text field get fresh ones.
+    fn sync_positions(&mut self, n: usize) {
+        let have = self.edit.positions.len();
+        if have < n {
+            let fresh = scene_io::random_positions(n, &self.edit.plane, self.settings.seed);
+            self.edit.positions.extend_from_slice(&fresh[have..]);
+        }
+        self.edit.positions.truncate(n);
+    }
+
+    fn after_structure_change(&mut self) {
+        self.powers_text = if self.edit.powers.len() <= 1000 {
+            powers_to_text(&self.edit.powers)
+        } else {
+            String::new()
+        };
+        self.powers_changed();
+    }
+
+    fn take_generation(&mut self) -> u64 {
+        let g = self.next_generation;
+        self.next_generation += 1;
+        g
+    }
+
+    fn install(&mut self, built: Built) {
+        self.built = Arc::new(built);
+        if self.diagram_offset >= self.built.len() {
+            self.diagram_offset = 0;
+        }
+        self.restart_sampling();
+    }
+
+    fn spawn_build(&mut self, scene: Scene) {
+        let generation = self.take_generation();
+        let (sender, receiver) = mpsc::channel();
+        let spawned = std::thread::Builder::new()
+            .name("lightpick-table".to_owned())
+            .spawn(move || {
+                let _ = sender.send(Built::new(generation, scene));
+            });
+        match spawned {
+            Ok(_) => {
+                self.pending = Some(PendingBuild {
+                    generation,
+                    receiver,
+                });
+            }
+            Err(e) => self.message(
+                format!("cannot start the table builder: {e}"),
+                MessageKind::Error,
+            ),
+        }
+    }
+
+    /// Installs a table finished in the background; call once per frame.
+    pub fn poll_build(&mut self) {
+        let Some(pending) = &self.pending else {
+            return;
+        };
+        match pending.receiver.try_recv() {
+            Ok(built) => {
+                debug_assert_eq!(built.generation, pending.generation);
+                self.pending = None;
+                self.install(built);
+                if std::mem::take(&mut self.rebuild_queued) {
+                    self.powers_changed();
+                }
+            }
+            Err(mpsc::TryRecvError::Empty) => {}
+            Err(mpsc::TryRecvError::Disconnected) => {
+                self.pending = None;
+                self.message("the table builder stopped unexpectedly", MessageKind::Error);
+            }
+        }
+    }
+
+    /// Clears the histograms for the current table.
+    pub fn restart_sampling(&mut self) {
+        let n = self.built.len();
+        let per_bin = n.div_ceil(MAX_BARS).max(1);
+        let bars = n.div_ceil(per_bin);
+        let pmf = self.built.table.pmf_slice();
+        let expected_bins = pmf.chunks(per_bin).map(|c| c.iter().sum()).collect();
+        let flat_bins = (0..bars)
+            .map(|b| (((b + 1) * per_bin).min(n) - b * per_bin) as f64 / n as f64)
+            .collect();
+        self.sampling = SamplingRun {
+            generation: self.built.generation,
+            uniform_counts: vec![0; n],
+            alias_counts: vec![0; n],
+            per_bin,
+            uniform_bins: vec![0; bars],
+            alias_bins: vec![0; bars],
+            expected_bins,
+            flat_bins,
+            ..SamplingRun::default()
+        };
+    }
+
+    /// Adds `count` picks of each scheme to the histograms (streams continue where the last
+    /// call stopped, so the counts are reproducible from the seed).
+    pub fn sample_picks(&mut self, count: u32) {
+        if self.sampling.generation != self.built.generation {
+            self.restart_sampling();
+        }
+        let built = Arc::clone(&self.built);
+        let n = built.len() as u32;
+        let uniform = Uniform::new(n);
+        let seed = self.settings.seed;
+        let start = self.sampling.picks;
+        for k in start..start + u64::from(count) {
+            let mut rng = Rng::new(seed, k);
+            let u = uniform.sample_u32(rng.next_u32()) as usize;
+            self.sampling.uniform_counts[u] += 1;
+            self.sampling.uniform_bins[u / self.sampling.per_bin] += 1;
+            let mut rng = Rng::new(seed ^ 0xA11A5, k);
+            let r1 = rng.next_u32();
+            let a = built.table.sample_u32(r1, rng.next_u32()) as usize;
+            self.sampling.alias_counts[a] += 1;
+            self.sampling.alias_bins[a / self.sampling.per_bin] += 1;
+        }
+        self.sampling.picks += u64::from(count);
+        // Chi-square is O(N): every frame for small tables, every 16th frame for large ones.
+        if n <= 10_000 || self.frame.is_multiple_of(16) || count == 0 {
+            self.update_chi_square();
+        }
+    }
+
+    /// Recomputes both chi-square tests from the counts.
+    pub fn update_chi_square(&mut self) {
+        if self.sampling.picks == 0 {
+            self.sampling.uniform_chi = None;
+            self.sampling.alias_chi = None;
+            return;
+        }
+        let n = self.built.len();
+        let flat = vec![1.0 / n as f64; n];
+        self.sampling.uniform_chi = Some(chi_square(&self.sampling.uniform_counts, &flat));
+        self.sampling.alias_chi = Some(chi_square(
+            &self.sampling.alias_counts,
+            self.built.table.pmf_slice(),
+        ));
+    }
+
+    /// Draws one sample with two fresh randoms and records how the table answered.
+    pub fn draw_one(&mut self) {
+        let mut rng = Rng::new(self.settings.seed ^ 0xD12A_0001, self.sampling.draws);
+        self.sampling.draws += 1;
+        let (r1, r2) = (rng.next_u32(), rng.next_u32());
+        let table = &self.built.table;
+        let column = table.column(r1);
+        let light = table.sample_u32(r1, r2);
+        let draw = OneDraw {
+            r1,
+            r2,
+            column,
+            u1: lightpick_core::unit_f64(r1),
+            u2: lightpick_core::unit_f64(r2),
+            threshold: table.thresholds()[column],
+            kept: light as usize == column,
+            light,
+        };
+        // Large tables show a window of columns: move it to the picked one.
+        if table.len() > super::table_ui::DIAGRAM_MAX_COLUMNS {
+            self.diagram_offset = column.saturating_sub(super::table_ui::DIAGRAM_MAX_COLUMNS / 2);
+        }
+        self.sampling.last_draw = Some(draw);
+    }
+}
+
+/// A one-line, 1-based description of a power problem, saying the last valid table is kept.
+pub fn describe_powers_error(e: &PowersError) -> String {
+    let problem = match e {
+        PowersError::Empty => "there are no lights".to_owned(),
+        PowersError::NotFinite { index, value } => {
+            format!("light {}: power {value} is not a finite number", index + 1)
+        }
+        PowersError::Negative { index, value } => {
+            format!("light {}: power {value} is negative", index + 1)
+        }
+        PowersError::AllZero { count } => {
+            format!("all {count} powers are zero: nothing emits light")
+        }
+        PowersError::TooMany { .. } => e.to_string(),
+    };
+    format!("{problem} — keeping the last valid table")
+}
+
+/// Powers separated by commas, semicolons or white space; a word that is not a number is
+/// named (1-based position). NaN and negative numbers parse here and are refused later with
+/// the light's number.
+pub fn parse_powers(text: &str) -> Result<Vec<f64>, String> {
+    let words: Vec<&str> = text
+        .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
+        .filter(|w| !w.is_empty())
+        .collect();
+    if words.is_empty() {
+        return Err("the powers field is empty — keeping the last valid table".to_owned());
+    }
+    words
+        .iter()
+        .enumerate()
+        .map(|(i, w)| {
+            w.replace('−', "-").parse::<f64>().map_err(|_| {
+                format!(
+                    "light {}: '{w}' is not a number — keeping the last valid table",
+                    i + 1
+                )
+            })
+        })
+        .collect()
+}
+
+/// The powers as "2, 5, 20".
+pub fn powers_to_text(powers: &[f64]) -> String {
+    if powers.len() > 1000 {
+        return String::new();
+    }
+    powers
+        .iter()
+        .map(f64::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The smallest of 1, 2, 5 × 10^k at or above `x` (at least 1e-300).
+pub fn nice_ceiling(x: f64) -> f64 {
+    if !(x.is_finite() && x > 0.0) {
+        return 1.0;
+    }
+    let decade = 10f64.powf(x.log10().floor());
+    for m in [1.0, 2.0, 5.0, 10.0] {
+        if m * decade >= x {
+            return m * decade;
+        }
+    }
+    10.0 * decade
+}
+
+/// An exposure that maps the scene's mean irradiance to about 1 (Reinhard's mid-grey), from
+/// the exact irradiance at 8×8 pixel centres (at most 4096 lights, scaled up for more).
+pub fn auto_exposure(scene: &Scene) -> f64 {
+    let n = scene.light_count();
+    let stride = n.div_ceil(4096).max(1);
+    let mut sum = 0.0;
+    let mut count = 0.0;
+    for gy in 0..8u32 {
+        for gx in 0..8u32 {
+            let px = (gx * scene.plane.width) / 8 + scene.plane.width / 16;
+            let py = (gy * scene.plane.height) / 8 + scene.plane.height / 16;
+            let x = lightpick_core::scene::pixel_center(&scene.plane, px, py);
+            let e: f64 = (0..n)
+                .step_by(stride)
+                .map(|i| {
+                    scene.powers.as_slice()[i]
+                        * lightpick_core::scene::geometry_term(scene.positions[i], x)
+                })
+                .sum::<f64>()
+                * stride as f64;
+            sum += e;
+            count += 1.0;
+        }
+    }
+    let mean = sum / count;
+    if mean.is_finite() && mean > 0.0 {
+        1.0 / mean
+    } else {
+        1.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parse_names_the_bad_word() {
+        assert_eq!(parse_powers("2, 5 20").unwrap(), vec![2.0, 5.0, 20.0]);
+        let err = parse_powers("2, five, 20").unwrap_err();
+        assert!(err.contains("light 2"), "{err}");
+        assert!(parse_powers("nan").unwrap()[0].is_nan());
+    }
+
+    #[test]
+    fn errors_are_one_based() {
+        let e = LightPowers::new(vec![1.0, -2.0]).unwrap_err();
+        assert!(describe_powers_error(&e).starts_with("light 2: power -2 is negative"));
+    }
+
+    #[test]
+    fn nice_ceilings() {
+        assert_eq!(nice_ceiling(40.0), 50.0);
+        assert_eq!(nice_ceiling(3.0), 5.0);
+        assert_eq!(nice_ceiling(1.0), 1.0);
+    }
+}

@@ -1,0 +1,343 @@
+//! The alias-table panel: the live table (i, power, pmf, threshold, alias) and the
+//! interactive diagram — `N` unit-height columns split at their threshold into the column's
+//! own light and its alias, over the pmf bars they were cut from, with the `1/N` line.
+
+use egui::{Align2, FontId, Rect, Sense, Stroke, StrokeKind, Ui, Vec2, pos2, vec2};
+
+use super::colors;
+use super::fractions;
+use super::state::{AppState, OneDraw};
+
+/// The diagram draws at most this many columns; larger tables show a window of them.
+pub const DIAGRAM_MAX_COLUMNS: usize = 64;
+
+/// Rows of the table shown without scrolling when the table is small.
+const ROW_HEIGHT: f32 = 18.0;
+
+/// The whole panel: heading, diagram, then the table.
+pub fn table_panel_ui(ui: &mut Ui, state: &mut AppState) {
+    let built = std::sync::Arc::clone(&state.built);
+    ui.horizontal(|ui| {
+        ui.heading("Alias table");
+        ui.label(format!(
+            "N = {}   ΣΦ = {}",
+            built.len(),
+            fractions::short(built.total_power)
+        ))
+        .on_hover_text("Number of lights and their total power");
+        if state.is_building() {
+            ui.spinner();
+            ui.label("rebuilding…");
+        }
+    });
+    diagram_ui(ui, state, None);
+    ui.add_space(4.0);
+    table_ui(ui, state);
+}
+
+/// The table: one row per light (virtualized for large `N`).
+pub fn table_ui(ui: &mut Ui, state: &AppState) {
+    let built = &state.built;
+    let den = built.denominator;
+    let powers = built.scene.powers.as_slice();
+    let pmf = built.table.pmf_slice();
+    let thresholds = built.table.thresholds();
+    let aliases = built.table.aliases();
+    let widths = [44.0, 90.0, 90.0, 90.0, 54.0];
+    let header = ["i", "power Φ", "pmf p", "threshold", "alias"];
+    let tips = [
+        "Light / column number (1-based)",
+        "The light's power Φ_i",
+        "p_i = Φ_i / ΣΦ: the probability the table realizes (exact fraction for integer powers)",
+        "Probability that column i keeps its own light (U2 < threshold)",
+        "The light column i yields when U2 ≥ threshold",
+    ];
+    ui.horizontal(|ui| {
+        for ((w, h), tip) in widths.iter().zip(header).zip(tips) {
+            ui.add_sized(
+                [*w, ROW_HEIGHT],
+                egui::Label::new(egui::RichText::new(h).strong()),
+            )
+            .on_hover_text(tip);
+        }
+    });
+    ui.separator();
+    let n = built.len();
+    let max_height = ui.available_height().max(ROW_HEIGHT * 3.0);
+    egui::ScrollArea::vertical()
+        .id_salt("alias_table_rows")
+        .max_height(max_height)
+        .auto_shrink([false, true])
+        .show_rows(ui, ROW_HEIGHT, n, |ui, rows| {
+            for i in rows {
+                ui.horizontal(|ui| {
+                    let (swatch, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
+                    ui.painter().rect_filled(swatch, 2.0, colors::light(i));
+                    ui.add_sized(
+                        [widths[0] - 14.0, ROW_HEIGHT],
+                        egui::Label::new(format!("{}", i + 1)),
+                    );
+                    ui.add_sized(
+                        [widths[1], ROW_HEIGHT],
+                        egui::Label::new(fractions::short(powers[i])),
+                    );
+                    ui.add_sized(
+                        [widths[2], ROW_HEIGHT],
+                        egui::Label::new(fractions::show(pmf[i], den)),
+                    )
+                    .on_hover_text(format!("p = {:.12}", pmf[i]));
+                    ui.add_sized(
+                        [widths[3], ROW_HEIGHT],
+                        egui::Label::new(fractions::show(thresholds[i], den)),
+                    )
+                    .on_hover_text(format!("threshold = {:.12}", thresholds[i]));
+                    ui.add_sized(
+                        [widths[4], ROW_HEIGHT],
+                        egui::Label::new(format!("{}", aliases[i] + 1)),
+                    );
+                });
+            }
+        });
+}
+
+/// The sentence that explains column `i`, in the seed example's words: "column 1 keeps
+/// light 1 with probability 6/27, else light 3".
+pub fn column_sentence(state: &AppState, i: usize) -> String {
+    let built = &state.built;
+    let t = built.table.thresholds()[i];
+    let a = built.table.aliases()[i] as usize;
+    let p = fractions::show(t, built.denominator);
+    if t >= 1.0 || a == i {
+        format!("column {} always keeps light {}", i + 1, i + 1)
+    } else if t <= 0.0 {
+        format!(
+            "column {} always gives light {} (light {} has power 0)",
+            i + 1,
+            a + 1,
+            i + 1
+        )
+    } else {
+        format!(
+            "column {} keeps light {} with probability {p}, else light {}",
+            i + 1,
+            i + 1,
+            a + 1
+        )
+    }
+}
+
+/// The interactive diagram. `height` defaults to a third of the available height.
+pub fn diagram_ui(ui: &mut Ui, state: &mut AppState, height: Option<f32>) {
+    let built = std::sync::Arc::clone(&state.built);
+    let n = built.len();
+    let dark = state.dark();
+    if n > DIAGRAM_MAX_COLUMNS {
+        ui.horizontal(|ui| {
+            ui.label(format!(
+                "columns {}–{} of {n}",
+                state.diagram_offset + 1,
+                (state.diagram_offset + DIAGRAM_MAX_COLUMNS).min(n)
+            ));
+            let max = n - DIAGRAM_MAX_COLUMNS;
+            ui.add(egui::Slider::new(&mut state.diagram_offset, 0..=max).show_value(false))
+                .on_hover_text("Scroll the window of columns the diagram shows")
+                .accessible_name("diagram first column");
+        });
+    }
+    let first = state.diagram_offset.min(n.saturating_sub(1));
+    let shown = (n - first).min(DIAGRAM_MAX_COLUMNS);
+    // Small tables need few rows: the diagram takes what the table leaves.
+    let table_height = (n.min(12) as f32 + 2.5) * (ROW_HEIGHT + ui.spacing().item_spacing.y);
+    let height =
+        height.unwrap_or_else(|| (ui.available_height() - table_height).clamp(140.0, 380.0));
+    let (response, painter) =
+        ui.allocate_painter(vec2(ui.available_width(), height), Sense::hover());
+    let outer = response.rect;
+    let font = FontId::proportional(12.0);
+    let fg = colors::foreground(dark);
+    let muted = colors::muted(dark);
+    // Plot area: leave room for the axis labels.
+    let plot = Rect::from_min_max(outer.min + vec2(36.0, 8.0), outer.max - vec2(8.0, 22.0));
+    painter.rect_filled(plot, 0.0, colors::grid(dark).gamma_multiply(0.35));
+    let pmf = built.table.pmf_slice();
+    let thresholds = built.table.thresholds();
+    let aliases = built.table.aliases();
+    let avg = 1.0 / n as f64;
+    let max_p = pmf[first..first + shown]
+        .iter()
+        .copied()
+        .fold(avg, f64::max);
+    let y_max = max_p * 1.08;
+    let y_of = |p: f64| plot.bottom() - (p / y_max) as f32 * plot.height();
+    let col_w = plot.width() / shown as f32;
+    let gap = (col_w * 0.12).min(4.0);
+    for k in 0..shown {
+        let i = first + k;
+        let x0 = plot.left() + k as f32 * col_w + gap / 2.0;
+        let x1 = x0 + col_w - gap;
+        let t = thresholds[i];
+        let split = y_of(avg * t);
+        // Own light's share at the bottom, the alias's on top, total height 1/N.
+        painter.rect_filled(
+            Rect::from_min_max(pos2(x0, split), pos2(x1, plot.bottom())),
+            0.0,
+            colors::light(i),
+        );
+        if t < 1.0 {
+            let a = aliases[i] as usize;
+            painter.rect_filled(
+                Rect::from_min_max(pos2(x0, y_of(avg)), pos2(x1, split)),
+                0.0,
+                colors::light(a),
+            );
+            painter.line_segment([pos2(x0, split), pos2(x1, split)], Stroke::new(1.0, fg));
+            if col_w > 26.0 {
+                let mid = pos2(x0.midpoint(x1), y_of(avg).midpoint(split));
+                if split - y_of(avg) > 14.0 {
+                    painter.text(
+                        mid,
+                        Align2::CENTER_CENTER,
+                        format!("{}", a + 1),
+                        font.clone(),
+                        colors::on_light(a),
+                    );
+                }
+            }
+        }
+        if col_w > 26.0 && plot.bottom() - split > 14.0 {
+            painter.text(
+                pos2(x0.midpoint(x1), plot.bottom().midpoint(split)),
+                Align2::CENTER_CENTER,
+                format!("{}", i + 1),
+                font.clone(),
+                colors::on_light(i),
+            );
+        }
+        // Ghost of the original pmf bar this column's light had.
+        let ghost = Rect::from_min_max(pos2(x0, y_of(pmf[i])), pos2(x1, plot.bottom()));
+        painter.rect_stroke(ghost, 0.0, Stroke::new(1.0, muted), StrokeKind::Middle);
+        // Column label.
+        if col_w > 14.0 || k % (shown / 16).max(1) == 0 {
+            painter.text(
+                pos2(x0.midpoint(x1), plot.bottom() + 3.0),
+                Align2::CENTER_TOP,
+                format!("{}", i + 1),
+                font.clone(),
+                muted,
+            );
+        }
+    }
+    // The 1/N average line (dashed) with its label.
+    let y_avg = y_of(avg);
+    painter.extend(egui::Shape::dashed_line(
+        &[pos2(plot.left(), y_avg), pos2(plot.right(), y_avg)],
+        Stroke::new(1.5, fg),
+        6.0,
+        4.0,
+    ));
+    painter.text(
+        pos2(plot.left() - 4.0, y_avg),
+        Align2::RIGHT_CENTER,
+        "1/N",
+        font.clone(),
+        fg,
+    );
+    painter.text(
+        pos2(plot.left() - 4.0, plot.bottom()),
+        Align2::RIGHT_BOTTOM,
+        "0",
+        font.clone(),
+        muted,
+    );
+    if let Some(draw) = state.sampling.last_draw
+        && draw.column >= first
+        && draw.column < first + shown
+    {
+        draw_pick(&painter, plot, &draw, n, first, col_w, y_of(avg), dark);
+    }
+    // Hover: explain the column in words.
+    if let Some(pointer) = response.hover_pos()
+        && plot.contains(pointer)
+    {
+        let k = (((pointer.x - plot.left()) / col_w) as usize).min(shown - 1);
+        let i = first + k;
+        let x0 = plot.left() + k as f32 * col_w;
+        painter.rect_stroke(
+            Rect::from_min_max(pos2(x0, y_of(avg)), pos2(x0 + col_w, plot.bottom())),
+            0.0,
+            Stroke::new(2.0, colors::pick(dark)),
+            StrokeKind::Outside,
+        );
+        let sentence = column_sentence(state, i);
+        response.on_hover_ui_at_pointer(|ui| {
+            ui.label(sentence);
+            ui.label(format!(
+                "light {}: p = {}  (ghost outline)",
+                i + 1,
+                fractions::show(pmf[i], built.denominator)
+            ));
+        });
+    }
+}
+
+/// Replays a single draw: `U1` picks the column (a marker on the axis), `U2` is a level in
+/// that column compared with the threshold.
+#[allow(clippy::too_many_arguments)] // The diagram's geometry, passed as the caller computed it.
+fn draw_pick(
+    painter: &egui::Painter,
+    plot: Rect,
+    draw: &OneDraw,
+    n: usize,
+    first: usize,
+    col_w: f32,
+    y_top: f32,
+    dark: bool,
+) {
+    let hi = colors::pick(dark);
+    let n_shown_x = plot.left() + (draw.column - first) as f32 * col_w;
+    let column_rect = Rect::from_min_max(
+        pos2(n_shown_x, y_top),
+        pos2(n_shown_x + col_w, plot.bottom()),
+    );
+    painter.rect_stroke(column_rect, 0.0, Stroke::new(3.0, hi), StrokeKind::Outside);
+    // U2 level: 0 at the bottom, 1 at the column's top (the 1/N line).
+    let y = plot.bottom() - draw.u2 as f32 * (plot.bottom() - y_top);
+    let stroke = Stroke::new(2.0, hi);
+    painter.line_segment(
+        [pos2(n_shown_x - 6.0, y), pos2(n_shown_x + col_w + 6.0, y)],
+        stroke,
+    );
+    painter.circle_filled(pos2(n_shown_x + col_w / 2.0, y), 4.0, hi);
+    painter.text(
+        pos2(n_shown_x + col_w + 8.0, y),
+        Align2::LEFT_CENTER,
+        format!("U2 = {:.3}", draw.u2),
+        FontId::proportional(12.0),
+        hi,
+    );
+    // U1 marker under the axis.
+    let x_u1 = plot.left() + ((draw.u1 * n as f64) as f32 - first as f32) * col_w;
+    let tip = pos2(x_u1.clamp(plot.left(), plot.right()), plot.bottom() + 2.0);
+    painter.add(egui::Shape::convex_polygon(
+        vec![tip, tip + Vec2::new(-5.0, 9.0), tip + Vec2::new(5.0, 9.0)],
+        hi,
+        Stroke::NONE,
+    ));
+}
+
+/// The sentence describing a single draw for the Sampling panel.
+pub fn draw_sentence(state: &AppState, draw: &OneDraw) -> String {
+    let den = state.built.denominator;
+    let n = state.built.len();
+    let t = fractions::show(draw.threshold, den);
+    let verdict = if draw.kept {
+        format!("U2 = {:.4} < {t} → keep light {}", draw.u2, draw.column + 1)
+    } else {
+        format!("U2 = {:.4} ≥ {t} → alias light {}", draw.u2, draw.light + 1)
+    };
+    format!(
+        "U1 = {:.4} → column floor(U1·{n}) + 1 = {};  {verdict}",
+        draw.u1,
+        draw.column + 1
+    )
+}

@@ -1,0 +1,690 @@
+//! `lightpick bench`: a timing harness. Every figure is measured in this run, peers
+//! included; nothing here is asserted by tests beyond its shape.
+//!
+//! * Tables: for each `N`, build time and time per sample of the alias table (two randoms,
+//!   one random), the inverse CDF and uniform picking, all drawing from the project's
+//!   [`Rng`]; the alias table again drawing from `SmallRng`, beside the peers
+//!   `rand_distr::weighted::WeightedAliasIndex` and `rand::distr::weighted::WeightedIndex`
+//!   (which draw from `SmallRng`), so the peer ratios compare like with like.
+//! * GPU: samples per second of `gpu::histogram` (alias, two randoms), where an adapter
+//!   exists.
+//! * Renders: for each preset, at a small resolution, the variance per sample `V`, the
+//!   time per sample `T` and the efficiency `1/(V·T)` of each scheme on the CPU, and the
+//!   RMSE each reaches at the same rendering time (the shortest of the schemes' runs,
+//!   interpolated log-log on its convergence series).
+//!
+//! A timing is the median of several repetitions, each timing a batch of many operations
+//! (`std::time::Instant`, results through `std::hint::black_box`).
+
+use std::fmt::Write as _;
+use std::hint::black_box;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context as _, bail};
+use clap::Args;
+use lightpick_core::draw::{self, ConvergenceAxis, ConvergencePoint, ConvergenceSeries};
+use lightpick_core::gpu::{self, GpuContext};
+use lightpick_core::precision::Distribution;
+use lightpick_core::render::{CpuRenderer, Reference, SeriesPoint, convergence_series, efficiency};
+use lightpick_core::scene::Scene;
+use lightpick_core::{AliasTable, CdfTable, LightPowers, Rng, Sampler, Scheme, Uniform};
+use rand::distr::Distribution as _;
+use rand::rngs::SmallRng;
+use rand::{Rng as _, SeedableRng as _};
+use serde::Serialize;
+use serde_json::json;
+
+/// `N` of a full run: 3 to `1.6·10^7`.
+const FULL_SIZES: [usize; 8] = [
+    3, 64, 1000, 10_000, 100_000, 1_000_000, 4_000_000, 16_000_000,
+];
+/// `N` of a `--quick` run.
+const QUICK_SIZES: [usize; 4] = [3, 1000, 100_000, 1_000_000];
+/// The largest `N` accepted by `--sizes`.
+const MAX_SIZE: usize = 1 << 26;
+/// Presets of a `--quick` run (`million` is left out: its reference dominates the run).
+const QUICK_PRESETS: [&str; 6] = [
+    "seed",
+    "equal",
+    "dominant",
+    "zeros",
+    "heavy-tail",
+    "extreme-range",
+];
+/// Runs of each render; the fastest is kept.
+const RENDER_RUNS: usize = 3;
+/// The schemes rendered.
+const RENDER_SCHEMES: [Scheme; 4] = [
+    Scheme::Uniform,
+    Scheme::Alias,
+    Scheme::AliasOneRandom,
+    Scheme::Cdf,
+];
+
+/// Arguments of `lightpick bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// A short run (under a minute in release on two cores): fewer sizes, smaller renders.
+    #[arg(long)]
+    pub quick: bool,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Write a PNG of RMSE against rendering time per scheme (the heavy-tail preset, or
+    /// the first one rendered).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    /// Table sizes to time instead of the defaults, comma separated (e.g. `3,1000`).
+    #[arg(long, value_name = "LIST")]
+    pub sizes: Option<String>,
+    /// Presets to render instead of the defaults, comma separated, or `none`.
+    #[arg(long, value_name = "LIST")]
+    pub presets: Option<String>,
+    /// Samples per pixel of each render (default 1024, `--quick` 256).
+    #[arg(long)]
+    pub spp: Option<u32>,
+    /// Skip the GPU measurement.
+    #[arg(long)]
+    pub no_gpu: bool,
+    /// Seed of the powers, the samples and the renders.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// One timed method at one `N`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Case {
+    /// Number of lights.
+    pub n: usize,
+    /// What was timed (`alias`, `alias-one-random`, `cdf`, `uniform`, `alias+smallrng`,
+    /// `rand_distr::WeightedAliasIndex`, `rand::WeightedIndex`).
+    pub method: &'static str,
+    /// The random generator the samples drew from.
+    pub rng: &'static str,
+    /// Median build time, nanoseconds.
+    pub build_ns: f64,
+    /// Median time per sample, nanoseconds.
+    pub sample_ns: f64,
+}
+
+/// Timing plan: repetitions and batch sizes.
+#[derive(Clone, Copy, Debug)]
+struct Plan {
+    repetitions: usize,
+    samples_per_batch: usize,
+    build_budget: usize,
+}
+
+/// Runs the benchmark and prints it.
+pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    let sizes = sizes(args)?;
+    let presets = presets(args)?;
+    let spp = args.spp.unwrap_or(if args.quick { 256 } else { 1024 });
+    if spp == 0 {
+        bail!("--spp must be at least 1");
+    }
+    if let Some(path) = &args.plot
+        && presets.is_empty()
+    {
+        bail!(
+            "--plot {}: nothing to plot with --presets none",
+            path.display()
+        );
+    }
+    let plan = if args.quick {
+        Plan {
+            repetitions: 5,
+            samples_per_batch: 1 << 19,
+            build_budget: 1 << 20,
+        }
+    } else {
+        Plan {
+            repetitions: 7,
+            samples_per_batch: 1 << 21,
+            build_budget: 1 << 22,
+        }
+    };
+    let mut cases = Vec::new();
+    for &n in &sizes {
+        cases.extend(time_tables(n, args.seed, plan)?);
+    }
+    let gpu = if args.no_gpu {
+        json!({ "adapter": null, "note": "skipped (--no-gpu)" })
+    } else {
+        gpu_rate(args.quick, args.seed)
+    };
+    let side = if args.quick { 64 } else { 128 };
+    let renders: Vec<PresetRender> = presets
+        .iter()
+        .map(|p| render_preset(p, side, spp, args.seed, args.quick))
+        .collect::<anyhow::Result<_>>()?;
+    if let Some(path) = &args.plot {
+        write_plot(path, &renders)?;
+    }
+    let ratios = ratios(&cases);
+    if args.json {
+        super::print_json(&json!({
+            "quick": args.quick,
+            "threads": rayon::current_num_threads(),
+            "cases": cases,
+            "ratios": ratios,
+            "gpu": gpu,
+            "renders": renders,
+        }))
+    } else {
+        print!("{}", text(&cases, &ratios, &gpu, &renders, args));
+        Ok(())
+    }
+}
+
+fn sizes(args: &BenchArgs) -> anyhow::Result<Vec<usize>> {
+    let Some(list) = &args.sizes else {
+        return Ok(if args.quick {
+            QUICK_SIZES.to_vec()
+        } else {
+            FULL_SIZES.to_vec()
+        });
+    };
+    list.split(',')
+        .map(|s| {
+            let n: usize = s
+                .trim()
+                .parse()
+                .with_context(|| format!("--sizes: '{}' is not a count", s.trim()))?;
+            if n == 0 || n > MAX_SIZE {
+                bail!("--sizes: each size must be between 1 and {MAX_SIZE} (got {n})");
+            }
+            Ok(n)
+        })
+        .collect()
+}
+
+fn presets(args: &BenchArgs) -> anyhow::Result<Vec<String>> {
+    let Some(list) = &args.presets else {
+        return Ok(if args.quick {
+            QUICK_PRESETS.iter().map(|s| (*s).to_owned()).collect()
+        } else {
+            lightpick_core::scene::PRESET_NAMES
+                .iter()
+                .map(|s| (*s).to_owned())
+                .collect()
+        });
+    };
+    if list.trim() == "none" {
+        return Ok(Vec::new());
+    }
+    list.split(',')
+        .map(|s| {
+            let name = s.trim().to_owned();
+            Scene::preset(&name).with_context(|| format!("--presets '{name}'"))?;
+            Ok(name)
+        })
+        .collect()
+}
+
+/// The median of `repetitions` timings of `batch` calls of `f`, per call, in nanoseconds.
+fn median_ns<T>(repetitions: usize, batch: usize, mut f: impl FnMut(usize) -> T) -> f64 {
+    let mut times: Vec<f64> = (0..repetitions)
+        .map(|rep| {
+            let start = Instant::now();
+            for i in 0..batch {
+                black_box(f(rep * batch + i));
+            }
+            start.elapsed().as_secs_f64() * 1e9 / batch as f64
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+/// Times every method at `N` lights (exponential powers).
+fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
+    let raw = Distribution::Exponential.powers(n, seed);
+    let powers = LightPowers::new(raw.clone()).context("bench powers")?;
+    let build_batch = (plan.build_budget / n).max(1);
+    let reps = if n >= 4_000_000 { 3 } else { plan.repetitions };
+    let samples = plan.samples_per_batch;
+    let mut cases = Vec::new();
+    let mut push = |method, rng, build_ns, sample_ns| {
+        cases.push(Case {
+            n,
+            method,
+            rng,
+            build_ns,
+            sample_ns,
+        });
+    };
+
+    // The project's samplers, drawing from the project's Rng (as the renderers do).
+    let alias_build = median_ns(reps, build_batch, |_| AliasTable::build(&powers));
+    let table = AliasTable::build(&powers);
+    let sampler = Sampler::Alias(table);
+    push(
+        "alias",
+        "pcg",
+        alias_build,
+        time_picks(&sampler, seed, reps, samples),
+    );
+    let Sampler::Alias(table) = sampler else {
+        unreachable!("built as alias above")
+    };
+    let sampler = Sampler::AliasOneRandom(table);
+    push(
+        "alias-one-random",
+        "pcg",
+        alias_build,
+        time_picks(&sampler, seed, reps, samples),
+    );
+    let Sampler::AliasOneRandom(table) = sampler else {
+        unreachable!("built as alias-one-random above")
+    };
+    // The same table drawing from SmallRng, for the comparison with the peers.
+    let mut small = SmallRng::seed_from_u64(seed);
+    let alias_small = median_ns(reps, samples, |_| {
+        let r1 = small.next_u32();
+        table.sample_u32(r1, small.next_u32())
+    });
+    push("alias+smallrng", "SmallRng", alias_build, alias_small);
+    drop(table);
+
+    let cdf_build = median_ns(reps, build_batch, |_| CdfTable::build(&powers));
+    let cdf = Sampler::Cdf(CdfTable::build(&powers));
+    push(
+        "cdf",
+        "pcg",
+        cdf_build,
+        time_picks(&cdf, seed, reps, samples),
+    );
+    drop(cdf);
+
+    let uniform_build = median_ns(reps, build_batch.max(1 << 16), |i| {
+        Uniform::new(black_box(n as u32 + (i & 1) as u32))
+    });
+    let uniform = Sampler::Uniform(Uniform::new(n as u32));
+    push(
+        "uniform",
+        "pcg",
+        uniform_build,
+        time_picks(&uniform, seed, reps, samples),
+    );
+
+    let wai_build = median_ns(reps, build_batch, |_| {
+        rand_distr::weighted::WeightedAliasIndex::new(raw.clone())
+    });
+    let wai = rand_distr::weighted::WeightedAliasIndex::new(raw.clone())
+        .map_err(|e| anyhow::anyhow!("WeightedAliasIndex: {e}"))?;
+    let mut small = SmallRng::seed_from_u64(seed);
+    let wai_sample = median_ns(reps, samples, |_| wai.sample(&mut small));
+    push(
+        "rand_distr::WeightedAliasIndex",
+        "SmallRng",
+        wai_build,
+        wai_sample,
+    );
+    drop(wai);
+
+    let wi_build = median_ns(reps, build_batch, |_| {
+        rand::distr::weighted::WeightedIndex::new(&raw)
+    });
+    let wi = rand::distr::weighted::WeightedIndex::new(&raw)
+        .map_err(|e| anyhow::anyhow!("WeightedIndex: {e}"))?;
+    let mut small = SmallRng::seed_from_u64(seed);
+    let wi_sample = median_ns(reps, samples, |_| wi.sample(&mut small));
+    push("rand::WeightedIndex", "SmallRng", wi_build, wi_sample);
+    Ok(cases)
+}
+
+/// Time per pick of `sampler`, drawing from one stream of the project's [`Rng`] per
+/// repetition.
+fn time_picks(sampler: &Sampler, seed: u64, reps: usize, samples: usize) -> f64 {
+    let mut times: Vec<f64> = (0..reps)
+        .map(|rep| {
+            let mut rng = Rng::new(seed, rep as u64);
+            let start = Instant::now();
+            let mut acc = 0u32;
+            for _ in 0..samples {
+                acc = acc.wrapping_add(sampler.pick_light(&mut rng));
+            }
+            black_box(acc);
+            start.elapsed().as_secs_f64() * 1e9 / samples as f64
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+/// Per `N`: each peer's and each project method's times over the alias table's.
+fn ratios(cases: &[Case]) -> Vec<serde_json::Value> {
+    let mut out = Vec::new();
+    let mut ns: Vec<usize> = cases.iter().map(|c| c.n).collect();
+    ns.dedup();
+    for n in ns {
+        let of = |m: &str| cases.iter().find(|c| c.n == n && c.method == m);
+        let (Some(alias), Some(alias_small)) = (of("alias"), of("alias+smallrng")) else {
+            continue;
+        };
+        let ratio = |m: &str, base: &Case| {
+            of(m).map(|c| {
+                json!({
+                    "method": m,
+                    "build_vs_alias": c.build_ns / base.build_ns,
+                    "sample_vs_alias": c.sample_ns / base.sample_ns,
+                })
+            })
+        };
+        let row: Vec<serde_json::Value> = [
+            ratio("rand_distr::WeightedAliasIndex", alias_small),
+            ratio("rand::WeightedIndex", alias_small),
+            ratio("cdf", alias),
+            ratio("alias-one-random", alias),
+            ratio("uniform", alias),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        out.push(json!({ "n": n, "ratios": row }));
+    }
+    out
+}
+
+/// GPU samples per second of the alias histogram, or a note saying why there are none.
+fn gpu_rate(quick: bool, seed: u64) -> serde_json::Value {
+    let ctx = match GpuContext::new() {
+        Ok(ctx) => ctx,
+        Err(e) => return json!({ "adapter": null, "note": format!("no adapter ({e})") }),
+    };
+    // A software adapter (lavapipe) runs at tens of millions of samples per second.
+    let count: u64 = match (quick, ctx.is_software()) {
+        (true, _) => 1 << 22,
+        (false, true) => 1 << 24,
+        (false, false) => 1 << 28,
+    };
+    let mut rows = Vec::new();
+    for n in [1000usize, 1_000_000] {
+        let Ok(powers) = LightPowers::new(Distribution::Exponential.powers(n, seed)) else {
+            continue;
+        };
+        let sampler = Sampler::build(Scheme::Alias, &powers);
+        // The first run compiles the pipeline: not timed.
+        if let Err(e) = gpu::histogram(&ctx, &sampler, 1 << 16, seed) {
+            return json!({ "adapter": ctx.description(), "note": format!("histogram failed: {e}") });
+        }
+        let mut times = Vec::new();
+        for rep in 0..3u64 {
+            let start = Instant::now();
+            if let Err(e) = gpu::histogram(&ctx, &sampler, count, seed + rep) {
+                return json!({ "adapter": ctx.description(), "note": format!("histogram failed: {e}") });
+            }
+            times.push(start.elapsed().as_secs_f64());
+        }
+        times.sort_by(f64::total_cmp);
+        let seconds = times[1];
+        rows.push(json!({
+            "n": n,
+            "method": "alias",
+            "count": count,
+            "seconds": seconds,
+            "samples_per_second": count as f64 / seconds,
+        }));
+    }
+    json!({
+        "adapter": ctx.description(),
+        "software": ctx.is_software(),
+        "note": "includes table upload and readback",
+        "cases": rows,
+    })
+}
+
+/// One scheme's render figures on one preset.
+#[derive(Clone, Debug, Serialize)]
+pub struct SchemeRender {
+    /// The scheme.
+    pub scheme: Scheme,
+    /// `V`, mean variance of one sample over the pixels.
+    pub variance_per_sample: f64,
+    /// `T`, seconds per pixel sample.
+    pub seconds_per_sample: f64,
+    /// `1/(V·T)`.
+    pub efficiency: f64,
+    /// Efficiency over the uniform scheme's.
+    pub efficiency_vs_uniform: f64,
+    /// RMSE after the whole run.
+    pub rmse: f64,
+    /// RMSE at the preset's equal-time point (log-log interpolation of the series).
+    pub rmse_at_equal_time: f64,
+    /// The convergence series.
+    pub series: Vec<SeriesPoint>,
+}
+
+/// Every scheme's render figures on one preset.
+#[derive(Clone, Debug, Serialize)]
+pub struct PresetRender {
+    /// Preset name.
+    pub preset: String,
+    /// Number of lights.
+    pub lights: usize,
+    /// Image side in pixels.
+    pub side: u32,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Pixels the reference covers.
+    pub reference_pixels: usize,
+    /// The equal-time point: the shortest of the schemes' rendering times.
+    pub equal_time_seconds: f64,
+    /// One entry per scheme.
+    pub schemes: Vec<SchemeRender>,
+}
+
+fn render_preset(
+    name: &str,
+    side: u32,
+    spp: u32,
+    seed: u64,
+    quick: bool,
+) -> anyhow::Result<PresetRender> {
+    let mut scene = Scene::preset(name).with_context(|| format!("preset {name}"))?;
+    scene.plane.width = side;
+    scene.plane.height = side;
+    let budget = if quick { 1 << 26 } else { 1 << 29 };
+    let reference = Reference::with_budget(&scene, budget);
+    let mut schemes = Vec::new();
+    for scheme in RENDER_SCHEMES {
+        // The render is deterministic; only its timing varies. Keep the fastest of three
+        // runs (the machine may be shared).
+        let mut best: Option<(CpuRenderer, Vec<SeriesPoint>)> = None;
+        for _ in 0..RENDER_RUNS {
+            let mut renderer = CpuRenderer::new(&scene, scheme, seed);
+            let series = convergence_series(&mut renderer, &reference, spp);
+            let seconds = series.last().map_or(0.0, |p| p.seconds);
+            if best
+                .as_ref()
+                .is_none_or(|(_, b)| b.last().is_some_and(|p| seconds < p.seconds))
+            {
+                best = Some((renderer, series));
+            }
+        }
+        let Some((renderer, series)) = best else {
+            bail!("no render of {name}");
+        };
+        let seconds = series.last().map_or(0.0, |p| p.seconds);
+        let e = efficiency(renderer.accumulator(), seconds);
+        schemes.push(SchemeRender {
+            scheme,
+            variance_per_sample: e.variance_per_sample,
+            seconds_per_sample: e.seconds_per_sample,
+            efficiency: e.efficiency,
+            efficiency_vs_uniform: 0.0,
+            rmse: series.last().map_or(0.0, |p| p.rmse),
+            rmse_at_equal_time: 0.0,
+            series,
+        });
+    }
+    let equal_time = schemes
+        .iter()
+        .filter_map(|s| s.series.last().map(|p| p.seconds))
+        .fold(f64::INFINITY, f64::min);
+    let uniform_eff = schemes[0].efficiency;
+    for s in &mut schemes {
+        s.rmse_at_equal_time = rmse_at(&s.series, equal_time);
+        s.efficiency_vs_uniform = s.efficiency / uniform_eff;
+    }
+    Ok(PresetRender {
+        preset: name.to_owned(),
+        lights: scene.light_count(),
+        side,
+        spp,
+        reference_pixels: reference.pixels().len(),
+        equal_time_seconds: equal_time,
+        schemes,
+    })
+}
+
+/// The RMSE of a series at `seconds`, interpolated linearly in `(log t, log rmse)`
+/// between the points around it (the first point's RMSE before it, the last's after).
+fn rmse_at(series: &[SeriesPoint], seconds: f64) -> f64 {
+    let Some(first) = series.first() else {
+        return f64::NAN;
+    };
+    if seconds <= first.seconds {
+        return first.rmse;
+    }
+    for w in series.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        if seconds <= b.seconds {
+            if a.seconds <= 0.0 || a.rmse <= 0.0 || b.rmse <= 0.0 || b.seconds <= a.seconds {
+                return b.rmse;
+            }
+            let f = (seconds.ln() - a.seconds.ln()) / (b.seconds.ln() - a.seconds.ln());
+            return (a.rmse.ln() + f * (b.rmse.ln() - a.rmse.ln())).exp();
+        }
+    }
+    series.last().map_or(f64::NAN, |p| p.rmse)
+}
+
+fn write_plot(path: &Path, renders: &[PresetRender]) -> anyhow::Result<()> {
+    let Some(render) = renders
+        .iter()
+        .find(|r| r.preset == "heavy-tail")
+        .or_else(|| renders.first())
+    else {
+        bail!("--plot {}: no render to plot", path.display());
+    };
+    let series: Vec<ConvergenceSeries> = render
+        .schemes
+        .iter()
+        .map(|s| {
+            ConvergenceSeries::for_scheme(
+                s.scheme,
+                s.series
+                    .iter()
+                    .map(|p| ConvergencePoint {
+                        spp: u64::from(p.spp),
+                        rmse: p.rmse,
+                        seconds: p.seconds,
+                    })
+                    .collect(),
+            )
+        })
+        .collect();
+    let pixmap = draw::convergence(&series, ConvergenceAxis::Seconds, &draw::Style::default())
+        .with_context(|| format!("--plot: drawing {}", render.preset))?;
+    draw::write_png(&pixmap, path).with_context(|| format!("--plot {}", path.display()))?;
+    Ok(())
+}
+
+fn text(
+    cases: &[Case],
+    ratios: &[serde_json::Value],
+    gpu: &serde_json::Value,
+    renders: &[PresetRender],
+    args: &BenchArgs,
+) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "lightpick bench{} — {} threads; medians of repeated batches; build and per-sample \
+         times in ns",
+        if args.quick { " --quick" } else { "" },
+        rayon::current_num_threads()
+    );
+    let _ = writeln!(
+        out,
+        "{:>9}  {:<31} {:>9} {:>14} {:>10}",
+        "N", "method", "rng", "build ns", "sample ns"
+    );
+    for c in cases {
+        let _ = writeln!(
+            out,
+            "{:>9}  {:<31} {:>9} {:>14.1} {:>10.2}",
+            c.n, c.method, c.rng, c.build_ns, c.sample_ns
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\nratios (peers over alias+smallrng; cdf, one-random, uniform over alias):"
+    );
+    for r in ratios {
+        let mut line = format!("{:>9} ", r["n"].as_u64().unwrap_or(0));
+        for x in r["ratios"].as_array().into_iter().flatten() {
+            let _ = write!(
+                line,
+                " {} build ×{:.2} sample ×{:.2};",
+                x["method"].as_str().unwrap_or("?"),
+                x["build_vs_alias"].as_f64().unwrap_or(f64::NAN),
+                x["sample_vs_alias"].as_f64().unwrap_or(f64::NAN)
+            );
+        }
+        let _ = writeln!(out, "{line}");
+    }
+    let _ = writeln!(out, "\nGPU: {}", gpu_text(gpu));
+    for r in renders {
+        let _ = writeln!(
+            out,
+            "\npreset {} ({} lights, {}×{} px, {} spp, reference {} px, equal time {:.4} s)",
+            r.preset, r.lights, r.side, r.side, r.spp, r.reference_pixels, r.equal_time_seconds
+        );
+        let _ = writeln!(
+            out,
+            "  {:<17} {:>12} {:>12} {:>12} {:>9} {:>12} {:>14}",
+            "scheme", "Var/sample", "ns/sample", "1/(Var·T)", "vs unif", "RMSE", "RMSE equal-t"
+        );
+        for s in &r.schemes {
+            let _ = writeln!(
+                out,
+                "  {:<17} {:>12.4e} {:>12.2} {:>12.4e} {:>9.3e} {:>12.4e} {:>14.4e}",
+                s.scheme.name(),
+                s.variance_per_sample,
+                s.seconds_per_sample * 1e9,
+                s.efficiency,
+                s.efficiency_vs_uniform,
+                s.rmse,
+                s.rmse_at_equal_time
+            );
+        }
+    }
+    if let Some(path) = &args.plot {
+        let _ = writeln!(out, "\nwrote {}", path.display());
+    }
+    out
+}
+
+fn gpu_text(gpu: &serde_json::Value) -> String {
+    let adapter = gpu["adapter"].as_str();
+    let Some(adapter) = adapter else {
+        return gpu["note"].as_str().unwrap_or("no adapter").to_owned();
+    };
+    let mut s = adapter.to_owned();
+    for c in gpu["cases"].as_array().into_iter().flatten() {
+        let _ = write!(
+            s,
+            "; N = {}: {:.3e} samples/s",
+            c["n"],
+            c["samples_per_second"].as_f64().unwrap_or(f64::NAN)
+        );
+    }
+    if let Some(note) = gpu["note"].as_str() {
+        let _ = write!(s, " ({note})");
+    }
+    s
+}

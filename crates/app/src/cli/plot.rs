@@ -1,0 +1,268 @@
+//! `lightpick plot`: the app's pictures drawn headless (tiny-skia → PNG), for handouts and
+//! snapshot tests: the alias-table diagram, the pmf histogram, the convergence plot and the
+//! image sheet.
+
+use std::path::PathBuf;
+
+use anyhow::{Context as _, bail};
+use clap::{Args, Subcommand, ValueEnum};
+use lightpick_core::draw::{
+    self, ConvergenceAxis, ConvergencePoint, ConvergenceSeries, HistogramData, SchemeCounts,
+    SheetImages, Style, Theme,
+};
+use lightpick_core::render::{CpuRenderer, Reference, cpu_convergence};
+use lightpick_core::scene::Scene;
+use lightpick_core::{AliasTable, LightSampler as _, Sampler, Scheme};
+
+use super::input::{PowersArgs, SceneArgs};
+use super::sample::{check_count, count_cpu};
+
+/// Arguments of `lightpick plot`.
+#[derive(Debug, Args)]
+pub struct PlotArgs {
+    /// Which picture.
+    #[command(subcommand)]
+    pub kind: PlotKind,
+}
+
+/// The pictures `lightpick plot` draws.
+#[derive(Debug, Subcommand)]
+pub enum PlotKind {
+    /// The alias-table diagram: unit columns split at their thresholds.
+    Table {
+        /// Where the powers come from.
+        #[command(flatten)]
+        powers: PowersArgs,
+        /// The output picture.
+        #[command(flatten)]
+        output: OutputArgs,
+    },
+    /// Expected pmf beside observed frequencies of uniform and alias sampling.
+    Histogram {
+        /// Where the powers come from.
+        #[command(flatten)]
+        powers: PowersArgs,
+        /// Samples per scheme.
+        #[arg(long, default_value_t = 10_000)]
+        count: u64,
+        /// Random seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// The output picture.
+        #[command(flatten)]
+        output: OutputArgs,
+    },
+    /// Log-log RMSE against samples per pixel (or seconds), uniform vs alias vs cdf.
+    Convergence {
+        /// The scene (default: the seed preset).
+        #[command(flatten)]
+        scene: SceneArgs,
+        /// Largest samples per pixel of the series.
+        #[arg(long, default_value_t = 256)]
+        spp: u32,
+        /// Random seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Horizontal axis: spp or seconds.
+        #[arg(long, value_enum, default_value_t = Axis::Spp)]
+        axis: Axis,
+        /// The output picture.
+        #[command(flatten)]
+        output: OutputArgs,
+    },
+    /// Uniform | importance | reference | error maps, at equal samples per pixel.
+    Sheet {
+        /// The scene (default: the seed preset).
+        #[command(flatten)]
+        scene: SceneArgs,
+        /// Samples per pixel of both images.
+        #[arg(long, default_value_t = 4)]
+        spp: u32,
+        /// Random seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Image width in pixels (default: the scene's, capped at 160).
+        #[arg(long)]
+        image_width: Option<u32>,
+        /// The output picture.
+        #[command(flatten)]
+        output: OutputArgs,
+    },
+}
+
+/// The convergence plot's horizontal axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Axis {
+    /// Samples per pixel.
+    Spp,
+    /// Rendering seconds.
+    Seconds,
+}
+
+/// Where and how the picture is written.
+#[derive(Debug, Args)]
+pub struct OutputArgs {
+    /// The PNG to write.
+    #[arg(long, value_name = "FILE.png")]
+    pub out: PathBuf,
+    /// Picture width in pixels.
+    #[arg(long, default_value_t = 800)]
+    pub width: u32,
+    /// Picture height in pixels.
+    #[arg(long, default_value_t = 500)]
+    pub height: u32,
+    /// Light text on a dark background.
+    #[arg(long)]
+    pub dark: bool,
+}
+
+impl OutputArgs {
+    fn style(&self) -> anyhow::Result<Style> {
+        for (flag, v) in [("--width", self.width), ("--height", self.height)] {
+            if !(64..=8192).contains(&v) {
+                bail!("{flag} must be between 64 and 8192 (got {v})");
+            }
+        }
+        Ok(Style {
+            width: self.width,
+            height: self.height,
+            theme: if self.dark { Theme::Dark } else { Theme::Light },
+        })
+    }
+
+    fn write(&self, pixmap: &draw::Pixmap) -> anyhow::Result<()> {
+        draw::write_png(pixmap, &self.out).with_context(|| format!("--out {}", self.out.display()))
+    }
+}
+
+/// Draws the requested picture.
+pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
+    match &args.kind {
+        PlotKind::Table { powers, output } => {
+            let style = output.style()?;
+            let powers = powers.load()?;
+            let table = AliasTable::build(&powers);
+            output.write(&draw::table_diagram(
+                &table,
+                draw::fraction_denominator(&powers),
+                &style,
+            )?)
+        }
+        PlotKind::Histogram {
+            powers,
+            count,
+            seed,
+            output,
+        } => {
+            let style = output.style()?;
+            check_count(*count)?;
+            let powers = powers.load()?;
+            let mut schemes = Vec::new();
+            for scheme in [Scheme::Uniform, Scheme::Alias] {
+                let sampler = Sampler::build(scheme, &powers);
+                let expected = (0..sampler.light_count())
+                    .map(|i| sampler.probability(i))
+                    .collect();
+                let counts = count_cpu(&sampler, *count, *seed);
+                schemes.push(SchemeCounts::new(scheme, counts, expected)?);
+            }
+            let data = HistogramData {
+                pmf: powers.pmf(),
+                schemes,
+            };
+            output.write(&draw::histogram(&data, &style)?)
+        }
+        PlotKind::Convergence {
+            scene,
+            spp,
+            seed,
+            axis,
+            output,
+        } => {
+            let style = output.style()?;
+            check_spp(*spp)?;
+            let scene = scene_or_seed(scene)?;
+            let reference = Reference::compute(&scene);
+            let schemes = [Scheme::Uniform, Scheme::Alias, Scheme::Cdf];
+            let series: Vec<ConvergenceSeries> =
+                cpu_convergence(&scene, &reference, &schemes, *seed, *spp)
+                    .into_iter()
+                    .map(|s| {
+                        let points = s
+                            .series
+                            .iter()
+                            .map(|p| ConvergencePoint {
+                                spp: u64::from(p.spp),
+                                rmse: p.rmse,
+                                seconds: p.seconds,
+                            })
+                            .collect();
+                        ConvergenceSeries::for_scheme(s.scheme, points)
+                    })
+                    .collect();
+            let axis = match axis {
+                Axis::Spp => ConvergenceAxis::Spp,
+                Axis::Seconds => ConvergenceAxis::Seconds,
+            };
+            output.write(&draw::convergence(&series, axis, &style)?)
+        }
+        PlotKind::Sheet {
+            scene,
+            spp,
+            seed,
+            image_width,
+            output,
+        } => {
+            let style = output.style()?;
+            check_spp(*spp)?;
+            let mut scene = scene_or_seed(scene)?;
+            let width = image_width.unwrap_or(scene.plane.width.min(160));
+            if !(8..=1024).contains(&width) {
+                bail!("--image-width must be between 8 and 1024 (got {width})");
+            }
+            let aspect = f64::from(scene.plane.height) / f64::from(scene.plane.width);
+            scene.plane.height = ((f64::from(width) * aspect).round() as u32).max(1);
+            scene.plane.width = width;
+            let reference = Reference::compute(&scene);
+            let Some(exact) = reference.image() else {
+                bail!(
+                    "the image sheet needs a reference over every pixel; {} lights × {} pixels \
+                     exceed its budget (lower --image-width)",
+                    scene.light_count(),
+                    scene.plane.pixel_count()
+                );
+            };
+            let render = |scheme| {
+                let mut r = CpuRenderer::new(&scene, scheme, *seed);
+                r.accumulate(*spp);
+                r.accumulator().image()
+            };
+            let uniform = render(Scheme::Uniform);
+            let importance = render(Scheme::Alias);
+            let images = SheetImages {
+                width: scene.plane.width as usize,
+                height: scene.plane.height as usize,
+                uniform: &uniform,
+                importance: &importance,
+                reference: exact,
+                spp: u64::from(*spp),
+                exposure: None,
+            };
+            output.write(&draw::image_sheet(&images, &style)?)
+        }
+    }
+}
+
+fn check_spp(spp: u32) -> anyhow::Result<()> {
+    if spp == 0 || spp > 1 << 16 {
+        bail!("--spp must be between 1 and 65536 (got {spp})");
+    }
+    Ok(())
+}
+
+fn scene_or_seed(args: &SceneArgs) -> anyhow::Result<Scene> {
+    match args.load()? {
+        Some(scene) => Ok(scene),
+        None => Ok(Scene::preset("seed")?),
+    }
+}

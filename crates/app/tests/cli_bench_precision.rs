@@ -1,0 +1,225 @@
+#![allow(clippy::unwrap_used)]
+//! `lightpick precision` and `lightpick bench`: JSON shape, the default path within its
+//! documented bounds, and one-line errors with exit code 2. Timings are never asserted.
+
+use std::process::{Command, Output};
+
+fn lightpick(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lightpick"))
+        .args(args)
+        .output()
+        .expect("run lightpick")
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let out = lightpick(args);
+    assert!(
+        out.status.success(),
+        "{args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
+}
+
+/// Exit code 2, and the last stderr line is the one `error:` line naming the problem
+/// (earlier lines, if any, come from system libraries probing for a GPU).
+fn assert_error(args: &[&str], needle: &str) {
+    let out = lightpick(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+    let ours: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("error:") && !l.contains("XDG_RUNTIME_DIR"))
+        .collect();
+    assert_eq!(ours.len(), 1, "{args:?}: {stderr:?}");
+    assert!(
+        ours[0].contains(needle),
+        "{args:?}: {stderr:?} lacks {needle:?}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+fn f(v: &serde_json::Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+#[test]
+fn precision_json_reports_every_distribution_within_the_documented_bounds() {
+    let v = json(&["precision", "--n", "4099", "--json"]);
+    let reports = v["reports"].as_array().unwrap();
+    assert_eq!(reports.len(), 5);
+    for r in reports {
+        assert_eq!(r["n"], 4099);
+        let name = r["distribution"].as_str().unwrap();
+        assert_eq!(
+            f(&r["construction"]["f64_build"]["zero_leak"]),
+            0.0,
+            "{name}"
+        );
+        assert!(
+            f(&r["construction"]["f64_build"]["max_rel_error"]) < 1e-9,
+            "{name}"
+        );
+        assert!(
+            f(&r["thresholds"]["u32_error_over_bound"]) <= 1.0 + 1e-6,
+            "{name}"
+        );
+        assert!(
+            f(&r["thresholds"]["f32_error_over_bound"]) <= 1.0 + 1e-6,
+            "{name}"
+        );
+        assert_eq!(r["thresholds"]["u32_lost_lights"], 0, "{name}");
+        assert!(f(&r["one_random"]["one_error_over_bound"]) < 1.0, "{name}");
+        assert!(f(&r["one_random"]["two_error_over_bound"]) < 1.0, "{name}");
+        assert_eq!(f(&r["one_random"]["two_zero_leak"]), 0.0, "{name}");
+        assert_eq!(r["one_random"]["fraction_step"], 4099);
+    }
+    let sweep = v["column_pick"].as_array().unwrap();
+    assert!(
+        sweep.iter().any(|c| c["n"] == 4099),
+        "the chosen N joins the sweep"
+    );
+    for c in sweep {
+        let n = c["n"].as_u64().unwrap();
+        assert_eq!(c["multiply_high"]["unreachable"], 0, "{n}");
+        let f32_unreachable = c["f32_pick"]["unreachable"].as_u64().unwrap();
+        if n > 1 << 24 {
+            assert!(f32_unreachable >= n - (1 << 24), "{n}: {f32_unreachable}");
+        }
+    }
+    assert_eq!(f(&v["u32_split_error"]), 2f64.powi(-32));
+}
+
+#[test]
+fn precision_measures_given_powers_and_prints_text() {
+    let v = json(&["precision", "--powers", "2,5,20", "--json"]);
+    let reports = v["reports"].as_array().unwrap();
+    assert_eq!(reports.len(), 1);
+    assert_eq!(reports[0]["n"], 3);
+    assert!(reports[0]["distribution"].is_null());
+    let out = lightpick(&["precision", "--n", "100", "--distribution", "with-zeros"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    for heading in [
+        "1. Table construction",
+        "2. Thresholds",
+        "3. Column pick",
+        "4. One random",
+    ] {
+        assert!(text.contains(heading), "{text}");
+    }
+    assert!(text.contains("with-zeros"), "{text}");
+}
+
+#[test]
+fn precision_errors_are_one_line_and_exit_2() {
+    assert_error(&["precision", "--n", "0"], "--n must be between 1 and");
+    assert_error(
+        &["precision", "--distribution", "gauss"],
+        "unknown distribution 'gauss'",
+    );
+    assert_error(&["precision", "--powers", "1,-1"], "negative");
+    assert_error(&["precision", "--n", "x"], "invalid value 'x'");
+}
+
+#[test]
+fn bench_json_has_every_case_and_the_peers() {
+    let v = json(&[
+        "bench",
+        "--quick",
+        "--json",
+        "--sizes",
+        "1000",
+        "--presets",
+        "seed",
+        "--spp",
+        "8",
+        "--no-gpu",
+    ]);
+    let cases = v["cases"].as_array().unwrap();
+    let methods: Vec<&str> = cases
+        .iter()
+        .map(|c| c["method"].as_str().unwrap())
+        .collect();
+    for m in [
+        "alias",
+        "alias-one-random",
+        "alias+smallrng",
+        "cdf",
+        "uniform",
+        "rand_distr::WeightedAliasIndex",
+        "rand::WeightedIndex",
+    ] {
+        assert!(methods.contains(&m), "{m} missing from {methods:?}");
+    }
+    for c in cases {
+        assert_eq!(c["n"], 1000);
+        assert!(f(&c["build_ns"]) > 0.0 && f(&c["sample_ns"]) > 0.0, "{c}");
+    }
+    let ratios = v["ratios"].as_array().unwrap();
+    assert_eq!(ratios[0]["n"], 1000);
+    assert_eq!(ratios[0]["ratios"].as_array().unwrap().len(), 5);
+    assert!(v["gpu"]["adapter"].is_null());
+    assert!(v["gpu"]["note"].as_str().unwrap().contains("--no-gpu"));
+    let render = &v["renders"][0];
+    assert_eq!(render["preset"], "seed");
+    let schemes = render["schemes"].as_array().unwrap();
+    assert_eq!(schemes.len(), 4);
+    for s in schemes {
+        let var = f(&s["variance_per_sample"]);
+        let eff = f(&s["efficiency"]);
+        assert!(var.is_finite() && var > 0.0, "{s}");
+        assert!(eff.is_finite() && eff > 0.0, "{s}");
+        assert!(f(&s["rmse_at_equal_time"]).is_finite(), "{s}");
+        // 1, 2, 4, 8 spp.
+        assert_eq!(s["series"].as_array().unwrap().len(), 4);
+    }
+}
+
+#[test]
+fn bench_writes_the_plot_and_reports_the_gpu() {
+    let dir = std::env::temp_dir().join(format!("lightpick-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("bench.png");
+    let out = lightpick(&[
+        "bench",
+        "--quick",
+        "--sizes",
+        "3",
+        "--presets",
+        "seed",
+        "--spp",
+        "4",
+        "--plot",
+        png.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("GPU: "), "{text}");
+    assert!(text.contains("rand_distr::WeightedAliasIndex"), "{text}");
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bench_errors_are_one_line_and_exit_2() {
+    assert_error(
+        &["bench", "--sizes", "0"],
+        "--sizes: each size must be between 1",
+    );
+    assert_error(&["bench", "--sizes", "3,x"], "--sizes: 'x' is not a count");
+    assert_error(
+        &["bench", "--sizes", "3", "--presets", "nope"],
+        "--presets 'nope'",
+    );
+    assert_error(&["bench", "--spp", "0"], "--spp must be at least 1");
+    assert_error(
+        &["bench", "--presets", "none", "--plot", "x.png"],
+        "nothing to plot",
+    );
+}

@@ -1,0 +1,170 @@
+//! The histogram of light picks, computed on the GPU.
+
+use super::{GpuContext, GpuError, PICK_WGSL, WORKGROUP_SIZE};
+use crate::{LightSampler as _, PackedAliasEntry, Sampler};
+
+pub(crate) const HISTOGRAM_WGSL: &str = include_str!("histogram.wgsl");
+
+/// Samples per dispatch: bins are `u32` and one dispatch adds at most this many counts, so
+/// no bin can wrap; the CPU sums the dispatches in `u64`. Also keeps `k + stride` in `u32`.
+const MAX_SAMPLES_PER_DISPATCH: u64 = 1 << 31;
+/// Each thread takes at least this many samples (amortizes the per-workgroup bin flush).
+const MIN_SAMPLES_PER_THREAD: u64 = 64;
+/// At most this many workgroups per dispatch; threads loop over the rest.
+const MAX_WORKGROUPS: u64 = 4096;
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct HistogramParams {
+    seed_lo: u32,
+    seed_hi: u32,
+    base_lo: u32,
+    base_hi: u32,
+    count: u32,
+    n_lights: u32,
+    scheme: u32,
+    stride: u32,
+}
+
+/// How often each light is picked by samples `0..count`: sample `k` draws from
+/// [`crate::Rng::new`]`(seed, k)` and picks with exactly the draws of
+/// [`Sampler::pick_light`], so the counts equal the CPU loop's counts, bin for bin.
+///
+/// Counts are `u32` atomics on the GPU (in workgroup memory first when there are at most
+/// 2048 lights); the work is split into dispatches of at most `2^31` samples so no bin can
+/// wrap, and the dispatches are summed in `u64`. The 64-bit sample index is
+/// `base + local` with the carry propagated in WGSL. [`Sampler::Cdf`] is refused with
+/// [`GpuError::UnsupportedScheme`].
+pub fn histogram(
+    ctx: &GpuContext,
+    sampler: &Sampler,
+    count: u64,
+    seed: u64,
+) -> Result<Vec<u64>, GpuError> {
+    histogram_range(ctx, sampler, 0, count, seed)
+}
+
+/// Like [`histogram`], for the samples `first, first + 1, …, first + count − 1` (indices
+/// wrap modulo `2^64`, as `u64::wrapping_add` does).
+pub fn histogram_range(
+    ctx: &GpuContext,
+    sampler: &Sampler,
+    first: u64,
+    count: u64,
+    seed: u64,
+) -> Result<Vec<u64>, GpuError> {
+    histogram_range_split(ctx, sampler, first, count, seed, MAX_SAMPLES_PER_DISPATCH)
+}
+
+/// [`histogram_range`] with at most `max_per_dispatch` samples per dispatch (clamped to
+/// `1..=2^31`), so tests can exercise the splitting and the 64-bit carry cheaply.
+#[doc(hidden)]
+pub fn histogram_range_split(
+    ctx: &GpuContext,
+    sampler: &Sampler,
+    first: u64,
+    count: u64,
+    seed: u64,
+    max_per_dispatch: u64,
+) -> Result<Vec<u64>, GpuError> {
+    let max_per_dispatch = max_per_dispatch.clamp(1, MAX_SAMPLES_PER_DISPATCH);
+    let scheme = super::scheme_code(sampler.scheme())?;
+    let n = sampler.light_count();
+    let table: &[PackedAliasEntry] = match sampler {
+        Sampler::Alias(t) | Sampler::AliasOneRandom(t) => t.packed(),
+        // The uniform path never reads the table, but the binding needs a buffer.
+        Sampler::Uniform(_) | Sampler::Cdf(_) => &[PackedAliasEntry {
+            threshold: 0,
+            alias: 0,
+        }],
+    };
+    let mut totals = vec![0u64; n];
+    if count == 0 {
+        return Ok(totals);
+    }
+    let count_bytes = n as u64 * 4;
+    let table_words: Vec<[u32; 2]> = table.iter().map(|e| [e.threshold, e.alias]).collect();
+    let table_buffer = super::storage_buffer(
+        ctx,
+        "alias table",
+        bytemuck::cast_slice(&table_words),
+        wgpu::BufferUsages::empty(),
+    )?;
+    drop(table_words);
+    let counts_buffer = super::zeroed_storage_buffer(
+        ctx,
+        "histogram counts",
+        count_bytes,
+        wgpu::BufferUsages::COPY_SRC,
+    )?;
+    let params_buffer = super::uniform_buffer(ctx, "histogram params", 32);
+    let pipeline =
+        super::compute_pipeline(ctx, "histogram", &[PICK_WGSL, HISTOGRAM_WGSL], "histogram")?;
+    let bind_group = super::scoped(ctx, "binding the histogram buffers", || {
+        Ok(ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("histogram"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: params_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: table_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: counts_buffer.as_entire_binding(),
+                },
+            ],
+        }))
+    })?;
+
+    let mut done = 0u64;
+    while done < count {
+        let chunk = (count - done).min(max_per_dispatch);
+        let base = first.wrapping_add(done);
+        let workgroups = chunk
+            .div_ceil(MIN_SAMPLES_PER_THREAD * u64::from(WORKGROUP_SIZE))
+            .clamp(1, MAX_WORKGROUPS) as u32;
+        let params = HistogramParams {
+            seed_lo: seed as u32,
+            seed_hi: (seed >> 32) as u32,
+            base_lo: base as u32,
+            base_hi: (base >> 32) as u32,
+            count: chunk as u32,
+            n_lights: n as u32,
+            scheme,
+            stride: workgroups * WORKGROUP_SIZE,
+        };
+        super::scoped(ctx, "dispatching the histogram", || {
+            ctx.queue()
+                .write_buffer(&params_buffer, 0, bytemuck::bytes_of(&params));
+            let mut encoder =
+                ctx.device()
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("histogram"),
+                    });
+            encoder.clear_buffer(&counts_buffer, 0, None);
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("histogram"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&pipeline);
+                pass.set_bind_group(0, &bind_group, &[]);
+                pass.dispatch_workgroups(workgroups, 1, 1);
+            }
+            ctx.queue().submit([encoder.finish()]);
+            Ok(())
+        })?;
+        let bytes = super::read_buffer(ctx, "histogram counts", &counts_buffer, count_bytes)?;
+        let counts: Vec<u32> = super::words(&bytes);
+        for (total, c) in totals.iter_mut().zip(counts) {
+            *total += u64::from(c);
+        }
+        done += chunk;
+    }
+    Ok(totals)
+}

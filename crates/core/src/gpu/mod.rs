@@ -1,0 +1,364 @@
+//! wgpu compute kernels: the histogram of picks and the progressive renderer.
+//!
+//! Every kernel shares one WGSL prelude, `rng.wgsl`, prepended to the kernel's own source
+//! when its pipeline is created ([`shader_source`]). The prelude is the bit-exact twin of
+//! [`crate::Rng`] (the PCG hash of Jarzynski & Olano and its stream layout) and of the
+//! integer sampling paths of [`crate::AliasTable`] and [`crate::Uniform`]:
+//!
+//! * `mulhi32(a, b) = ⌊a·b / 2^32⌋`, the high word of the 64-bit product, assembled from
+//!   16-bit halves because WGSL has no 64-bit integers; the low word is the wrapping `a·b`.
+//! * `sample_uniform(r, N) = mulhi32(r, N)`,
+//! * `pick_light` (`pick.wgsl`, the twin of [`crate::Sampler::pick_light`]): uniform takes
+//!   one draw; alias takes two, column `mulhi32(r1, N)` kept if `r2 < threshold_u32`, else
+//!   its alias (the default); alias-one-random takes one, column = high word of `r·N`, keep
+//!   test on the low word.
+//!
+//! All of it is `u32` arithmetic, so a GPU pick equals the CPU pick for the same stream;
+//! the tests check this bit for bit. Floating-point estimates are `f32` on the GPU and are
+//! compared with the `f64` CPU ones within derived bounds.
+//!
+//! Only [`Scheme::Uniform`], [`Scheme::Alias`] and [`Scheme::AliasOneRandom`] run on the
+//! GPU; the inverse-CDF peer is a CPU-only comparison ([`GpuError::UnsupportedScheme`]).
+//!
+//! # Limits
+//! Each buffer is one storage binding, so it must fit the device's
+//! `max_storage_buffer_binding_size` (128 MiB on Mesa's lavapipe, often 2–4 GiB on
+//! discrete GPUs); a larger one is refused with [`GpuError::BufferTooLarge`] before any
+//! allocation. At 128 MiB: the renderer takes up to 5.59 million lights (24 bytes each) and
+//! 16.7 million pixels (8 bytes of sums each); the histogram up to 16.7 million lights
+//! (8-byte alias entries; 4-byte counts).
+
+mod context;
+mod error;
+mod histogram;
+mod probe;
+mod renderer;
+
+pub use context::GpuContext;
+pub use error::GpuError;
+pub use histogram::{histogram, histogram_range, histogram_range_split};
+pub use probe::{probe_mulhi32, probe_rng};
+pub use renderer::GpuRenderer;
+
+use crate::Scheme;
+
+/// The WGSL twin of [`crate::Rng`] and of the integer sampling paths; see the module docs.
+pub const RNG_WGSL: &str = include_str!("rng.wgsl");
+
+/// The WGSL twin of [`crate::Sampler::pick_light`] for the GPU schemes (the kernel defines
+/// `fn alias_entry(column: u32) -> vec2<u32>`, the packed `(threshold, alias)` of a column).
+pub const PICK_WGSL: &str = include_str!("pick.wgsl");
+
+/// The full source of a kernel: the shared [`RNG_WGSL`] prelude followed by `parts` in order.
+pub fn shader_source(parts: &[&str]) -> String {
+    let mut source = String::from(RNG_WGSL);
+    for part in parts {
+        source.push('\n');
+        source.push_str(part);
+    }
+    source
+}
+
+/// Threads per workgroup of the one-dimensional kernels.
+pub(crate) const WORKGROUP_SIZE: u32 = 256;
+
+/// The scheme word the kernels switch on: 0 uniform, 1 alias, 2 alias with one random.
+pub(crate) fn scheme_code(scheme: Scheme) -> Result<u32, GpuError> {
+    match scheme {
+        Scheme::Uniform => Ok(0),
+        Scheme::Alias => Ok(1),
+        Scheme::AliasOneRandom => Ok(2),
+        Scheme::Cdf => Err(GpuError::UnsupportedScheme {
+            scheme,
+            reason: "the inverse-CDF binary search is a CPU-only peer; \
+                     use alias (power) or uniform on the GPU, or the CPU device",
+        }),
+    }
+}
+
+/// Refuses a storage buffer of `bytes` beyond the device's buffer and binding limits.
+pub(crate) fn check_storage_size(
+    ctx: &GpuContext,
+    what: &'static str,
+    bytes: u64,
+) -> Result<(), GpuError> {
+    let limits = ctx.device().limits();
+    let limit = limits
+        .max_buffer_size
+        .min(limits.max_storage_buffer_binding_size);
+    if bytes > limit {
+        return Err(GpuError::BufferTooLarge { what, bytes, limit });
+    }
+    Ok(())
+}
+
+/// Runs `f` inside validation, out-of-memory and internal error scopes, so that a wgpu
+/// error becomes a [`GpuError::Wgpu`] instead of the default panic.
+pub(crate) fn scoped<T>(
+    ctx: &GpuContext,
+    during: &'static str,
+    f: impl FnOnce() -> Result<T, GpuError>,
+) -> Result<T, GpuError> {
+    let device = ctx.device();
+    let internal = device.push_error_scope(wgpu::ErrorFilter::Internal);
+    let memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let result = f();
+    let errors = [
+        pollster::block_on(validation.pop()),
+        pollster::block_on(memory.pop()),
+        pollster::block_on(internal.pop()),
+    ];
+    if let Some(error) = errors.into_iter().flatten().next() {
+        return Err(GpuError::Wgpu {
+            during,
+            reason: error.to_string(),
+        });
+    }
+    result
+}
+
+/// Creates a compute pipeline (automatic layout) from `parts` behind the RNG prelude.
+pub(crate) fn compute_pipeline(
+    ctx: &GpuContext,
+    label: &'static str,
+    parts: &[&str],
+    entry_point: &str,
+) -> Result<wgpu::ComputePipeline, GpuError> {
+    scoped(ctx, label, || {
+        let module = ctx
+            .device()
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(shader_source(parts).into()),
+            });
+        Ok(ctx
+            .device()
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(label),
+                layout: None,
+                module: &module,
+                entry_point: Some(entry_point),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                cache: None,
+            }))
+    })
+}
+
+/// Creates a storage buffer holding `contents` (at least 4 bytes, zero-padded).
+pub(crate) fn storage_buffer(
+    ctx: &GpuContext,
+    label: &'static str,
+    contents: &[u8],
+    usage: wgpu::BufferUsages,
+) -> Result<wgpu::Buffer, GpuError> {
+    let size = (contents.len() as u64).max(4).next_multiple_of(4);
+    check_storage_size(ctx, label, size)?;
+    scoped(ctx, label, || {
+        let buffer = ctx.device().create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: usage | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        if !contents.is_empty() {
+            ctx.queue().write_buffer(&buffer, 0, contents);
+        }
+        Ok(buffer)
+    })
+}
+
+/// Creates a zero-filled storage buffer of `size` bytes (wgpu zero-initializes buffers).
+pub(crate) fn zeroed_storage_buffer(
+    ctx: &GpuContext,
+    label: &'static str,
+    size: u64,
+    usage: wgpu::BufferUsages,
+) -> Result<wgpu::Buffer, GpuError> {
+    let size = size.max(4).next_multiple_of(4);
+    check_storage_size(ctx, label, size)?;
+    scoped(ctx, label, || {
+        Ok(ctx.device().create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: usage | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        }))
+    })
+}
+
+/// Workgroups `(x, y)` of [`WORKGROUP_SIZE`] threads covering `threads` threads, with `x`
+/// within the device's per-dimension limit; kernels index `gid.y · x · WORKGROUP_SIZE + gid.x`.
+pub(crate) fn workgroups_2d(ctx: &GpuContext, threads: u64) -> Result<(u32, u32), GpuError> {
+    let max = u64::from(ctx.device().limits().max_compute_workgroups_per_dimension);
+    let groups = threads.div_ceil(u64::from(WORKGROUP_SIZE)).max(1);
+    let x = groups.min(max);
+    let y = groups.div_ceil(x);
+    if y > max {
+        return Err(GpuError::Wgpu {
+            during: "planning a dispatch",
+            reason: format!("{threads} threads exceed {max}×{max} workgroups"),
+        });
+    }
+    Ok((x as u32, y as u32))
+}
+
+/// Creates a uniform buffer of `size` bytes.
+pub(crate) fn uniform_buffer(ctx: &GpuContext, label: &'static str, size: u64) -> wgpu::Buffer {
+    ctx.device().create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// Copies the first `bytes` of `source` (which needs `COPY_SRC`) to the CPU, waiting for
+/// all submitted work first.
+pub(crate) fn read_buffer(
+    ctx: &GpuContext,
+    what: &'static str,
+    source: &wgpu::Buffer,
+    bytes: u64,
+) -> Result<Vec<u8>, GpuError> {
+    let staging = ctx.device().create_buffer(&wgpu::BufferDescriptor {
+        label: Some("lightpick readback"),
+        size: bytes,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = ctx
+        .device()
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("lightpick readback"),
+        });
+    encoder.copy_buffer_to_buffer(source, 0, &staging, 0, bytes);
+    ctx.queue().submit([encoder.finish()]);
+    map_and_copy(ctx, what, &staging)
+}
+
+/// Maps a `MAP_READ` buffer, waits, and copies its bytes out.
+pub(crate) fn map_and_copy(
+    ctx: &GpuContext,
+    what: &'static str,
+    staging: &wgpu::Buffer,
+) -> Result<Vec<u8>, GpuError> {
+    let (sender, receiver) = std::sync::mpsc::channel();
+    staging.map_async(wgpu::MapMode::Read, .., move |result| {
+        // The receiver outlives the poll below; a failed send only means it is gone.
+        sender.send(result).ok();
+    });
+    ctx.device()
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Readback {
+            what,
+            reason: e.to_string(),
+        })?;
+    receiver
+        .recv()
+        .map_err(|e| GpuError::Readback {
+            what,
+            reason: e.to_string(),
+        })?
+        .map_err(|e| GpuError::Readback {
+            what,
+            reason: e.to_string(),
+        })?;
+    let bytes = staging
+        .get_mapped_range(..)
+        .map_err(|e| GpuError::Readback {
+            what,
+            reason: e.to_string(),
+        })?
+        .to_vec();
+    staging.unmap();
+    Ok(bytes)
+}
+
+/// Reinterprets read-back bytes as native-endian `u32` words.
+pub(crate) fn words(bytes: &[u8]) -> Vec<u32> {
+    bytes
+        .chunks_exact(4)
+        .map(|w| u32::from_ne_bytes([w[0], w[1], w[2], w[3]]))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every kernel parses and validates with naga, without needing a device.
+    #[test]
+    fn every_kernel_validates_with_naga() {
+        let kernels: [(&str, &[&str]); 5] = [
+            ("probe", &[probe::PROBE_WGSL]),
+            ("histogram", &[PICK_WGSL, histogram::HISTOGRAM_WGSL]),
+            ("render", &[PICK_WGSL, renderer::RENDER_WGSL]),
+            ("tonemap", &[renderer::TONEMAP_WGSL]),
+            ("rng alone", &[]),
+        ];
+        for (name, parts) in kernels {
+            let source = shader_source(parts);
+            let module = wgpu::naga::front::wgsl::parse_str(&source)
+                .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&source)));
+            wgpu::naga::valid::Validator::new(
+                wgpu::naga::valid::ValidationFlags::all(),
+                wgpu::naga::valid::Capabilities::default(),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&source)));
+        }
+    }
+
+    /// A shader error becomes [`GpuError::Wgpu`] naming the problem, not wgpu's panic.
+    #[test]
+    fn invalid_wgsl_is_an_error_not_a_panic() {
+        if std::env::var("LIGHTPICK_SKIP_GPU_TESTS").as_deref() == Ok("1") {
+            eprintln!("GPU test skipped: LIGHTPICK_SKIP_GPU_TESTS=1");
+            return;
+        }
+        let ctx = GpuContext::new().expect("a GPU adapter (or LIGHTPICK_SKIP_GPU_TESTS=1)");
+        let kernel = "@compute @workgroup_size(1) fn main() { let alias = 1u; }";
+        let err = compute_pipeline(&ctx, "bad kernel", &[kernel], "main").expect_err("invalid");
+        let message = err.to_string();
+        assert!(
+            matches!(
+                err,
+                GpuError::Wgpu {
+                    during: "bad kernel",
+                    ..
+                }
+            ),
+            "{message}"
+        );
+        assert!(message.contains("reserved"), "{message}");
+    }
+
+    #[test]
+    fn the_prelude_comes_first_and_parts_follow_in_order() {
+        let source = shader_source(&["// a", "// b"]);
+        assert!(source.starts_with(RNG_WGSL));
+        assert!(source.ends_with("\n// a\n// b"));
+    }
+
+    #[test]
+    fn cdf_has_no_scheme_code() {
+        assert_eq!(scheme_code(Scheme::Uniform), Ok(0));
+        assert_eq!(scheme_code(Scheme::Alias), Ok(1));
+        assert_eq!(scheme_code(Scheme::AliasOneRandom), Ok(2));
+        let err = scheme_code(Scheme::Cdf).expect_err("cdf");
+        assert!(
+            err.to_string()
+                .starts_with("scheme 'cdf' is not supported on the GPU")
+        );
+    }
+
+    #[test]
+    fn words_are_native_endian_u32() {
+        let bytes: Vec<u8> = [1u32, u32::MAX, 0x0102_0304]
+            .iter()
+            .flat_map(|w| w.to_ne_bytes())
+            .collect();
+        assert_eq!(words(&bytes), vec![1, u32::MAX, 0x0102_0304]);
+    }
+}

@@ -1,0 +1,31 @@
+// pick.wgsl: Sampler::pick_light on the GPU for the schemes it supports. Requires the
+// kernel to define `fn alias_entry(column: u32) -> vec2<u32>`, the packed
+// (threshold, alias) of a column (never called by the uniform scheme).
+
+const SCHEME_UNIFORM: u32 = 0u;
+const SCHEME_ALIAS: u32 = 1u;
+const SCHEME_ALIAS_ONE_RANDOM: u32 = 2u;
+
+// The light that the scheme picks from the next draws of `state`, consuming exactly the
+// draws of the CPU sampler: one for uniform, two (column, keep) for alias, and one for the
+// one-random alias, whose column is the high word of r·N and keep test its low word.
+fn pick_light(scheme: u32, n: u32, state: ptr<function, u32>) -> u32 {
+    var light: u32;
+    switch scheme {
+        case SCHEME_UNIFORM: {
+            light = sample_uniform(rng_next(state), n);
+        }
+        case SCHEME_ALIAS: {
+            let r1 = rng_next(state);
+            let r2 = rng_next(state);
+            let column = mulhi32(r1, n);
+            light = alias_resolve(column, alias_entry(column), r2);
+        }
+        default: {
+            let r = rng_next(state);
+            let column = mulhi32(r, n);
+            light = alias_resolve(column, alias_entry(column), r * n);
+        }
+    }
+    return light;
+}

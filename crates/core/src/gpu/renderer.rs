@@ -1,0 +1,556 @@
+//! The progressive renderer on the GPU, the twin of the CPU estimator contract.
+
+use super::{GpuContext, GpuError, PICK_WGSL};
+use crate::render::Accumulator;
+use crate::scene::Scene;
+use crate::{AliasTable, LightPowers, Scheme};
+
+pub(crate) const RENDER_WGSL: &str = include_str!("render.wgsl");
+pub(crate) const TONEMAP_WGSL: &str = include_str!("tonemap.wgsl");
+
+/// Workgroups are 16×16 pixels.
+const TILE: u32 = 16;
+/// Samples (pixels × samples per pixel) per dispatch: long enough to amortize a submit,
+/// short enough that no single dispatch runs for seconds on a real GPU.
+const SAMPLES_PER_DISPATCH: u64 = 1 << 24;
+/// Per-light GPU storage: `(x, y, z, p_i)` as four `f32` and the packed alias entry
+/// `(threshold, alias)` as two `u32`, interleaved (`Light` in `render.wgsl`).
+const BYTES_PER_LIGHT: u64 = 24;
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct RenderParams {
+    seed_lo: u32,
+    seed_hi: u32,
+    k_base: u32,
+    k_count: u32,
+    width: u32,
+    height: u32,
+    n_lights: u32,
+    scheme: u32,
+    plane_min_x: f32,
+    plane_max_y: f32,
+    plane_extent_x: f32,
+    plane_extent_y: f32,
+    n_f32: f32,
+    pad: [u32; 3],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct TonemapParams {
+    factor: f32,
+    width: u32,
+    height: u32,
+    pad: u32,
+}
+
+/// Progressive rendering of a [`Scene`] on the GPU, following the estimator contract of
+/// [`crate::render`]: pixel `p` takes its `k`-th sample from
+/// `Rng::new(seed, (k << 32) | p)`, picks light `i` exactly as
+/// [`crate::Sampler::pick_light`] does, and accumulates the normalized estimate `ê` and
+/// `ê²` in `f32`:
+///
+/// * uniform: `ê = N · p_i · G_i(x)`,
+/// * alias and alias-one-random (power-proportional): `ê = G_i(x)` (the power cancels),
+///
+/// with `G_i(x) = z_i / (4π r³)` evaluated in `f32` with power-of-two rescaling, so it
+/// neither overflows nor underflows before `G` itself leaves the `f32` range. The image is
+/// `Φ_total · Σ ê / spp` ([`Accumulator::image`] after [`GpuRenderer::readback`]).
+///
+/// Per light the GPU holds `(x, y, z, p_i)` as `f32` and the packed alias entry
+/// `(threshold, alias)` of its column as `u32`, interleaved in one 24-byte record so that a
+/// column kept by the alias test finds its light in the cache line just read. Raw powers
+/// are never uploaded (an `f32` cannot hold `10^±300`); only the normalized `p_i`, needed
+/// by the uniform estimate.
+#[derive(Debug)]
+pub struct GpuRenderer {
+    ctx: GpuContext,
+    scheme: Scheme,
+    seed: u64,
+    width: u32,
+    height: u32,
+    positions: Vec<[f32; 3]>,
+    total_power: f64,
+    samples_per_pixel: u32,
+    plane: [f32; 4],
+    params: wgpu::Buffer,
+    lights: wgpu::Buffer,
+    sums: wgpu::Buffer,
+    accumulate_pipeline: wgpu::ComputePipeline,
+    accumulate_bind_group: wgpu::BindGroup,
+    tonemap_params: wgpu::Buffer,
+    tonemap_pipeline: wgpu::ComputePipeline,
+    tonemap_bind_group: wgpu::BindGroup,
+    output: wgpu::Texture,
+    output_view: wgpu::TextureView,
+}
+
+impl GpuRenderer {
+    /// Uploads `scene` (positions, normalized powers, alias table) and prepares an empty
+    /// accumulation with `scheme` and `seed`.
+    ///
+    /// Refuses [`Scheme::Cdf`] ([`GpuError::UnsupportedScheme`]), an empty image or one
+    /// beyond the device's texture size ([`GpuError::ImageSize`]), and buffers beyond its
+    /// limits ([`GpuError::BufferTooLarge`]).
+    pub fn new(
+        ctx: &GpuContext,
+        scene: &Scene,
+        scheme: Scheme,
+        seed: u64,
+    ) -> Result<Self, GpuError> {
+        super::scheme_code(scheme)?;
+        let (width, height) = (scene.plane.width, scene.plane.height);
+        let limits = ctx.device().limits();
+        let max = limits.max_texture_dimension_2d.min(
+            limits
+                .max_compute_workgroups_per_dimension
+                .saturating_mul(TILE),
+        );
+        let pixels = u64::from(width) * u64::from(height);
+        if width == 0 || height == 0 || width > max || height > max || pixels > 1 << 32 {
+            return Err(GpuError::ImageSize { width, height, max });
+        }
+        if scene.positions.len() != scene.powers.len() {
+            return Err(GpuError::LightCountMismatch {
+                expected: scene.positions.len(),
+                got: scene.powers.len(),
+            });
+        }
+        let n = scene.positions.len() as u64;
+        let plane = &scene.plane;
+        let plane = [
+            plane.min[0] as f32,
+            plane.max[1] as f32,
+            (plane.max[0] - plane.min[0]) as f32,
+            (plane.max[1] - plane.min[1]) as f32,
+        ];
+        let positions: Vec<[f32; 3]> = scene
+            .positions
+            .iter()
+            .map(|p| [p[0] as f32, p[1] as f32, p[2] as f32])
+            .collect();
+
+        let lights = super::zeroed_storage_buffer(
+            ctx,
+            "lights (positions, powers, alias table)",
+            n * BYTES_PER_LIGHT,
+            wgpu::BufferUsages::empty(),
+        )?;
+        let sums = super::zeroed_storage_buffer(
+            ctx,
+            "pixel sums",
+            pixels * 8,
+            wgpu::BufferUsages::COPY_SRC,
+        )?;
+        let params = super::uniform_buffer(
+            ctx,
+            "render params",
+            std::mem::size_of::<RenderParams>() as u64,
+        );
+        let tonemap_params = super::uniform_buffer(
+            ctx,
+            "tonemap params",
+            std::mem::size_of::<TonemapParams>() as u64,
+        );
+        let accumulate_pipeline = super::compute_pipeline(
+            ctx,
+            "render accumulate",
+            &[PICK_WGSL, RENDER_WGSL],
+            "accumulate",
+        )?;
+        let tonemap_pipeline =
+            super::compute_pipeline(ctx, "render tonemap", &[TONEMAP_WGSL], "tonemap")?;
+
+        let (output, output_view, accumulate_bind_group, tonemap_bind_group) =
+            super::scoped(ctx, "creating the render targets", || {
+                let output = ctx.device().create_texture(&wgpu::TextureDescriptor {
+                    label: Some("lightpick render output"),
+                    size: wgpu::Extent3d {
+                        width,
+                        height,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: wgpu::TextureFormat::Rgba8Unorm,
+                    usage: wgpu::TextureUsages::TEXTURE_BINDING
+                        | wgpu::TextureUsages::STORAGE_BINDING
+                        | wgpu::TextureUsages::COPY_SRC,
+                    view_formats: &[],
+                });
+                let output_view = output.create_view(&wgpu::TextureViewDescriptor::default());
+                let accumulate_bind_group =
+                    ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("render accumulate"),
+                        layout: &accumulate_pipeline.get_bind_group_layout(0),
+                        entries: &[
+                            wgpu::BindGroupEntry {
+                                binding: 0,
+                                resource: params.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 1,
+                                resource: lights.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 2,
+                                resource: sums.as_entire_binding(),
+                            },
+                        ],
+                    });
+                let tonemap_bind_group =
+                    ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("render tonemap"),
+                        layout: &tonemap_pipeline.get_bind_group_layout(0),
+                        entries: &[
+                            wgpu::BindGroupEntry {
+                                binding: 0,
+                                resource: tonemap_params.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 1,
+                                resource: sums.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 2,
+                                resource: wgpu::BindingResource::TextureView(&output_view),
+                            },
+                        ],
+                    });
+                Ok((
+                    output,
+                    output_view,
+                    accumulate_bind_group,
+                    tonemap_bind_group,
+                ))
+            })?;
+
+        let mut renderer = Self {
+            ctx: ctx.clone(),
+            scheme,
+            seed,
+            width,
+            height,
+            positions,
+            total_power: 0.0,
+            samples_per_pixel: 0,
+            plane,
+            params,
+            lights,
+            sums,
+            accumulate_pipeline,
+            accumulate_bind_group,
+            tonemap_params,
+            tonemap_pipeline,
+            tonemap_bind_group,
+            output,
+            output_view,
+        };
+        renderer.set_powers(&scene.powers)?;
+        Ok(renderer)
+    }
+
+    /// Replaces the light powers (same number of lights): rebuilds the alias table
+    /// (`O(N)`), uploads it and the normalized powers, and restarts the accumulation.
+    pub fn set_powers(&mut self, powers: &LightPowers) -> Result<(), GpuError> {
+        if powers.len() != self.positions.len() {
+            return Err(GpuError::LightCountMismatch {
+                expected: self.positions.len(),
+                got: powers.len(),
+            });
+        }
+        let table = AliasTable::build(powers);
+        let lights: Vec<[u32; 6]> = self
+            .positions
+            .iter()
+            .zip(table.pmf_slice())
+            .zip(table.packed())
+            .map(|((p, &pmf), e)| {
+                [
+                    p[0].to_bits(),
+                    p[1].to_bits(),
+                    p[2].to_bits(),
+                    (pmf as f32).to_bits(),
+                    e.threshold,
+                    e.alias,
+                ]
+            })
+            .collect();
+        drop(table);
+        super::scoped(&self.ctx, "uploading the lights", || {
+            self.ctx
+                .queue()
+                .write_buffer(&self.lights, 0, bytemuck::cast_slice(&lights));
+            Ok(())
+        })?;
+        self.total_power = powers.total();
+        self.reset();
+        Ok(())
+    }
+
+    /// Switches the selection scheme and restarts the accumulation; [`Scheme::Cdf`] is
+    /// refused ([`GpuError::UnsupportedScheme`]) and leaves the renderer unchanged.
+    pub fn set_scheme(&mut self, scheme: Scheme) -> Result<(), GpuError> {
+        super::scheme_code(scheme)?;
+        self.scheme = scheme;
+        self.reset();
+        Ok(())
+    }
+
+    /// Switches the seed and restarts the accumulation.
+    pub fn set_seed(&mut self, seed: u64) {
+        self.seed = seed;
+        self.reset();
+    }
+
+    /// Forgets every sample: the sums return to zero and the next sample index is `k = 0`.
+    pub fn reset(&mut self) {
+        self.samples_per_pixel = 0;
+        let mut encoder =
+            self.ctx
+                .device()
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("render reset"),
+                });
+        encoder.clear_buffer(&self.sums, 0, None);
+        self.ctx.queue().submit([encoder.finish()]);
+    }
+
+    /// Adds `samples_per_pixel` samples to every pixel: sample indices
+    /// `k = spp, …, spp + samples_per_pixel − 1` continue the previous calls. The work is
+    /// queued, not waited for ([`GpuRenderer::readback`] waits). The total per pixel may not
+    /// pass `u32::MAX` (the stream's high word), else [`GpuError::TooManySamples`].
+    pub fn accumulate(&mut self, samples_per_pixel: u32) -> Result<(), GpuError> {
+        let total = self
+            .samples_per_pixel
+            .checked_add(samples_per_pixel)
+            .ok_or(GpuError::TooManySamples {
+                accumulated: self.samples_per_pixel,
+                requested: samples_per_pixel,
+                max: u32::MAX,
+            })?;
+        let pixels = u64::from(self.width) * u64::from(self.height);
+        let per_dispatch = (SAMPLES_PER_DISPATCH / pixels).clamp(1, u64::from(u32::MAX)) as u32;
+        let scheme = super::scheme_code(self.scheme)?;
+        let mut k = self.samples_per_pixel;
+        while k < total {
+            let k_count = per_dispatch.min(total - k);
+            let params = RenderParams {
+                seed_lo: self.seed as u32,
+                seed_hi: (self.seed >> 32) as u32,
+                k_base: k,
+                k_count,
+                width: self.width,
+                height: self.height,
+                n_lights: self.positions.len() as u32,
+                scheme,
+                plane_min_x: self.plane[0],
+                plane_max_y: self.plane[1],
+                plane_extent_x: self.plane[2],
+                plane_extent_y: self.plane[3],
+                n_f32: self.positions.len() as f32,
+                pad: [0; 3],
+            };
+            super::scoped(&self.ctx, "dispatching render samples", || {
+                self.ctx
+                    .queue()
+                    .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+                let mut encoder =
+                    self.ctx
+                        .device()
+                        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                            label: Some("render accumulate"),
+                        });
+                {
+                    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some("render accumulate"),
+                        timestamp_writes: None,
+                    });
+                    pass.set_pipeline(&self.accumulate_pipeline);
+                    pass.set_bind_group(0, &self.accumulate_bind_group, &[]);
+                    pass.dispatch_workgroups(
+                        self.width.div_ceil(TILE),
+                        self.height.div_ceil(TILE),
+                        1,
+                    );
+                }
+                self.ctx.queue().submit([encoder.finish()]);
+                Ok(())
+            })?;
+            k += k_count;
+        }
+        self.samples_per_pixel = total;
+        Ok(())
+    }
+
+    /// Waits for the queued samples and returns the sums as an [`Accumulator`] (`f32`
+    /// sums widened to `f64`, scale `Φ_total` computed in `f64`).
+    ///
+    /// Precision: each `Σ ê` is a running `f32` sum of non-negative terms, so it is within
+    /// `(spp − 1)·2^-24` relative of the exact sum of the `f32` estimates (typically
+    /// `√spp·2^-24`). `Σ ê²` overflows to `+inf` once a single estimate exceeds about
+    /// `1.8·10^19` (`G` of a light closer than about `10^-10` scene units).
+    pub fn readback(&self) -> Result<Accumulator, GpuError> {
+        let pixels = u64::from(self.width) * u64::from(self.height);
+        let bytes = super::read_buffer(&self.ctx, "pixel sums", &self.sums, pixels * 8)?;
+        let words = super::words(&bytes);
+        let mut acc = Accumulator::new(self.width, self.height, self.total_power);
+        acc.samples_per_pixel = self.samples_per_pixel;
+        for ((sum, sum_sq), pair) in acc
+            .sum
+            .iter_mut()
+            .zip(acc.sum_sq.iter_mut())
+            .zip(words.chunks_exact(2))
+        {
+            *sum = f64::from(f32::from_bits(pair[0]));
+            *sum_sq = f64::from(f32::from_bits(pair[1]));
+        }
+        Ok(acc)
+    }
+
+    /// Writes the tonemapped image into [`GpuRenderer::output_view`]: the WGSL twin of
+    /// [`crate::render::tonemap_value`] applied to `exposure · Φ_total · Σê / spp`, where
+    /// the factor `exposure · Φ_total / spp` is computed in `f64` and clamped to the finite
+    /// `f32` range (black before any sample). The work is queued, not waited for.
+    pub fn tonemap(&mut self, exposure: f64) -> Result<(), GpuError> {
+        let factor = if self.samples_per_pixel == 0 {
+            0.0
+        } else {
+            exposure * self.total_power / f64::from(self.samples_per_pixel)
+        };
+        let factor = if factor.is_nan() {
+            0.0
+        } else {
+            factor.clamp(-f64::from(f32::MAX), f64::from(f32::MAX)) as f32
+        };
+        let params = TonemapParams {
+            factor,
+            width: self.width,
+            height: self.height,
+            pad: 0,
+        };
+        super::scoped(&self.ctx, "dispatching the tonemap", || {
+            self.ctx
+                .queue()
+                .write_buffer(&self.tonemap_params, 0, bytemuck::bytes_of(&params));
+            let mut encoder =
+                self.ctx
+                    .device()
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("render tonemap"),
+                    });
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("render tonemap"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.tonemap_pipeline);
+                pass.set_bind_group(0, &self.tonemap_bind_group, &[]);
+                pass.dispatch_workgroups(self.width.div_ceil(TILE), self.height.div_ceil(TILE), 1);
+            }
+            self.ctx.queue().submit([encoder.finish()]);
+            Ok(())
+        })
+    }
+
+    /// Copies the output texture to the CPU as row-major `RGBA8` (4 bytes per pixel),
+    /// waiting for queued work first.
+    pub fn read_output_rgba8(&self) -> Result<Vec<u8>, GpuError> {
+        let row_bytes = self.width * 4;
+        let padded = row_bytes.next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        let size = u64::from(padded) * u64::from(self.height);
+        let staging = super::scoped(&self.ctx, "reading the output texture", || {
+            let staging = self.ctx.device().create_buffer(&wgpu::BufferDescriptor {
+                label: Some("render output readback"),
+                size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut encoder =
+                self.ctx
+                    .device()
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("render output readback"),
+                    });
+            encoder.copy_texture_to_buffer(
+                self.output.as_image_copy(),
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &staging,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(padded),
+                        rows_per_image: Some(self.height),
+                    },
+                },
+                wgpu::Extent3d {
+                    width: self.width,
+                    height: self.height,
+                    depth_or_array_layers: 1,
+                },
+            );
+            self.ctx.queue().submit([encoder.finish()]);
+            Ok(staging)
+        })?;
+        let bytes = super::map_and_copy(&self.ctx, "render output", &staging)?;
+        Ok(bytes
+            .chunks_exact(padded as usize)
+            .flat_map(|row| &row[..row_bytes as usize])
+            .copied()
+            .collect())
+    }
+
+    /// The tonemapped `Rgba8Unorm` output (usage `TEXTURE_BINDING | STORAGE_BINDING |
+    /// COPY_SRC`), for the app to register with egui.
+    pub fn output_view(&self) -> &wgpu::TextureView {
+        &self.output_view
+    }
+
+    /// The output texture itself.
+    pub fn output_texture(&self) -> &wgpu::Texture {
+        &self.output
+    }
+
+    /// Samples per pixel accumulated so far (the next sample index `k`).
+    pub fn samples_per_pixel(&self) -> u32 {
+        self.samples_per_pixel
+    }
+
+    /// The selection scheme in use.
+    pub fn scheme(&self) -> Scheme {
+        self.scheme
+    }
+
+    /// The seed of every stream.
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// Image size `(width, height)` in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// `Φ_total = Σ Φ_i` in `f64`, the accumulator's scale.
+    pub fn total_power(&self) -> f64 {
+        self.total_power
+    }
+
+    /// GPU bytes per light: 16 for `(x, y, z, p_i)` as `f32`, 8 for the packed alias entry.
+    pub fn gpu_bytes_per_light(&self) -> u64 {
+        BYTES_PER_LIGHT
+    }
+
+    /// GPU bytes held by the renderer: lights, table, per-pixel sums (8 bytes) and the
+    /// output texture (4 bytes per pixel).
+    pub fn gpu_bytes(&self) -> u64 {
+        let pixels = u64::from(self.width) * u64::from(self.height);
+        self.positions.len() as u64 * BYTES_PER_LIGHT + pixels * 12
+    }
+
+    /// The context the renderer runs on.
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+}

@@ -1,0 +1,227 @@
+//! The CPU renderer: the estimator contract of [`crate::render`], parallel over rows.
+//!
+//! Every pixel sample is a pure function of `(seed, k, p)`, and each pixel's running sums are
+//! updated by one thread in increasing `k`, so the image is identical bit for bit whatever
+//! the thread count and however the samples are split into passes (`accumulate(2)` twice
+//! equals `accumulate(4)` once).
+
+use rayon::prelude::*;
+
+use super::Accumulator;
+use crate::rng::Rng;
+use crate::sampler::{Sampler, Scheme};
+use crate::scene::{ReceiverPlane, Scene, geometry_term, pixel_center};
+
+/// What a sample needs of light `i`, in one 32-byte record (a single cache line access):
+/// its position and the weight `w_i` with normalized estimate `ê = w_i · G_i(x)`,
+/// `w_i = N·p_i` for uniform picking and `w_i = 1` for power-proportional picking.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(32))]
+struct LightRecord {
+    position: [f64; 3],
+    weight: f64,
+}
+
+/// A progressive CPU renderer of one scene with one scheme and one seed.
+///
+/// Pixel `p = py·width + px`, sample `k` (counted from 0 across passes) uses the stream
+/// `Rng::new(seed, (k << 32) | p)`, picks light `i` with [`Sampler::pick_light`] and adds
+/// the normalized estimate `ê = w_i · G_i(x_p)` (see [`crate::render`]) and `ê²` to the
+/// pixel's sums. `E[ê] = Σ_i p_i·G_i(x_p)`, so `Φ_total · Σê / spp` is an unbiased estimate of
+/// the irradiance `E(x_p) = Σ_i Φ_i·G_i(x_p)`.
+#[derive(Clone, Debug)]
+pub struct CpuRenderer {
+    plane: ReceiverPlane,
+    sampler: Sampler,
+    lights: Vec<LightRecord>,
+    seed: u64,
+    accumulator: Accumulator,
+}
+
+impl CpuRenderer {
+    /// Builds the sampler of `scheme` over the scene's powers (`O(N)`) and an empty
+    /// accumulator with scale `Φ_total`.
+    pub fn new(scene: &Scene, scheme: Scheme, seed: u64) -> Self {
+        Self::with_sampler(scene, Sampler::build(scheme, &scene.powers), seed)
+    }
+
+    /// Like [`CpuRenderer::new`] with a sampler already built over `scene.powers` (the app
+    /// shares one table between its views).
+    ///
+    /// # Panics
+    /// If the sampler's light count differs from the scene's.
+    pub fn with_sampler(scene: &Scene, sampler: Sampler, seed: u64) -> Self {
+        use crate::sampler::LightSampler as _;
+        assert_eq!(
+            sampler.light_count(),
+            scene.light_count(),
+            "sampler built for another scene"
+        );
+        let n = scene.light_count() as f64;
+        let uniform = sampler.scheme() == Scheme::Uniform;
+        let pmf = scene.powers.pmf();
+        let lights = scene
+            .positions
+            .iter()
+            .zip(&pmf)
+            .map(|(&position, &p)| LightRecord {
+                position,
+                weight: if uniform { n * p } else { 1.0 },
+            })
+            .collect();
+        let plane = scene.plane.clone();
+        let accumulator = Accumulator::new(plane.width, plane.height, scene.powers.total());
+        Self {
+            plane,
+            sampler,
+            lights,
+            seed,
+            accumulator,
+        }
+    }
+
+    /// Adds `samples_per_pixel` samples to every pixel, continuing the sample index `k` from
+    /// the samples already accumulated. The total is capped at `u32::MAX` samples per pixel
+    /// (the stream key holds `k` in 32 bits).
+    pub fn accumulate(&mut self, samples_per_pixel: u32) {
+        let k0 = self.accumulator.samples_per_pixel;
+        let spp = samples_per_pixel.min(u32::MAX - k0);
+        let width = self.plane.width as usize;
+        if spp == 0 || width == 0 {
+            return;
+        }
+        let Self {
+            plane,
+            sampler,
+            lights,
+            seed,
+            accumulator,
+        } = self;
+        let (plane, sampler, lights, seed) = (&*plane, &*sampler, lights.as_slice(), *seed);
+        accumulator
+            .sum
+            .par_chunks_mut(width)
+            .zip(accumulator.sum_sq.par_chunks_mut(width))
+            .enumerate()
+            .for_each(|(py, (sum_row, sq_row))| {
+                render_row(
+                    plane,
+                    sampler,
+                    lights,
+                    seed,
+                    py as u32,
+                    (k0, spp),
+                    sum_row,
+                    sq_row,
+                );
+            });
+        accumulator.samples_per_pixel = k0 + spp;
+    }
+
+    /// The running sums.
+    pub fn accumulator(&self) -> &Accumulator {
+        &self.accumulator
+    }
+
+    /// Samples per pixel accumulated so far.
+    pub fn samples_per_pixel(&self) -> u32 {
+        self.accumulator.samples_per_pixel
+    }
+
+    /// Drops every sample (the next pass starts again at `k = 0`).
+    pub fn reset(&mut self) {
+        let a = &mut self.accumulator;
+        *a = Accumulator::new(a.width, a.height, a.scale);
+    }
+
+    /// The scheme lights are picked with.
+    pub fn scheme(&self) -> Scheme {
+        self.sampler.scheme()
+    }
+
+    /// The sampler lights are picked with.
+    pub fn sampler(&self) -> &Sampler {
+        &self.sampler
+    }
+
+    /// The seed of every pixel stream.
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+}
+
+/// Samples handled together: their picks first, then their light records, so that the
+/// random memory accesses of a batch (alias table entries, light records: cache misses for
+/// large `N`) are independent loads in short loops, which the CPU overlaps.
+const BATCH: usize = 16;
+
+/// Samples `k ∈ k0 .. k0 + spp` of every pixel of row `py`, added in increasing `k`.
+#[allow(clippy::too_many_arguments)] // The disjoint borrows of one renderer, split for rayon.
+#[inline]
+fn render_row(
+    plane: &ReceiverPlane,
+    sampler: &Sampler,
+    lights: &[LightRecord],
+    seed: u64,
+    py: u32,
+    (k0, spp): (u32, u32),
+    sum_row: &mut [f64],
+    sq_row: &mut [f64],
+) {
+    let row_start = u64::from(py) * u64::from(plane.width);
+    let end = k0 + spp;
+    let mut picks = [0u32; BATCH];
+    for (px, (sum, sq)) in sum_row.iter_mut().zip(sq_row.iter_mut()).enumerate() {
+        let x = pixel_center(plane, px as u32, py);
+        let p = row_start + px as u64;
+        let (mut s, mut q) = (*sum, *sq);
+        let mut k = k0;
+        while k < end {
+            let batch = &mut picks[..((end - k) as usize).min(BATCH)];
+            pick_batch(sampler, seed, p, k, batch);
+            for &i in batch.iter() {
+                let light = lights[i as usize];
+                let e = light.weight * geometry_term(light.position, x);
+                s += e;
+                q += e * e;
+            }
+            k += batch.len() as u32;
+        }
+        *sum = s;
+        *sq = q;
+    }
+}
+
+/// `out[j]` = the light of sample `k + j` of pixel `p`: exactly
+/// `sampler.pick_light(&mut Rng::new(seed, ((k + j) << 32) | p))`. For the alias table the
+/// two draws of every sample are made first and the table lookups after (the same
+/// [`crate::AliasTable::sample_u32`] on the same draws, so the same picks).
+#[inline]
+fn pick_batch(sampler: &Sampler, seed: u64, p: u64, k: u32, out: &mut [u32]) {
+    let stream = |j: usize| (u64::from(k + j as u32) << 32) | p;
+    if let Sampler::Alias(table) = sampler {
+        let mut draws = [(0u32, 0u32); BATCH];
+        for (j, d) in draws[..out.len()].iter_mut().enumerate() {
+            let mut rng = Rng::new(seed, stream(j));
+            let r1 = rng.next_u32();
+            *d = (r1, rng.next_u32());
+        }
+        for (o, &(r1, r2)) in out.iter_mut().zip(&draws) {
+            *o = table.sample_u32(r1, r2);
+        }
+    } else {
+        for (j, o) in out.iter_mut().enumerate() {
+            *o = sampler.pick_light(&mut Rng::new(seed, stream(j)));
+        }
+    }
+}
+
+impl super::metrics::ProgressiveRenderer for CpuRenderer {
+    fn accumulate(&mut self, samples_per_pixel: u32) {
+        CpuRenderer::accumulate(self, samples_per_pixel);
+    }
+
+    fn accumulator(&self) -> &Accumulator {
+        CpuRenderer::accumulator(self)
+    }
+}

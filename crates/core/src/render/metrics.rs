@@ -1,0 +1,230 @@
+//! Error and efficiency of a rendered image against the exact [`Reference`].
+//!
+//! Over the reference's covered pixels `S` (`|S| = M`), with estimate `Ê_p` (the
+//! accumulator's [`Accumulator::mean`]) and exact value `E_p`:
+//!
+//! * `RMSE = √( (1/M) Σ_{p∈S} (Ê_p − E_p)² )`, in irradiance units;
+//! * `relMSE = (1/M) Σ_{p∈S} (Ê_p − E_p)² / (E_p² + ε)` with `ε = REL_MSE_EPSILON · Ē²`,
+//!   `Ē = (1/M) Σ_{p∈S} E_p`. The usual rendering definition takes an absolute `ε = 10^-2`
+//!   for display-range values; here irradiance spans any range (`extreme-range` reaches
+//!   `10^29`), so `ε` is relative to the image's mean: the metric is then invariant under a
+//!   global scaling of the powers, and pixels darker than `1%` of the mean cannot dominate it.
+//!
+//! Over every pixel of the accumulator (`P` pixels, `n` samples each):
+//!
+//! * variance per sample `V = (1/P) Σ_p s_p²`, with `s_p²` the unbiased sample variance of one
+//!   sample at pixel `p` ([`Accumulator::variance_per_sample`]): `E[(Ê_p − E_p)²] = σ_p²/n`;
+//! * time per sample `T = seconds / (n·P)`;
+//! * efficiency `1/(V·T)`: inverse of the error-variance × time product, so a scheme twice as
+//!   efficient reaches a given MSE in half the time.
+
+use std::time::Instant;
+
+use super::Accumulator;
+use super::cpu::CpuRenderer;
+use super::reference::Reference;
+use crate::sampler::Scheme;
+use crate::scene::Scene;
+
+/// The `ε` factor of relMSE: `ε = REL_MSE_EPSILON · Ē²` (see the module docs).
+pub const REL_MSE_EPSILON: f64 = 1e-4;
+
+/// RMSE and relMSE of an image against a reference (see the module docs for the formulas).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct ErrorMetrics {
+    /// `√((1/M) Σ (Ê_p − E_p)²)` over the reference's pixels.
+    pub rmse: f64,
+    /// `(1/M) Σ (Ê_p − E_p)²/(E_p² + ε)` over the reference's pixels.
+    pub rel_mse: f64,
+    /// `M`, the number of pixels compared.
+    pub pixels: usize,
+}
+
+/// Variance, time and efficiency of a rendering (see the module docs for the formulas).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Efficiency {
+    /// `V = (1/P) Σ_p s_p²`, the mean variance of one sample, in irradiance² units.
+    pub variance_per_sample: f64,
+    /// `T = seconds/(n·P)`, seconds per pixel sample.
+    pub seconds_per_sample: f64,
+    /// `1/(V·T)` (`+inf` when `V = 0`, a zero-variance estimator).
+    pub efficiency: f64,
+}
+
+/// One point of a convergence series: the error after `spp` samples per pixel and the
+/// rendering time spent to get there. Serialized with the keys `spp`, `rmse`, `seconds`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct SeriesPoint {
+    /// Samples per pixel accumulated.
+    pub spp: u32,
+    /// RMSE against the reference at that point.
+    pub rmse: f64,
+    /// Cumulative rendering seconds (metric evaluation excluded).
+    pub seconds: f64,
+}
+
+/// A renderer that adds samples to a running [`Accumulator`] (the CPU renderer; the GPU one
+/// may implement it too), so one series runner serves both.
+pub trait ProgressiveRenderer {
+    /// Adds `samples_per_pixel` samples to every pixel, continuing the sample index.
+    fn accumulate(&mut self, samples_per_pixel: u32);
+    /// The running sums.
+    fn accumulator(&self) -> &Accumulator;
+}
+
+/// [`ErrorMetrics`] of `acc` against `reference` over the reference's pixels.
+///
+/// # Panics
+/// If the accumulator and the reference have different image sizes.
+pub fn error_metrics(acc: &Accumulator, reference: &Reference) -> ErrorMetrics {
+    assert_same_size(acc, reference);
+    let m = reference.pixels().len();
+    if m == 0 {
+        return ErrorMetrics {
+            rmse: 0.0,
+            rel_mse: 0.0,
+            pixels: 0,
+        };
+    }
+    let mean_ref = reference.values().iter().sum::<f64>() / m as f64;
+    let eps = REL_MSE_EPSILON * mean_ref * mean_ref;
+    let (mut se, mut rel) = (0.0, 0.0);
+    for (p, exact) in reference.iter() {
+        let d = acc.mean(p) - exact;
+        se += d * d;
+        let denominator = exact * exact + eps;
+        // Zero only when the whole reference is 0 (every light below the plane), where the
+        // estimates are exactly 0 too: the pixel adds no relative error.
+        if denominator > 0.0 {
+            rel += d * d / denominator;
+        }
+    }
+    ErrorMetrics {
+        rmse: (se / m as f64).sqrt(),
+        rel_mse: rel / m as f64,
+        pixels: m,
+    }
+}
+
+/// `RMSE` of `acc` against `reference` ([`error_metrics`]`.rmse`).
+///
+/// # Panics
+/// If the accumulator and the reference have different image sizes.
+pub fn rmse(acc: &Accumulator, reference: &Reference) -> f64 {
+    error_metrics(acc, reference).rmse
+}
+
+/// `V = (1/P) Σ_p s_p²`, the mean over all pixels of [`Accumulator::variance_per_sample`]
+/// (0 before two samples).
+pub fn mean_variance_per_sample(acc: &Accumulator) -> f64 {
+    let p = acc.sum.len();
+    if p == 0 {
+        return 0.0;
+    }
+    (0..p).map(|i| acc.variance_per_sample(i)).sum::<f64>() / p as f64
+}
+
+/// [`Efficiency`] of `acc`, rendered in `seconds` of wall time.
+pub fn efficiency(acc: &Accumulator, seconds: f64) -> Efficiency {
+    let samples = f64::from(acc.samples_per_pixel) * acc.sum.len() as f64;
+    let variance = mean_variance_per_sample(acc);
+    let per_sample = if samples > 0.0 {
+        seconds / samples
+    } else {
+        0.0
+    };
+    Efficiency {
+        variance_per_sample: variance,
+        seconds_per_sample: per_sample,
+        efficiency: 1.0 / (variance * per_sample),
+    }
+}
+
+/// The sample counts of a convergence series: `1, 2, 4, …` up to `max_spp`, and `max_spp`
+/// itself last when it is not a power of two. Empty for `max_spp = 0`.
+pub fn series_spp(max_spp: u32) -> Vec<u32> {
+    let mut out: Vec<u32> = std::iter::successors(Some(1u32), |&s| s.checked_mul(2))
+        .take_while(|&s| s <= max_spp)
+        .collect();
+    if max_spp > 0 && out.last() != Some(&max_spp) {
+        out.push(max_spp);
+    }
+    out
+}
+
+/// Renders progressively to each count of [`series_spp`]`(max_spp)` (adding only the
+/// missing samples each time, so the whole series costs `max_spp` samples per pixel) and
+/// records the RMSE and the cumulative rendering time at each. Starts from the renderer's
+/// current state: give it a fresh (or reset) renderer. On return the renderer holds
+/// `max_spp` samples per pixel, the final image.
+///
+/// # Panics
+/// If the renderer's and the reference's image sizes differ.
+pub fn convergence_series<R: ProgressiveRenderer + ?Sized>(
+    renderer: &mut R,
+    reference: &Reference,
+    max_spp: u32,
+) -> Vec<SeriesPoint> {
+    let mut seconds = 0.0;
+    let mut points = Vec::new();
+    for target in series_spp(max_spp) {
+        let have = renderer.accumulator().samples_per_pixel;
+        if target > have {
+            let start = Instant::now();
+            renderer.accumulate(target - have);
+            seconds += start.elapsed().as_secs_f64();
+        }
+        let acc = renderer.accumulator();
+        points.push(SeriesPoint {
+            spp: acc.samples_per_pixel,
+            rmse: rmse(acc, reference),
+            seconds,
+        });
+    }
+    points
+}
+
+/// The convergence series of one scheme (serialized as `{"scheme": …, "series": [{spp,
+/// rmse, seconds}, …]}`).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct SchemeSeries {
+    /// The scheme rendered.
+    pub scheme: Scheme,
+    /// Its points, in increasing `spp`.
+    pub series: Vec<SeriesPoint>,
+}
+
+/// A [`convergence_series`] per scheme on the CPU, each from a fresh [`CpuRenderer`] with
+/// the same `seed`.
+///
+/// # Panics
+/// If the reference was computed for another image size than the scene's.
+pub fn cpu_convergence(
+    scene: &Scene,
+    reference: &Reference,
+    schemes: &[Scheme],
+    seed: u64,
+    max_spp: u32,
+) -> Vec<SchemeSeries> {
+    schemes
+        .iter()
+        .map(|&scheme| {
+            let mut renderer = CpuRenderer::new(scene, scheme, seed);
+            SchemeSeries {
+                scheme,
+                series: convergence_series(&mut renderer, reference, max_spp),
+            }
+        })
+        .collect()
+}
+
+fn assert_same_size(acc: &Accumulator, reference: &Reference) {
+    assert!(
+        acc.width == reference.width() && acc.height == reference.height(),
+        "accumulator {}×{} vs reference {}×{}",
+        acc.width,
+        acc.height,
+        reference.width(),
+        reference.height()
+    );
+}

@@ -1,0 +1,34 @@
+//! Progressive rendering of the receiver plane: one light sample per pixel sample.
+//!
+//! # The estimator contract (CPU and GPU)
+//! Pixel `p` (row-major, `p = py·width + px`) takes its `k`-th sample (`k` counts from 0
+//! across passes) from the stream `Rng::new(seed, (k << 32) | p)`, picks a light `i` with
+//! [`crate::Sampler::pick_light`], and evaluates the *normalized* estimate
+//!
+//! * uniform: `N · p_i · G_i(x)` (that is `f/pdf = N·Φ_i·G_i` divided by `Φ_total`),
+//! * power-proportional (alias, alias-one-random, cdf): `G_i(x)` (the power cancels:
+//!   `f/pdf = Φ_i·G_i / (Φ_i/Φ_total) = Φ_total·G_i`),
+//!
+//! where `p_i = Φ_i/Φ_total` and `G` is [`crate::scene::geometry_term`]. Sums of the
+//! normalized estimate and of its square are accumulated per pixel; the image is
+//! `Φ_total · sum / spp`. Factoring `Φ_total` out keeps every GPU quantity within `f32`
+//! range whatever the powers are, and no tiny pdf is ever divided by.
+
+mod accumulator;
+mod cpu;
+mod metrics;
+mod reference;
+mod tonemap;
+
+pub use accumulator::Accumulator;
+pub use cpu::CpuRenderer;
+pub use metrics::{
+    Efficiency, ErrorMetrics, ProgressiveRenderer, REL_MSE_EPSILON, SchemeSeries, SeriesPoint,
+    convergence_series, cpu_convergence, efficiency, error_metrics, mean_variance_per_sample, rmse,
+    series_spp,
+};
+pub use reference::{
+    DEFAULT_REFERENCE_BUDGET, LIGHT_CHUNK, MIN_REFERENCE_PIXELS, PIXEL_BLOCK, Reference,
+    subset_pixels,
+};
+pub use tonemap::{linear_to_srgb, tonemap_rgba8, tonemap_value};

@@ -1,0 +1,345 @@
+//! The scene file format (JSON) and scene validation.
+//!
+//! ```json
+//! {
+//!   "name": "seed",
+//!   "plane": { "min": [-2, -2], "max": [2, 2], "width": 256, "height": 256 },
+//!   "lights": [
+//!     { "position": [-1.1, 0.7, 0.45], "power": 2 },
+//!     { "position": [0.9, 0.9, 0.7], "power": 5 }
+//!   ]
+//! }
+//! ```
+//!
+//! or, instead of `lights`, a `generator` (see [`super::Generator`]):
+//!
+//! ```json
+//! "generator": {
+//!   "count": 10000, "seed": 7,
+//!   "power": { "distribution": "pareto", "scale": 1, "shape": 1.2 },
+//!   "zero_fraction": 0.5,
+//!   "dominant": { "index": 0, "factor": 1e6 },
+//!   "placement": { "min": [-2, -2, 0.1], "max": [2, 2, 1] }
+//! }
+//! ```
+//!
+//! `name` is optional (default `untitled`); unknown fields are refused, so a misspelt
+//! field name is an error rather than silently ignored.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::error::SceneError;
+use super::generator::{Generator, MAX_LIGHTS};
+use super::{ReceiverPlane, Scene};
+use crate::powers::{LightPowers, PowersError};
+
+/// The largest accepted `plane.width` and `plane.height`.
+pub const MAX_PLANE_SIDE: u32 = 16_384;
+
+/// The largest accepted pixel count `width · height` (`2^26`, e.g. 8192 × 8192): the
+/// accumulator holds 16 bytes per pixel, and renderers key random streams by a 32-bit pixel
+/// index.
+pub const MAX_PIXELS: usize = 1 << 26;
+
+/// The name given to a scene file without one.
+const DEFAULT_NAME: &str = "untitled";
+
+fn default_name() -> String {
+    DEFAULT_NAME.to_owned()
+}
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    #[serde(default = "default_name")]
+    name: String,
+    plane: PlaneFile,
+    #[serde(default)]
+    lights: Option<Vec<LightFile>>,
+    #[serde(default)]
+    generator: Option<Generator>,
+}
+
+/// The plane as written: sizes as `u64` so that too-large values get our range message.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlaneFile {
+    min: [f64; 2],
+    max: [f64; 2],
+    width: u64,
+    height: u64,
+}
+
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightFile {
+    position: [f64; 3],
+    power: f64,
+}
+
+impl Scene {
+    /// Parses and validates a scene file's text (see the module docs for the format).
+    /// Errors name the field path: `lights[3].power: negative (-1)`.
+    pub fn from_json_str(text: &str) -> Result<Scene, SceneError> {
+        let mut de = serde_json::Deserializer::from_str(text);
+        let file: SceneFile = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+            let path = e.path().to_string();
+            json_error(path, e.inner())
+        })?;
+        de.end().map_err(|e| json_error(".".into(), &e))?;
+        file.into_scene()
+    }
+
+    /// Reads, parses and validates the scene file at `path`.
+    pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
+        Scene::from_json_str(&text)
+    }
+
+    /// Builds a validated scene from explicit lights, with the same checks and messages as
+    /// a scene file with a `lights` list (`lights[i].position`, `lights[i].power`).
+    pub fn from_parts(
+        name: impl Into<String>,
+        plane: ReceiverPlane,
+        positions: Vec<[f64; 3]>,
+        powers: Vec<f64>,
+    ) -> Result<Scene, SceneError> {
+        validate_plane(&plane)?;
+        if positions.len() != powers.len() {
+            return Err(SceneError::invalid(
+                "lights",
+                format!("{} positions but {} powers", positions.len(), powers.len()),
+            ));
+        }
+        build_scene(name.into(), plane, positions, powers, "lights")
+    }
+
+    /// Sets the power of light `index` (the app's edit), with the checks of a scene file:
+    /// on error the scene is unchanged. `O(N)` (the powers are revalidated).
+    pub fn set_power(&mut self, index: usize, power: f64) -> Result<(), SceneError> {
+        if index >= self.light_count() {
+            return Err(SceneError::invalid(
+                format!("lights[{index}]"),
+                format!("no such light ({} lights)", self.light_count()),
+            ));
+        }
+        let mut powers = self.powers.as_slice().to_vec();
+        powers[index] = power;
+        self.powers = validate_powers(powers, "lights")?;
+        Ok(())
+    }
+
+    /// The scene as a file with explicit `lights` (one light per line), which
+    /// [`Scene::from_json_str`] reads back to an equal scene: every `f64` is written in its
+    /// shortest round-tripping form.
+    pub fn to_json(&self) -> String {
+        let mut out = String::with_capacity(128 + 64 * self.light_count());
+        let name = serde_json::Value::String(self.name.clone());
+        let p = &self.plane;
+        // Writing into a String cannot fail.
+        let _ = write!(
+            out,
+            "{{\n  \"name\": {name},\n  \"plane\": {{ \"min\": [{:?}, {:?}], \"max\": [{:?}, {:?}], \"width\": {}, \"height\": {} }},\n  \"lights\": [\n",
+            p.min[0], p.min[1], p.max[0], p.max[1], p.width, p.height
+        );
+        let last = self.light_count().saturating_sub(1);
+        for (i, (pos, power)) in self
+            .positions
+            .iter()
+            .zip(self.powers.as_slice())
+            .enumerate()
+        {
+            let _ = writeln!(
+                out,
+                "    {{ \"position\": [{:?}, {:?}, {:?}], \"power\": {power:?} }}{}",
+                pos[0],
+                pos[1],
+                pos[2],
+                if i == last { "" } else { "," }
+            );
+        }
+        out.push_str("  ]\n}\n");
+        out
+    }
+}
+
+/// A [`SceneError::Json`] from `serde_json`'s error, its position split off the message.
+fn json_error(path: String, e: &serde_json::Error) -> SceneError {
+    let full = e.to_string();
+    let suffix = format!(" at line {} column {}", e.line(), e.column());
+    let message = full.strip_suffix(&suffix).unwrap_or(&full).to_owned();
+    SceneError::Json {
+        path,
+        message,
+        line: e.line(),
+        column: e.column(),
+    }
+}
+
+impl SceneFile {
+    fn into_scene(self) -> Result<Scene, SceneError> {
+        let p = &self.plane;
+        for (field, value) in [("plane.width", p.width), ("plane.height", p.height)] {
+            if value < 1 || value > u64::from(MAX_PLANE_SIDE) {
+                return Err(SceneError::out_of_range(field, value, 1, MAX_PLANE_SIDE));
+            }
+        }
+        let plane = ReceiverPlane {
+            min: p.min,
+            max: p.max,
+            width: p.width as u32,
+            height: p.height as u32,
+        };
+        validate_plane(&plane)?;
+        match (self.lights, self.generator) {
+            (Some(_), Some(_)) => Err(SceneError::invalid(
+                ".",
+                "give either \"lights\" or \"generator\", not both",
+            )),
+            (None, None) => Err(SceneError::invalid(
+                ".",
+                "missing light source: give \"lights\" or \"generator\"",
+            )),
+            (Some(lights), None) => {
+                if lights.len() > MAX_LIGHTS {
+                    return Err(SceneError::out_of_range(
+                        "lights (count)",
+                        lights.len(),
+                        1,
+                        MAX_LIGHTS,
+                    ));
+                }
+                let (positions, powers) = lights.into_iter().map(|l| (l.position, l.power)).unzip();
+                build_scene(self.name, plane, positions, powers, "lights")
+            }
+            (None, Some(generator)) => {
+                let (positions, powers) = generator.generate()?;
+                build_scene(self.name, plane, positions, powers, "generator")
+            }
+        }
+    }
+}
+
+/// Checks the plane's sizes, corners and pixel count.
+fn validate_plane(plane: &ReceiverPlane) -> Result<(), SceneError> {
+    for (field, value) in [("plane.width", plane.width), ("plane.height", plane.height)] {
+        if !(1..=MAX_PLANE_SIDE).contains(&value) {
+            return Err(SceneError::out_of_range(field, value, 1, MAX_PLANE_SIDE));
+        }
+    }
+    if plane.pixel_count() > MAX_PIXELS {
+        return Err(SceneError::invalid(
+            "plane",
+            format!(
+                "{} × {} = {} pixels exceed the limit of {MAX_PIXELS}",
+                plane.width,
+                plane.height,
+                plane.pixel_count()
+            ),
+        ));
+    }
+    for axis in 0..2 {
+        for (name, corner) in [("min", plane.min), ("max", plane.max)] {
+            if !corner[axis].is_finite() {
+                return Err(SceneError::NotFinite {
+                    field: format!("plane.{name}[{axis}]"),
+                    value: corner[axis],
+                });
+            }
+        }
+        if plane.max[axis] <= plane.min[axis] {
+            return Err(SceneError::invalid(
+                format!("plane.max[{axis}]"),
+                format!(
+                    "must be greater than plane.min[{axis}] ({} ≤ {})",
+                    plane.max[axis], plane.min[axis]
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Validates positions and powers and assembles the scene. `source` is `lights` (errors
+/// name `lights[i].…`) or `generator` (errors name the generated light's index).
+fn build_scene(
+    name: String,
+    plane: ReceiverPlane,
+    positions: Vec<[f64; 3]>,
+    powers: Vec<f64>,
+    source: &str,
+) -> Result<Scene, SceneError> {
+    if positions.len() > MAX_LIGHTS {
+        return Err(SceneError::out_of_range(
+            format!("{source} (count)"),
+            positions.len(),
+            1,
+            MAX_LIGHTS,
+        ));
+    }
+    let light_field = |i: usize, what: &str| {
+        if source == "lights" {
+            format!("lights[{i}].{what}")
+        } else {
+            format!("{source} (light {i}).{what}")
+        }
+    };
+    for (i, pos) in positions.iter().enumerate() {
+        if let Some(axis) = pos.iter().position(|c| !c.is_finite()) {
+            return Err(SceneError::NotFinite {
+                field: light_field(i, &format!("position[{axis}]")),
+                value: pos[axis],
+            });
+        }
+    }
+    let powers = validate_powers(powers, source)?;
+    Ok(Scene {
+        name,
+        plane,
+        positions,
+        powers,
+    })
+}
+
+/// Validates powers as [`LightPowers`] and checks that their total is finite; errors name
+/// `lights[i].power` (or the generated light's index when `source` is `generator`).
+fn validate_powers(powers: Vec<f64>, source: &str) -> Result<LightPowers, SceneError> {
+    let light_field = |i: usize| {
+        if source == "lights" {
+            format!("lights[{i}].power")
+        } else {
+            format!("{source} (light {i}).power")
+        }
+    };
+    let count = powers.len();
+    let powers = LightPowers::new(powers).map_err(|e| match e {
+        PowersError::Empty => SceneError::invalid(source, "no lights"),
+        PowersError::NotFinite { index, value } => SceneError::NotFinite {
+            field: light_field(index),
+            value,
+        },
+        PowersError::Negative { index, value } => SceneError::Negative {
+            field: light_field(index),
+            value,
+        },
+        PowersError::AllZero { count } => SceneError::AllZero {
+            field: source.to_owned(),
+            count,
+        },
+        PowersError::TooMany { count, max } => {
+            SceneError::out_of_range(format!("{source} (count)"), count, 1, max)
+        }
+    })?;
+    if !powers.total().is_finite() {
+        return Err(SceneError::TotalPowerOverflow {
+            field: source.to_owned(),
+            count,
+        });
+    }
+    Ok(powers)
+}

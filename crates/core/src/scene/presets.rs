@@ -1,0 +1,59 @@
+//! The built-in scenes of `assets/scenes/`, compiled into the binary so it runs from any
+//! directory.
+
+use super::Scene;
+use super::error::SceneError;
+
+/// Every preset name, in display order.
+pub const PRESET_NAMES: [&str; 7] = [
+    "seed",
+    "equal",
+    "dominant",
+    "zeros",
+    "heavy-tail",
+    "million",
+    "extreme-range",
+];
+
+/// The embedded text of each preset, in the order of [`PRESET_NAMES`].
+const PRESET_FILES: [&str; 7] = [
+    include_str!("../../../../assets/scenes/seed.json"),
+    include_str!("../../../../assets/scenes/equal.json"),
+    include_str!("../../../../assets/scenes/dominant.json"),
+    include_str!("../../../../assets/scenes/zeros.json"),
+    include_str!("../../../../assets/scenes/heavy-tail.json"),
+    include_str!("../../../../assets/scenes/million.json"),
+    include_str!("../../../../assets/scenes/extreme-range.json"),
+];
+
+impl Scene {
+    /// The preset `name` (one of [`PRESET_NAMES`]), parsed from its embedded file and, for
+    /// the large ones, generated from the seed the file holds:
+    ///
+    /// * `seed`: three lights of powers 2, 5 and 20;
+    /// * `equal`: 64 lights of power 1;
+    /// * `dominant`: 64 lights, one of power `10^6`, the others 1;
+    /// * `zeros`: 64 lights, powers uniform on `[0.5, 2)`, exactly half of them 0;
+    /// * `heavy-tail`: 10 000 lights, Pareto powers (`scale 1`, `shape 1.2`: infinite variance);
+    /// * `million`: `10^6` lights, exponential powers, on a 512 × 512 plane;
+    /// * `extreme-range`: 4096 lights, log-uniform powers on `[1e-30, 1e30]`.
+    pub fn preset(name: &str) -> Result<Scene, SceneError> {
+        let index = PRESET_NAMES
+            .iter()
+            .position(|&n| n == name)
+            .ok_or_else(|| SceneError::UnknownPreset {
+                name: name.to_owned(),
+                expected: PRESET_NAMES.join(", "),
+            })?;
+        Scene::from_json_str(PRESET_FILES[index])
+    }
+
+    /// The embedded file text of preset `name`, if there is one (for showing or saving the
+    /// recipe rather than the generated lights).
+    pub fn preset_source(name: &str) -> Option<&'static str> {
+        PRESET_NAMES
+            .iter()
+            .position(|&n| n == name)
+            .map(|i| PRESET_FILES[i])
+    }
+}
