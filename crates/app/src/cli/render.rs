@@ -71,7 +71,7 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = Mapping::Tonemap)]
     pub map: Mapping,
     /// Exposure of the tonemap (default: 1 / mean reference irradiance).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub exposure: Option<f64>,
     /// HDR output (an .exr file of 32-bit float irradiance).
     #[arg(long, value_name = "FILE")]

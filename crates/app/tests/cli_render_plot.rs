@@ -1,0 +1,322 @@
+//! End-to-end tests of `lightpick render`, `lightpick plot` and `sample --device gpu`.
+//!
+//! GPU cases fail (never skip) when no adapter is found, unless `LIGHTPICK_SKIP_GPU_TESTS=1`.
+
+#![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("lightpick-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn lightpick(args: &[&str]) -> Output {
+    // A private runtime dir: without one, Mesa's Vulkan driver (via libwayland) prints a
+    // warning on stderr, which would hide whether lightpick itself kept to one error line.
+    let runtime = scratch("runtime");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt as _;
+        std::fs::set_permissions(&runtime, std::fs::Permissions::from_mode(0o700)).unwrap();
+    }
+    Command::new(env!("CARGO_BIN_EXE_lightpick"))
+        .args(args)
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .output()
+        .expect("run lightpick")
+}
+
+fn ok_json(args: &[&str]) -> serde_json::Value {
+    let out = lightpick(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object")
+}
+
+fn assert_error(args: &[&str], needle: &str) {
+    let out = lightpick(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{args:?}: {stderr:?}");
+    assert!(
+        lines[0].starts_with("error:") && lines[0].contains(needle),
+        "{stderr:?}"
+    );
+}
+
+fn png_size(path: &Path) -> (u32, u32) {
+    let img = image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    (img.width(), img.height())
+}
+
+fn gpu_expected() -> bool {
+    if std::env::var_os("LIGHTPICK_SKIP_GPU_TESTS").is_some() {
+        eprintln!("GPU case skipped: LIGHTPICK_SKIP_GPU_TESTS is set");
+        return false;
+    }
+    true
+}
+
+#[test]
+fn render_on_the_cpu_writes_png_exr_and_stats() {
+    let dir = scratch("render");
+    let (png, exr, stats) = (dir.join("s.png"), dir.join("s.exr"), dir.join("s.json"));
+    let v = ok_json(&[
+        "render",
+        "--preset",
+        "seed",
+        "--scheme",
+        "power",
+        "--spp",
+        "8",
+        "--seed",
+        "3",
+        "--device",
+        "cpu",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--out",
+        png.to_str().unwrap(),
+        "--hdr",
+        exr.to_str().unwrap(),
+        "--stats",
+        stats.to_str().unwrap(),
+        "--json",
+    ]);
+    for key in [
+        "spp",
+        "width",
+        "height",
+        "rmse",
+        "rel_mse",
+        "seconds",
+        "samples_per_second",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}: {v}");
+    }
+    assert_eq!(v["spp"], 8);
+    assert_eq!(v["width"], 64);
+    assert_eq!(v["device"], "cpu");
+    let series = v["series"].as_array().unwrap();
+    let spps: Vec<u64> = series.iter().map(|p| p["spp"].as_u64().unwrap()).collect();
+    assert_eq!(spps, vec![1, 2, 4, 8]);
+    // Power sampling of the seed converges: RMSE at 8 spp is below the 1-spp RMSE.
+    assert!(series[3]["rmse"].as_f64().unwrap() < series[0]["rmse"].as_f64().unwrap());
+    assert_eq!(png_size(&png), (64, 48));
+    assert_eq!(png_size(&exr), (64, 48));
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert_eq!(written["rmse"], v["rmse"]);
+}
+
+#[test]
+fn error_map_needs_a_complete_reference() {
+    let dir = scratch("errmap");
+    let png = dir.join("e.png");
+    let out = lightpick(&[
+        "render",
+        "--preset",
+        "seed",
+        "--spp",
+        "2",
+        "--device",
+        "cpu",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--map",
+        "error",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(png_size(&png), (32, 32));
+    assert_error(
+        &[
+            "render",
+            "--preset",
+            "million",
+            "--spp",
+            "1",
+            "--device",
+            "cpu",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "--map",
+            "error",
+            "--out",
+            png.to_str().unwrap(),
+        ],
+        "--map error needs a reference over every pixel",
+    );
+}
+
+#[test]
+fn render_refuses_bad_input() {
+    assert_error(&["render", "--preset", "seed", "--spp", "0"], "--spp");
+    assert_error(&["render", "--preset", "seed", "--width", "0"], "--width");
+    assert_error(
+        &["render", "--preset", "seed", "--width", "100000"],
+        "--width",
+    );
+    assert_error(&["render"], "no scene given");
+    assert_error(
+        &["render", "--preset", "seed", "--exposure", "-1"],
+        "--exposure",
+    );
+    let dir = scratch("badscene");
+    let file = dir.join("bad.json");
+    std::fs::write(
+        &file,
+        r#"{"plane":{"min":[0,0],"max":[1,1],"width":8,"height":8},"lights":[{"position":[0,0,1],"power":-3}]}"#,
+    )
+    .unwrap();
+    assert_error(
+        &[
+            "render",
+            "--scene",
+            file.to_str().unwrap(),
+            "--device",
+            "cpu",
+        ],
+        "lights[0].power",
+    );
+    std::fs::write(&file, "{ not json").unwrap();
+    assert_error(
+        &["table", "--scene", file.to_str().unwrap()],
+        file.to_str().unwrap(),
+    );
+}
+
+#[test]
+fn gpu_and_cpu_renders_agree() {
+    if !gpu_expected() {
+        return;
+    }
+    let args = |device| {
+        ok_json(&[
+            "render", "--preset", "seed", "--spp", "16", "--seed", "9", "--width", "48",
+            "--height", "32", "--device", device, "--json",
+        ])
+    };
+    let (cpu, gpu) = (args("cpu"), args("gpu"));
+    assert_eq!(gpu["device"], "gpu");
+    // Same picks; the images differ only by f32 rounding (relative ~1e-6), so the RMSE
+    // against the same reference agrees far inside 1e-3 relative.
+    let (a, b) = (cpu["rmse"].as_f64().unwrap(), gpu["rmse"].as_f64().unwrap());
+    assert!((a - b).abs() <= 1e-3 * a, "cpu {a} vs gpu {b}");
+}
+
+#[test]
+fn gpu_sample_counts_equal_cpu_counts() {
+    if !gpu_expected() {
+        return;
+    }
+    for scheme in ["uniform", "alias", "alias-one-random"] {
+        let run = |device| {
+            ok_json(&[
+                "sample", "--preset", "zeros", "--scheme", scheme, "--count", "200000", "--seed",
+                "4", "--device", device, "--json",
+            ])
+        };
+        let (cpu, gpu) = (run("cpu"), run("gpu"));
+        assert_eq!(gpu["device"], "gpu");
+        assert_eq!(cpu["counts"], gpu["counts"], "{scheme}");
+    }
+    assert_error(
+        &[
+            "sample", "--powers", "1,2", "--scheme", "cdf", "--device", "gpu",
+        ],
+        "cdf",
+    );
+}
+
+#[test]
+fn plots_are_written() {
+    let dir = scratch("plots");
+    let cases: [(&str, &[&str]); 4] = [
+        ("table", &["--powers", "2,5,20"]),
+        ("histogram", &["--preset", "zeros", "--count", "5000"]),
+        ("convergence", &["--preset", "seed", "--spp", "8"]),
+        (
+            "sheet",
+            &["--preset", "seed", "--spp", "2", "--image-width", "40"],
+        ),
+    ];
+    for (kind, extra) in cases {
+        let out_path = dir.join(format!("{kind}.png"));
+        let mut args = vec!["plot", kind];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--out", out_path.to_str().unwrap()]);
+        let out = lightpick(&args);
+        assert!(
+            out.status.success(),
+            "{kind}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert_eq!(png_size(&out_path), (800, 500), "{kind}");
+    }
+    let out_path = dir.join("bad.png");
+    assert_error(
+        &[
+            "plot",
+            "table",
+            "--powers",
+            "1,nan",
+            "--out",
+            out_path.to_str().unwrap(),
+        ],
+        "light 1 is not finite",
+    );
+    assert_error(
+        &[
+            "plot",
+            "table",
+            "--powers",
+            "1",
+            "--width",
+            "5",
+            "--out",
+            out_path.to_str().unwrap(),
+        ],
+        "--width",
+    );
+}
+
+#[test]
+fn presets_feed_every_power_command() {
+    let v = ok_json(&["table", "--preset", "seed", "--json"]);
+    assert_eq!(v["alias"], serde_json::json!([2, 2, 2]));
+    let v = ok_json(&[
+        "estimate",
+        "--preset",
+        "seed",
+        "--contrib",
+        "1,2,15",
+        "--count",
+        "1000",
+        "--json",
+    ]);
+    assert_eq!(v["exact"], 18.0);
+    assert_error(&["table", "--preset", "nope"], "unknown preset 'nope'");
+    assert_error(
+        &["table", "--powers", "1", "--preset", "seed"],
+        "give the powers once",
+    );
+}
