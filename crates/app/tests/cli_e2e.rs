@@ -170,3 +170,16 @@ fn bad_inputs_exit_2_with_one_error_line() {
     );
     assert_usage_error(&["frobnicate"], "frobnicate");
 }
+
+#[test]
+fn no_subcommand_without_a_display_exits_2_pointing_to_the_subcommands() {
+    let out = Command::new(env!("CARGO_BIN_EXE_lightpick"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run lightpick");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr:?}");
+    assert!(stderr.starts_with("error:") && stderr.contains("lightpick table"), "{stderr}");
+}
