@@ -33,7 +33,7 @@ fn seed_table_is_shown_with_exact_fractions() {
 }
 
 #[test]
-fn typing_a_power_rebuilds_the_table_and_the_pmf() {
+fn setting_a_power_through_accesskit_rebuilds_the_table_and_the_pmf() {
     let mut harness = harness();
     harness
         .get_by_role_and_label(Role::SpinButton, "power of light 1")
@@ -196,4 +196,57 @@ fn adding_and_removing_lights_keeps_table_and_rows_in_step() {
     let state = &harness.state().state;
     assert_eq!(state.built.scene.powers.as_slice(), &[5.0, 20.0, 1.0]);
     assert_eq!(state.edit.positions.len(), 3);
+}
+
+#[test]
+fn export_writes_png_files_through_the_file_menu() {
+    let dir = std::env::temp_dir().join(format!("lightpick-export-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let mut harness = harness();
+    harness.state_mut().step();
+    harness.run();
+    for (item, file) in [
+        ("Export alias-table diagram", "diagram.png"),
+        ("Export images", "images.png"),
+    ] {
+        let path = dir.join(file);
+        harness.get_by_label("File").click();
+        harness.run();
+        harness.get_by_label_contains(item).click();
+        harness.run();
+        harness
+            .get_by_role_and_label(Role::TextInput, "Path")
+            .set_text_value_accesskit(path.to_str().expect("utf-8 path"));
+        harness.run();
+        harness.get_by_label("OK").click();
+        harness.run();
+        let bytes = std::fs::read(&path).expect("the PNG was written");
+        assert_eq!(&bytes[1..4], b"PNG", "{file}");
+        harness.get_by_label_contains("exported");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn typing_into_the_drag_value_sets_the_power() {
+    let mut harness = harness();
+    // A click on a drag value opens it for typing with its text selected.
+    harness
+        .get_by_role_and_label(Role::SpinButton, "power of light 3")
+        .click();
+    harness.run();
+    harness
+        .get_by_role_and_label(Role::SpinButton, "power of light 3")
+        .type_text("47");
+    harness.run();
+    harness.key_press(egui::Key::Enter);
+    harness.run();
+    // Powers 2, 5, 47: total 54, thresholds 6/54, 15/54, then 1.
+    for label in ["2/54", "5/54", "47/54", "6/54", "15/54"] {
+        assert!(shows(&harness, label), "{label} missing after typing");
+    }
+    assert_eq!(
+        harness.state().state.built.scene.powers.as_slice(),
+        &[2.0, 5.0, 47.0]
+    );
 }

@@ -181,5 +181,8 @@ fn no_subcommand_without_a_display_exits_2_pointing_to_the_subcommands() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert_eq!(stderr.lines().count(), 1, "{stderr:?}");
-    assert!(stderr.starts_with("error:") && stderr.contains("lightpick table"), "{stderr}");
+    assert!(
+        stderr.starts_with("error:") && stderr.contains("lightpick table"),
+        "{stderr}"
+    );
 }

@@ -19,6 +19,7 @@ mod alias;
 mod cdf;
 mod chi_square;
 pub mod draw;
+pub mod fraction;
 pub mod gpu;
 mod moments;
 mod powers;

@@ -193,7 +193,14 @@ impl Job {
     fn advance(&mut self, config: &EngineConfig, virtual_time: bool) {
         let pixels = self.pixels();
         let reference = &self.reference;
-        for lane in [&mut self.uniform, &mut self.importance] {
+        // Alternate which scheme goes first, so neither is always timed right after the
+        // window's own frame work (a bias in the time per frame on a loaded machine).
+        let lanes = if self.frame.is_multiple_of(2) {
+            [&mut self.uniform, &mut self.importance]
+        } else {
+            [&mut self.importance, &mut self.uniform]
+        };
+        for lane in lanes {
             let spent = match config.budget {
                 BudgetMode::EqualSamples => {
                     lane.run(config.spp_per_frame.max(1), virtual_time, pixels)

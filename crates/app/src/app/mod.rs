@@ -523,7 +523,7 @@ impl LightpickApp {
 
 /// `DejaVu Sans` (the subset the headless drawings bundle) as a fallback after egui's own
 /// font, for the arrows, `≥` and math signs the panels write.
-static DEJAVU_SANS: &[u8] = include_bytes!("../../../core/src/draw/fonts/DejaVuSans.ttf");
+static DEJAVU_SANS: &[u8] = lightpick_core::draw::text::REGULAR_FONT;
 
 fn install_fonts(ctx: &egui::Context) {
     use egui::epaint::text::{FontInsert, FontPriority, InsertFontFamily};

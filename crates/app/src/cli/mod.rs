@@ -4,7 +4,6 @@
 mod bench;
 mod device;
 mod estimate;
-mod fraction;
 mod input;
 mod plot;
 mod precision;

@@ -3,10 +3,10 @@
 use std::fmt::Write as _;
 
 use clap::Args;
+use lightpick_core::fraction::{common_denominator, format_fraction};
 use lightpick_core::{AliasTable, LightPowers};
 use serde_json::json;
 
-use super::fraction::{as_fraction, integer_total};
 use super::input::PowersArgs;
 
 /// Rows printed before the text table is cut short (JSON always has every row).
@@ -51,7 +51,7 @@ pub(crate) fn table_json(powers: &LightPowers, table: &AliasTable) -> serde_json
 /// The text form: one row per light (numbered from 0, as the aliases are), fractions over
 /// the total power where the powers are integers.
 pub(crate) fn table_text(powers: &LightPowers, table: &AliasTable) -> String {
-    let den = integer_total(powers.as_slice());
+    let den = common_denominator(powers.as_slice(), f64::INFINITY);
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -87,7 +87,7 @@ pub(crate) fn table_text(powers: &LightPowers, table: &AliasTable) -> String {
 
 /// `6/27 (0.222222)` where the fraction is exact, else the decimal alone.
 fn labelled(value: f64, den: Option<u64>) -> String {
-    match as_fraction(value, den) {
+    match format_fraction(value, den) {
         Some(f) if f == "1" || f == "0" => f,
         Some(f) => format!("{f} ({value:.6})"),
         None => format!("{value:.6e}"),

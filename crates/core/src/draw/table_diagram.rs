@@ -34,28 +34,14 @@ const MAX_SHOWN_HEIGHT: f64 = 4.0;
 /// number and the total is at most 1000, so fractions stay short (the seed powers 2, 5, 20
 /// give 27: labels read `6/27`, `15/27`, `60/27`). `None` otherwise: labels are decimals.
 pub fn fraction_denominator(powers: &LightPowers) -> Option<u64> {
-    let total = powers.total();
-    let whole = powers.as_slice().iter().all(|&p| p.fract() == 0.0);
-    (whole && (1.0..=1000.0).contains(&total)).then_some(total as u64)
+    crate::fraction::common_denominator(powers.as_slice(), 1000.0)
 }
 
 /// `v` as `k/denominator` when it is one (within rounding), `0` and `1` plainly, else a
 /// short decimal.
 pub(crate) fn fraction_label(v: f64, denominator: Option<u64>) -> String {
-    if let Some(d) = denominator {
-        let scaled = v * d as f64;
-        let k = scaled.round();
-        if (scaled - k).abs() <= 1e-6 * scaled.abs().max(1.0) {
-            let k = k as u64;
-            return match k {
-                0 => "0".to_owned(),
-                _ if k == d => "1".to_owned(),
-                _ => format!("{k}/{d}"),
-            };
-        }
-    }
-    if v == 0.0 || v == 1.0 {
-        return format!("{v}");
+    if let Some(label) = crate::fraction::format_fraction(v, denominator) {
+        return label;
     }
     if v >= 10.0 {
         format!("{v:.1}")

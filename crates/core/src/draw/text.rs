@@ -15,7 +15,9 @@ use tiny_skia::{FilterQuality, Pixmap, PixmapPaint, PremultipliedColorU8, Transf
 use super::DrawError;
 use super::palette::Rgba8;
 
-static REGULAR: &[u8] = include_bytes!("fonts/DejaVuSans.ttf");
+/// The bundled regular face (a `DejaVu Sans` subset, licence in `fonts/`), also the egui
+/// app's fallback for the arrows and math signs its panels write.
+pub static REGULAR_FONT: &[u8] = include_bytes!("fonts/DejaVuSans.ttf");
 static BOLD: &[u8] = include_bytes!("fonts/DejaVuSans-Bold.ttf");
 
 /// `DejaVu Sans`' cap height as a fraction of the em (1493 / 2048 font units).
@@ -107,7 +109,7 @@ impl TextExtent {
 /// The bundled font of `weight`.
 pub fn font(weight: Weight) -> Result<FontRef<'static>, DrawError> {
     let bytes = match weight {
-        Weight::Regular => REGULAR,
+        Weight::Regular => REGULAR_FONT,
         Weight::Bold => BOLD,
     };
     FontRef::try_from_slice(bytes).map_err(|_| DrawError::Font)
