@@ -37,17 +37,32 @@
 //! Instead of Vose's two work lists, two cursors sweep the array for the next small and the
 //! next large column (no allocation beyond the outputs, sequential memory access).
 //!
-//! # The packed GPU form
-//! [`PackedAliasEntry`] holds the threshold as a `u32` (`round(threshold·2^32)`, saturating at
-//! `2^32 − 1`, and at least 1 for a positive threshold so every positive power stays
-//! reachable) and the alias as a `u32`. Sampling takes two independent 32-bit randoms:
-//! column `⌊r1·N / 2^32⌋` (a multiply-high, exact for every `N < 2^32`, unlike `f32(u)·N`
-//! which cannot reach every index past `2^24`) and keep if `r2 < threshold_u32`. Both the
-//! CPU and the GPU sample from this form, so their picks agree bit for bit. The quantization
-//! moves each column's split by at most `2^-32`, so the realized pmf of light `i` differs from
-//! `p_i` by at most `(1 + a_i)·2^-32 / N`, where `a_i` counts the columns aliasing to `i`.
+//! # The packed GPU form and the realized pmf
+//! [`PackedAliasEntry`] holds the threshold as a `u32` `T_c` (`round(threshold·2^32)`,
+//! saturating at `2^32 − 1`, and at least 1 for a positive threshold so every positive power
+//! stays reachable) and the alias as a `u32`. Sampling ([`AliasTable::sample`], the default)
+//! picks the column **exactly uniformly** with Lemire's nearly divisionless rejection
+//! ([`crate::Uniform::sample`]: draw `r`, `m = r·N`, redraw while `m mod 2^32 < 2^32 mod N`,
+//! column `⌊m/2^32⌋`; a multiply-high, exact for every `N < 2^32`, unlike `f32(u)·N` which
+//! cannot reach every index past `2^24`), then keeps the column if the **next** draw
+//! `r2 < T_c`, else yields its alias. Every column is accepted for exactly `⌊2^32/N⌋` draws,
+//! and `r2` is a fresh draw, so the realized pmf is exactly the packed pmf
+//!
+//! `P(i) = ( T_i + Σ_{j : alias_j = i} (2^32 − T_j) ) / (N·2^32)`
+//!
+//! ([`AliasTable::implied_pmf_packed`]). Both the CPU and the GPU sample this way from the
+//! same draws, so their picks agree bit for bit. The quantization moves each column's split
+//! by at most `2^-32`, so `|P(i) − p_i| ≤ (1 + a_i)·2^-32 / N` (plus the `f64` table's own
+//! error, ~10⁻¹⁵ relative), where `a_i` counts the columns aliasing to `i`.
+//!
+//! The raw column map [`AliasTable::column`] (`⌊r·N/2^32⌋` of one draw, no rejection) and
+//! the two-draw [`AliasTable::sample_u32`] built on it stay available for the precision lab:
+//! there `2^32 mod N` columns get one draw more than the others, which adds up to `2^-32`
+//! absolute per column weight (`N·2^-32` relative, `2.3·10⁻⁴` at `N = 10^6`).
 
 use crate::powers::{LightPowers, pow2_scale_to_unit};
+use crate::rng::Rng;
+use crate::uniform::Uniform;
 
 /// One column of the packed alias table, as the GPU stores it (8 bytes).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
@@ -67,6 +82,8 @@ pub struct AliasTable {
     threshold: Vec<f64>,
     alias: Vec<u32>,
     packed: Vec<PackedAliasEntry>,
+    /// The exact uniform column pick over `0..N` (holds Lemire's threshold `2^32 mod N`).
+    columns: Uniform,
 }
 
 impl AliasTable {
@@ -105,6 +122,7 @@ impl AliasTable {
             threshold: q,
             alias,
             packed,
+            columns: Uniform::new(n as u32),
         }
     }
 
@@ -168,17 +186,31 @@ impl AliasTable {
         mass.into_iter().map(|m| m as f64 / denom).collect()
     }
 
-    /// Column pick by multiply-high: `⌊r·N / 2^32⌋`, uniform over `0..N` up to the
-    /// unavoidable `±1` count of `r` values per column (`2^32` is rarely a multiple of `N`).
+    /// The exact column pick: draws from `rng` until one is accepted by Lemire's test and
+    /// returns its column, each with probability exactly `1/N` ([`crate::Uniform::sample`]).
     #[inline]
-    pub fn column(&self, r: u32) -> usize {
-        ((u64::from(r) * self.packed.len() as u64) >> 32) as usize
+    pub fn pick_column(&self, rng: &mut Rng) -> usize {
+        self.columns.sample(rng) as usize
     }
 
-    /// Samples a light from two independent 32-bit randoms (the default, GPU-identical path).
+    /// Lemire's rejection threshold `2^32 mod N` of the column pick.
+    pub fn rejection_threshold(&self) -> u32 {
+        self.columns.rejection_threshold()
+    }
+
+    /// Samples a light (the default, GPU-identical path): the exact column pick
+    /// ([`AliasTable::pick_column`]), then the keep test on the next draw. Realized pmf:
+    /// exactly [`AliasTable::implied_pmf_packed`] (see the module docs).
     #[inline]
-    pub fn sample_u32(&self, r1: u32, r2: u32) -> u32 {
-        let column = self.column(r1);
+    pub fn sample(&self, rng: &mut Rng) -> u32 {
+        let column = self.pick_column(rng);
+        self.resolve(column, rng.next_u32())
+    }
+
+    /// The keep-or-alias step: column `column` yields its own light if `r2 < T_c`, else its
+    /// alias.
+    #[inline]
+    pub fn resolve(&self, column: usize, r2: u32) -> u32 {
         let entry = self.packed[column];
         if r2 < entry.threshold {
             column as u32
@@ -187,13 +219,34 @@ impl AliasTable {
         }
     }
 
+    /// The raw column map `⌊r·N / 2^32⌋` of one draw (multiply-high, no rejection): uniform
+    /// over `0..N` only up to one draw per column (`2^32 mod N` columns receive
+    /// `⌊2^32/N⌋ + 1` draws, the rest `⌊2^32/N⌋`), a bias of up to `2^-32` absolute per column
+    /// weight. Measured by the precision lab; [`AliasTable::pick_column`] is the exact pick.
+    #[inline]
+    pub fn column(&self, r: u32) -> usize {
+        ((u64::from(r) * self.packed.len() as u64) >> 32) as usize
+    }
+
+    /// Samples a light from two 32-bit randoms with the raw column map
+    /// ([`AliasTable::column`]`(r1)`, keep if `r2 < T_c`): the slightly biased mapping the
+    /// precision lab measures (column weights `m_c/2^32`, `m_c ∈ {⌊2^32/N⌋, ⌈2^32/N⌉}`).
+    /// Equal to [`AliasTable::sample`] whenever `r1` is accepted by Lemire's test (always
+    /// when `N` is a power of two); the samplers use [`AliasTable::sample`].
+    #[inline]
+    pub fn sample_u32(&self, r1: u32, r2: u32) -> u32 {
+        self.resolve(self.column(r1), r2)
+    }
+
     /// Samples a light from one 32-bit random: the column is the high word of `r·N` and the
     /// keep test reuses the low word (the fraction of `u·N`) as the second random.
     ///
-    /// A speed option, not the default: the low word only takes values on a lattice of step
-    /// `gcd(N, 2^32)` within a column, and columns differ by one in how many `r` values they
-    /// receive, so the realized pmf carries a bias of order `N·2^-32` (measured by the
-    /// precision lab) that the two-random path does not have.
+    /// A speed option, not the default. Its column is the **raw** multiply-high
+    /// ([`AliasTable::column`], no rejection: columns differ by one in how many `r` values
+    /// they receive), and within a column the low word only takes `⌊2^32/N⌋` or `⌈2^32/N⌉`
+    /// values spaced `N` apart, so the realized pmf carries a bias of order `N·2^-32`
+    /// relative (measured exactly by the precision lab) that the default
+    /// [`AliasTable::sample`] does not have.
     #[inline]
     pub fn sample_one_random(&self, r: u32) -> u32 {
         let product = u64::from(r) * self.packed.len() as u64;
@@ -288,9 +341,11 @@ fn pair_columns(q: &mut [f64], alias: &mut [u32]) {
             // error goes on to the next large column rather than being dropped: dropped, the
             // errors of all columns would add up on the last leftover (systematically so when
             // powers repeat). If the small cursor already passed this column, handle it now;
-            // otherwise the cursor finds it.
-            q[l] = value;
-            large_lo = rounding;
+            // otherwise the cursor finds it. A column that gave away all its mass can come
+            // out a hair below 0 (the carried error of an earlier column): its threshold is
+            // then 0 and the deficit is carried on like the rounding.
+            q[l] = value.max(0.0);
+            large_lo = rounding + value.min(0.0);
             small = if l < small_scan {
                 Some(l)
             } else {
@@ -394,6 +449,30 @@ mod tests {
         let t = table(&[2.0, 5.0, 20.0]);
         for (implied, exact) in t.implied_pmf().iter().zip([2.0, 5.0, 20.0]) {
             assert!((implied - exact / 27.0).abs() <= 1e-15, "{implied}");
+        }
+    }
+
+    #[test]
+    fn exhausted_large_column_never_gets_a_negative_threshold() {
+        // Found by proptest in CI: a large column left with exactly 0 of its own mass
+        // received a negative carried rounding error (threshold −4.5e-17 before the fix).
+        let tiny = f64::from_bits(1);
+        let mut powers = vec![0.0; 95];
+        for i in [9, 21, 39] {
+            powers[i] = tiny;
+        }
+        powers[25] = 1.000_000_000_000_000_6e293;
+        for i in [40, 41, 43, 44, 48, 53, 57, 67, 75, 78] {
+            powers[i] = f64::MAX;
+        }
+        let t = table(&powers);
+        assert!(t.thresholds().iter().all(|&x| (0.0..=1.0).contains(&x)));
+        let implied = t.implied_pmf();
+        for (i, (&got, &want)) in implied.iter().zip(t.pmf_slice()).enumerate() {
+            assert!(
+                (got - want).abs() <= 1e-12 * want + 1e-15 / 95.0,
+                "light {i}"
+            );
         }
     }
 

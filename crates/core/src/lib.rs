@@ -40,5 +40,5 @@ pub use powers::{LightPowers, PowersError};
 pub use rng::{Rng, pcg_hash, unit_f64};
 pub use sampler::{LightSampler, Pick, Sampler, Scheme, UnknownScheme};
 pub use seed_example::SeedExample;
-pub use uniform::Uniform;
+pub use uniform::{Uniform, rejection_threshold};
 pub use welford::Welford;

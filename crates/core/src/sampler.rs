@@ -22,9 +22,12 @@ pub trait LightSampler {
     fn light_count(&self) -> usize;
     /// The probability `p(i)` that a pick returns light `i`.
     fn probability(&self, i: usize) -> f64;
-    /// Picks a light from `rng` (consuming [`LightSampler::draws_per_pick`] draws).
+    /// Picks a light from `rng` (consuming at least [`LightSampler::draws_per_pick`] draws).
     fn pick(&self, rng: &mut Rng) -> Pick;
-    /// How many 32-bit draws one pick consumes.
+    /// The fewest 32-bit draws one pick consumes. Uniform and alias picks take one more per
+    /// draw rejected by Lemire's exact column pick (probability `(2^32 mod N)/2^32 < N·2^-32`
+    /// per draw, none when `N` is a power of two); the one-random alias and the CDF always
+    /// take exactly this many.
     fn draws_per_pick(&self) -> u32;
 }
 
@@ -32,11 +35,13 @@ pub trait LightSampler {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Scheme {
-    /// Every light with probability `1/N`.
+    /// Every light with probability exactly `1/N` (Lemire's rejection, [`Uniform::sample`]).
     Uniform,
-    /// Power-proportional, alias table, two independent randoms (the default).
+    /// Power-proportional, alias table (the default): exactly uniform column, keep test on
+    /// the next draw; realized pmf exactly [`AliasTable::implied_pmf_packed`].
     Alias,
-    /// Power-proportional, alias table, one random whose fraction is reused (speed option).
+    /// Power-proportional, alias table, one random whose fraction is reused (speed option):
+    /// raw multiply-high column, no rejection, bias of order `N·2^-32` relative.
     AliasOneRandom,
     /// Power-proportional, inverse CDF by binary search.
     Cdf,
@@ -127,15 +132,18 @@ impl Sampler {
         }
     }
 
-    /// The light picked by the scheme from the first draws of `rng`, without its probability.
+    /// The light picked by the scheme from the next draws of `rng`, without its probability.
+    ///
+    /// Uniform: [`Uniform::sample`] (exactly `1/N`). Alias: [`AliasTable::sample`] (exact
+    /// column pick by Lemire's rejection, then the keep test on the next draw). Both consume
+    /// one extra draw per rejected draw, in stream order, exactly as the GPU's `pick.wgsl`.
+    /// Alias-one-random: [`AliasTable::sample_one_random`] (one draw, raw column). CDF: one
+    /// draw.
     #[inline]
     pub fn pick_light(&self, rng: &mut Rng) -> u32 {
         match self {
-            Sampler::Uniform(u) => u.sample_u32(rng.next_u32()),
-            Sampler::Alias(t) => {
-                let r1 = rng.next_u32();
-                t.sample_u32(r1, rng.next_u32())
-            }
+            Sampler::Uniform(u) => u.sample(rng),
+            Sampler::Alias(t) => t.sample(rng),
             Sampler::AliasOneRandom(t) => t.sample_one_random(rng.next_u32()),
             Sampler::Cdf(c) => c.sample_u32(rng.next_u32()),
         }

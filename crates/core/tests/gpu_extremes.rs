@@ -11,6 +11,10 @@
 //! for one `r1` inside every column, with the project's own WGSL (`mulhi32`,
 //! `alias_resolve`, the `pick.wgsl` prelude), and the CPU does the same with
 //! `AliasTable::sample_u32`: no zero-power light may come out, and the two must agree.
+//! The default path (`AliasTable::sample`) differs from this raw map only by redrawing the
+//! `2^32 mod N` draws Lemire's test rejects; an accepted `r1` has the same column
+//! `mulhi32(r1, N)`, so covering every column covers the default path too (its loop is
+//! checked against the GPU in `gpu_rng.rs`, `gpu_histogram.rs` and `gpu_render.rs`).
 //!
 //! # Tables beyond one storage binding
 //! `gpu::histogram` binds the packed table (8 bytes per light) as one storage buffer;

@@ -4,7 +4,7 @@ mod gpu_common;
 
 use gpu_common::SplitMix;
 use lightpick_core::gpu::{GpuError, histogram, histogram_range, histogram_range_split};
-use lightpick_core::{LightPowers, Rng, Sampler, Scheme};
+use lightpick_core::{LightPowers, Rng, Sampler, Scheme, rejection_threshold};
 
 const GPU_SCHEMES: [Scheme; 3] = [Scheme::Uniform, Scheme::Alias, Scheme::AliasOneRandom];
 
@@ -74,6 +74,27 @@ fn random_powers_with_zeros_count_exactly_like_the_cpu() {
 fn a_thousand_lights_with_zeros_count_exactly_like_the_cpu() {
     // 1000 bins: the workgroup-memory path with many bins.
     check_equal_counts(&random_powers(1000, 5), 200_000, u64::MAX - 3);
+}
+
+/// `N = ⌈2^32/2000⌉ = 2 147 484`: `t = 2^32 mod N = 2 146 780` is almost `N`, so Lemire's
+/// column pick rejects a first draw with probability `t/2^32 ≈ 5·10⁻⁴`, the most a table
+/// this size allows. 10^6 samples hit the loop about 500 times; the GPU must follow every
+/// extra draw exactly as the CPU does, for the uniform and the alias scheme.
+#[test]
+fn rejected_column_draws_count_exactly_like_the_cpu() {
+    let n: u32 = 2_147_484;
+    let t = rejection_threshold(n);
+    assert_eq!(t, 2_146_780);
+    let (count, seed) = (1_000_000u64, 31);
+    let rejected = (0..count)
+        .filter(|&k| {
+            let r = Rng::new(seed, k).next_u32();
+            ((u64::from(r) * u64::from(n)) as u32) < t
+        })
+        .count();
+    eprintln!("{rejected} of {count} samples reject their first draw");
+    assert!(rejected > 300, "{rejected}");
+    check_equal_counts(&random_powers(n as usize, 8), count, seed);
 }
 
 #[test]

@@ -7,7 +7,7 @@ use gpu_common::SplitMix;
 use lightpick_core::gpu::{GpuError, GpuRenderer};
 use lightpick_core::render::tonemap_rgba8;
 use lightpick_core::scene::{ReceiverPlane, Scene, geometry_term, pixel_center};
-use lightpick_core::{LightPowers, Rng, Sampler, Scheme};
+use lightpick_core::{LightPowers, Rng, Sampler, Scheme, rejection_threshold};
 
 const GPU_SCHEMES: [Scheme; 3] = [Scheme::Uniform, Scheme::Alias, Scheme::AliasOneRandom];
 /// The unit roundoff of f32.
@@ -171,6 +171,29 @@ fn seed_scene_matches_the_cpu_reference() {
 fn many_lights_with_zeros_match_the_cpu_reference() {
     let scene = scene(700, 2, 1.0, random_powers(700, 3, 3.0));
     check_against_cpu(&scene, 9, "700 lights");
+}
+
+/// `N = 2 147 484` lights (`t = 2^32 mod N ≈ N`, see `gpu_histogram.rs`) on 96 × 72 pixels:
+/// about 55 of the 110 592 picks reject a first draw, and the GPU must redraw from the same
+/// stream as the CPU (a different light would land far outside the tolerance).
+#[test]
+fn rejected_column_draws_render_like_the_cpu() {
+    let n = 2_147_484usize;
+    let mut scene = scene(n, 12, 1.0, random_powers(n, 13, 3.0));
+    scene.plane.width = 96;
+    scene.plane.height = 72;
+    let seed = 5;
+    let t = rejection_threshold(n as u32);
+    let rejected = (0..16u64)
+        .flat_map(|k| (0..96 * 72u64).map(move |p| (k << 32) | p))
+        .filter(|&stream| {
+            let r = Rng::new(seed, stream).next_u32();
+            ((u64::from(r) * n as u64) as u32) < t
+        })
+        .count();
+    eprintln!("{rejected} picks reject their first draw");
+    assert!(rejected > 20, "{rejected}");
+    check_against_cpu(&scene, seed, "2 147 484 lights");
 }
 
 #[test]

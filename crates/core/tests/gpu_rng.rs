@@ -1,10 +1,11 @@
-//! The WGSL RNG prelude equals the CPU `Rng` and the CPU multiply-high, bit for bit.
+//! The WGSL RNG prelude equals the CPU `Rng`, the CPU multiply-high and the CPU exact
+//! uniform pick (Lemire's rejection loop included), bit for bit.
 
 mod gpu_common;
 
 use gpu_common::SplitMix;
-use lightpick_core::Rng;
-use lightpick_core::gpu::{probe_mulhi32, probe_rng};
+use lightpick_core::gpu::{probe_mulhi32, probe_pick_uniform, probe_rng};
+use lightpick_core::{Rng, Uniform};
 
 const DRAWS: u32 = 8;
 
@@ -121,4 +122,68 @@ fn empty_probes_return_nothing() {
             .expect("empty mulhi probe")
             .is_empty()
     );
+}
+
+/// `pick_uniform` in WGSL equals `Uniform::sample` for `N` where Lemire's loop runs often
+/// (`N = 2^31 + 1` rejects almost half of all draws, `u32::MAX` only `r = 0`) and for table
+/// sizes: the same pick and the same next draw, so the same number of draws was consumed.
+#[test]
+fn gpu_exact_uniform_pick_equals_cpu_including_rejections() {
+    let Some(ctx) = gpu_common::context() else {
+        return;
+    };
+    let mut draw = SplitMix(77);
+    let pairs: Vec<(u64, u64)> = (0..20_000)
+        .map(|_| (draw.next_u64(), draw.next_u64()))
+        .collect();
+    for n in [
+        1u32,
+        3,
+        5,
+        1000,
+        1_000_003,
+        (1 << 31) + 1,
+        (1 << 31) + (1 << 30),
+        3_000_000_019,
+        u32::MAX,
+        1 << 20,
+    ] {
+        let uniform = Uniform::new(n);
+        let t = uniform.rejection_threshold();
+        let gpu = probe_pick_uniform(ctx, &pairs, n).expect("probe_pick_uniform");
+        let mut rejected = 0usize;
+        let mut max_draws = 0usize;
+        for (&(seed, stream), &(pick, next)) in pairs.iter().zip(&gpu) {
+            let mut rng = Rng::new(seed, stream);
+            assert_eq!(
+                pick,
+                uniform.sample(&mut rng),
+                "N {n}, seed {seed:#x}, stream {stream:#x}"
+            );
+            assert_eq!(
+                next,
+                rng.next_u32(),
+                "N {n}: draws consumed, stream {stream:#x}"
+            );
+            // How many draws the CPU pick took, counted independently of Uniform::sample.
+            let mut count = Rng::new(seed, stream);
+            let mut draws = 1;
+            while ((u64::from(count.next_u32()) * u64::from(n)) as u32) < t {
+                draws += 1;
+            }
+            rejected += usize::from(draws > 1);
+            max_draws = max_draws.max(draws);
+        }
+        eprintln!(
+            "N = {n}: t = {t}, {rejected} of {} picks rejected a draw, at most {max_draws} draws",
+            pairs.len()
+        );
+        if u64::from(t) * 20_000 > 1 << 36 {
+            // t/2^32 > 1/3: thousands of picks hit the loop, many more than once.
+            assert!(
+                rejected > 5000 && max_draws >= 4,
+                "N {n}: {rejected}, {max_draws}"
+            );
+        }
+    }
 }

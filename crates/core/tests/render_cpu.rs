@@ -125,6 +125,82 @@ fn pixel_sums_follow_the_stream_contract() {
     }
 }
 
+/// The renderer batches its picks (all column picks and keep draws first, the table lookups
+/// after); with `N = 2 147 484` lights (`t = 2^32 mod N = 2 146 780 ≈ N`) about 5·10⁻⁴ of
+/// the picks reject their first draw and redraw from the same stream. Every pixel's sums
+/// must still be exactly those of `Sampler::pick_light`, sample after sample.
+#[test]
+fn batched_picks_equal_pick_light_through_rejected_draws() {
+    let n = 2_147_484u32;
+    let t = lightpick_core::rejection_threshold(n);
+    let hash = |i: u32, salt: u32| f64::from(lightpick_core::pcg_hash(i ^ salt)) / 4_294_967_296.0;
+    let scene = Scene {
+        name: "rejections".to_owned(),
+        plane: ReceiverPlane {
+            min: [-1.0, -1.0],
+            max: [1.0, 1.0],
+            width: 48,
+            height: 40,
+        },
+        positions: (0..n)
+            .map(|i| {
+                [
+                    4.0 * hash(i, 1) - 2.0,
+                    4.0 * hash(i, 2) - 2.0,
+                    0.5 + hash(i, 3),
+                ]
+            })
+            .collect(),
+        powers: lightpick_core::LightPowers::new(
+            (0..n)
+                .map(|i| if i % 7 == 3 { 0.0 } else { 1e-3 + hash(i, 4) })
+                .collect(),
+        )
+        .unwrap(),
+    };
+    let (seed, spp) = (19u64, 24u32);
+    let pixels = u64::from(scene.plane.width * scene.plane.height);
+    let rejected = (0..u64::from(spp))
+        .flat_map(|k| (0..pixels).map(move |p| (k << 32) | p))
+        .filter(|&stream| {
+            let r = Rng::new(seed, stream).next_u32();
+            ((u64::from(r) * u64::from(n)) as u32) < t
+        })
+        .count();
+    eprintln!(
+        "{rejected} of {} picks reject their first draw",
+        u64::from(spp) * pixels
+    );
+    assert!(rejected > 10, "{rejected}");
+    let pmf = scene.powers.pmf();
+    for scheme in [Scheme::Alias, Scheme::Uniform] {
+        let sampler = Sampler::build(scheme, &scene.powers);
+        let mut r = CpuRenderer::with_sampler(&scene, sampler.clone(), seed);
+        r.accumulate(spp);
+        let acc = r.accumulator();
+        for py in 0..scene.plane.height {
+            for px in 0..scene.plane.width {
+                let p = u64::from(py * scene.plane.width + px);
+                let x = pixel_center(&scene.plane, px, py);
+                let (mut sum, mut sq) = (0.0, 0.0);
+                for k in 0..u64::from(spp) {
+                    let i = sampler.pick_light(&mut Rng::new(seed, (k << 32) | p)) as usize;
+                    let g = geometry_term(scene.positions[i], x);
+                    let e = if scheme == Scheme::Uniform {
+                        f64::from(n) * pmf[i] * g
+                    } else {
+                        g
+                    };
+                    sum += e;
+                    sq += e * e;
+                }
+                assert_eq!(acc.sum[p as usize], sum, "{scheme} pixel {p}");
+                assert_eq!(acc.sum_sq[p as usize], sq, "{scheme} pixel {p}");
+            }
+        }
+    }
+}
+
 #[test]
 fn reset_restarts_the_sample_index() {
     let scene = preset_at("seed", 8);

@@ -6,7 +6,7 @@ use egui::Ui;
 use super::colors;
 use super::state::{AppState, BudgetMode, Device, FileAction, MessageKind};
 
-/// The menu bar: File (open, save, export) and View (theme).
+/// The menu bar: File (open, save, export) and View (theme, optional windows).
 pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
     egui::MenuBar::new().ui(ui, |ui| {
         ui.menu_button("File", |ui| {
@@ -41,6 +41,16 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
             {
                 state.settings.dark = false;
             }
+            ui.separator();
+            ui.checkbox(&mut state.settings.show_trade, "Speed against accuracy")
+                .on_hover_text(
+                    "Time per sample, variance and efficiency of every scheme, and the \
+                     error-against-time plot",
+                );
+            ui.checkbox(&mut state.settings.show_precision, "Precision")
+                .on_hover_text(
+                    "What f32, one random or an f32 column pick would cost on these powers",
+                );
         });
         ui.separator();
         controls_ui(ui, state);

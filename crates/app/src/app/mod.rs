@@ -3,7 +3,8 @@
 //! One [`AppState`] (in [`state`]) holds everything the panels show; each panel is one file
 //! with a `*_ui` function over it: [`lights_ui`], [`table_ui`] (table and diagram),
 //! [`histogram_ui`] (sampling), [`render_ui`] (images), [`convergence_ui`], plus
-//! [`controls_ui`] (menu, run controls, status bar) and [`file_dialog_ui`]. Progressive
+//! [`trade_ui`] (speed against accuracy) and [`precision_ui`] (optional windows, from the
+//! View menu), [`controls_ui`] (menu, run controls, status bar) and [`file_dialog_ui`]. Progressive
 //! images come from the [`engine`], on a worker thread in the app and inline in tests.
 //! [`LightpickApp::ui`] draws the whole window into any [`egui::Ui`], so tests drive it with
 //! `egui_kittest` without eframe.
@@ -17,10 +18,12 @@ pub mod fractions;
 pub mod gpu_images;
 pub mod histogram_ui;
 pub mod lights_ui;
+pub mod precision_ui;
 pub mod render_ui;
 pub mod scene_io;
 pub mod state;
 pub mod table_ui;
+pub mod trade_ui;
 
 use std::path::Path;
 use std::sync::Arc;
@@ -112,6 +115,10 @@ pub enum PanelKind {
     Convergence,
     /// The run controls.
     Controls,
+    /// Speed against accuracy of every scheme.
+    Trade,
+    /// The precision lab's figures for the current powers.
+    Precision,
 }
 
 /// The app: the state, the render engine and the textures of its latest frame.
@@ -166,7 +173,9 @@ impl LightpickApp {
 
     /// An app over `state`. With `threaded = false` the images render inline, only when
     /// running or stepped, with virtual timings (deterministic, for tests).
-    pub fn with_state(state: AppState, threaded: bool) -> Self {
+    pub fn with_state(mut state: AppState, threaded: bool) -> Self {
+        state.trade.inline = !threaded;
+        state.precision.inline = !threaded;
         Self {
             state,
             engine: None,
@@ -281,6 +290,7 @@ impl LightpickApp {
                 table_ui::table_panel_ui(ui, &mut self.state);
             });
         });
+        self.lab_windows(ui.ctx());
         self.end_frame(ui, published.as_deref());
         self.measure(started);
     }
@@ -307,8 +317,28 @@ impl LightpickApp {
             PanelKind::Controls => {
                 ui.horizontal_wrapped(|ui| controls_ui::controls_ui(ui, &mut self.state));
             }
+            PanelKind::Trade => trade_ui::trade_ui(ui, &mut self.state),
+            PanelKind::Precision => precision_ui::precision_ui(ui, &mut self.state),
         });
         self.end_frame(ui, published.as_deref());
+    }
+
+    /// The optional windows of the View menu: speed against accuracy, and precision.
+    fn lab_windows(&mut self, ctx: &egui::Context) {
+        let mut open = self.state.settings.show_trade;
+        egui::Window::new("Speed against accuracy")
+            .open(&mut open)
+            .default_size([620.0, 520.0])
+            .default_pos([760.0, 60.0])
+            .show(ctx, |ui| trade_ui::trade_ui(ui, &mut self.state));
+        self.state.settings.show_trade = open;
+        let mut open = self.state.settings.show_precision;
+        egui::Window::new("Precision")
+            .open(&mut open)
+            .default_size([640.0, 420.0])
+            .default_pos([20.0, 400.0])
+            .show(ctx, |ui| precision_ui::precision_ui(ui, &mut self.state));
+        self.state.settings.show_precision = open;
     }
 
     /// Everything a frame does before drawing: background builds, shortcuts, theme, engine

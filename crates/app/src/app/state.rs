@@ -81,6 +81,10 @@ pub struct Settings {
     pub generate_count: usize,
     /// Dark theme (else light).
     pub dark: bool,
+    /// Show the speed-against-accuracy window.
+    pub show_trade: bool,
+    /// Show the precision window.
+    pub show_precision: bool,
 }
 
 impl Default for Settings {
@@ -100,6 +104,8 @@ impl Default for Settings {
             distribution: PowerDistribution::Exponential,
             generate_count: 16,
             dark: true,
+            show_trade: false,
+            show_precision: false,
         }
     }
 }
@@ -303,6 +309,10 @@ pub struct AppState {
     pub step_requested: bool,
     /// Clear the images and restart accumulation.
     pub reset_requested: bool,
+    /// The speed-against-accuracy measurement.
+    pub trade: super::trade_ui::TradeRun,
+    /// The precision measurement.
+    pub precision: super::precision_ui::PrecisionRun,
     next_generation: u64,
     pending: Option<PendingBuild>,
     rebuild_queued: bool,
@@ -327,6 +337,8 @@ impl AppState {
             frame: 0,
             step_requested: false,
             reset_requested: false,
+            trade: super::trade_ui::TradeRun::default(),
+            precision: super::precision_ui::PrecisionRun::default(),
             next_generation: 2,
             pending: None,
             rebuild_queued: false,
@@ -608,13 +620,13 @@ impl AppState {
         let seed = self.settings.seed;
         let start = self.sampling.picks;
         for k in start..start + u64::from(count) {
+            // The exact picks of `Sampler::pick_light` (rejection keeps columns uniform).
             let mut rng = Rng::new(seed, k);
-            let u = uniform.sample_u32(rng.next_u32()) as usize;
+            let u = uniform.sample(&mut rng) as usize;
             self.sampling.uniform_counts[u] += 1;
             self.sampling.uniform_bins[u / self.sampling.per_bin] += 1;
             let mut rng = Rng::new(seed ^ 0xA11A5, k);
-            let r1 = rng.next_u32();
-            let a = built.table.sample_u32(r1, rng.next_u32()) as usize;
+            let a = built.table.sample(&mut rng) as usize;
             self.sampling.alias_counts[a] += 1;
             self.sampling.alias_bins[a / self.sampling.per_bin] += 1;
         }
@@ -645,10 +657,18 @@ impl AppState {
     pub fn draw_one(&mut self) {
         let mut rng = Rng::new(self.settings.seed ^ 0xD12A_0001, self.sampling.draws);
         self.sampling.draws += 1;
-        let (r1, r2) = (rng.next_u32(), rng.next_u32());
         let table = &self.built.table;
-        let column = table.column(r1);
-        let light = table.sample_u32(r1, r2);
+        // U1 is the accepted draw of the exact column pick (a draw in the rare band that
+        // would make columns unequal is redrawn); U2 is the next draw.
+        let columns = Uniform::new(table.len() as u32);
+        let (r1, column) = loop {
+            let r = rng.next_u32();
+            if let Some(c) = columns.accept(r) {
+                break (r, c as usize);
+            }
+        };
+        let r2 = rng.next_u32();
+        let light = table.resolve(column, r2);
         let draw = OneDraw {
             r1,
             r2,

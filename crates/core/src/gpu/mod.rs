@@ -7,11 +7,16 @@
 //!
 //! * `mulhi32(a, b) = ⌊a·b / 2^32⌋`, the high word of the 64-bit product, assembled from
 //!   16-bit halves because WGSL has no 64-bit integers; the low word is the wrapping `a·b`.
-//! * `sample_uniform(r, N) = mulhi32(r, N)`,
-//! * `pick_light` (`pick.wgsl`, the twin of [`crate::Sampler::pick_light`]): uniform takes
-//!   one draw; alias takes two, column `mulhi32(r1, N)` kept if `r2 < threshold_u32`, else
-//!   its alias (the default); alias-one-random takes one, column = high word of `r·N`, keep
-//!   test on the low word.
+//! * `pick_uniform(N, state)`, the twin of [`crate::Uniform::sample`]: Lemire's exact pick
+//!   (draw `r`; while the low word `r·N mod 2^32` is below `t = 2^32 mod N = (0 − N) % N`,
+//!   draw again from the same stream; return `mulhi32(r, N)`), each of `0..N` with
+//!   probability exactly `1/N`; `t` is computed only on the rare draw with low word `< N`.
+//!   `sample_uniform(r, N) = mulhi32(r, N)` is the raw one-draw map.
+//! * `pick_light` (`pick.wgsl`, the twin of [`crate::Sampler::pick_light`]): uniform is
+//!   `pick_uniform`; alias (the default) takes its column from `pick_uniform` and keeps it
+//!   if the next draw `r2 < threshold_u32`, else its alias, so it realizes exactly
+//!   [`crate::AliasTable::implied_pmf_packed`]; alias-one-random takes one draw, column =
+//!   raw high word of `r·N`, keep test on the low word.
 //!
 //! All of it is `u32` arithmetic, so a GPU pick equals the CPU pick for the same stream;
 //! the tests check this bit for bit. Floating-point estimates are `f32` on the GPU and are
@@ -37,7 +42,7 @@ mod renderer;
 pub use context::GpuContext;
 pub use error::GpuError;
 pub use histogram::{histogram, histogram_range, histogram_range_split};
-pub use probe::{probe_mulhi32, probe_rng};
+pub use probe::{probe_mulhi32, probe_pick_uniform, probe_rng};
 pub use renderer::GpuRenderer;
 
 use crate::Scheme;

@@ -7,23 +7,24 @@ const SCHEME_ALIAS: u32 = 1u;
 const SCHEME_ALIAS_ONE_RANDOM: u32 = 2u;
 
 // The light that the scheme picks from the next draws of `state`, consuming exactly the
-// draws of the CPU sampler: one for uniform, two (column, keep) for alias, and one for the
-// one-random alias, whose column is the high word of r·N and keep test its low word.
+// draws of the CPU sampler, in the same order: uniform takes the exact pick (pick_uniform:
+// one draw, plus one per draw rejected by Lemire's test); alias takes the same exact column
+// pick, then the next draw for the keep test; the one-random alias takes one draw, its column
+// the raw high word of r·N and its keep test the low word.
 fn pick_light(scheme: u32, n: u32, state: ptr<function, u32>) -> u32 {
     var light: u32;
     switch scheme {
         case SCHEME_UNIFORM: {
-            light = sample_uniform(rng_next(state), n);
+            light = pick_uniform(n, state);
         }
         case SCHEME_ALIAS: {
-            let r1 = rng_next(state);
+            let column = pick_uniform(n, state);
             let r2 = rng_next(state);
-            let column = mulhi32(r1, n);
             light = alias_resolve(column, alias_entry(column), r2);
         }
         default: {
             let r = rng_next(state);
-            let column = mulhi32(r, n);
+            let column = sample_uniform(r, n);
             light = alias_resolve(column, alias_entry(column), r * n);
         }
     }

@@ -1,4 +1,5 @@
-//! Runs the WGSL RNG prelude on chosen inputs, so tests can compare it with the CPU.
+//! Runs the WGSL RNG prelude (and its exact uniform pick) on chosen inputs, so tests can
+//! compare it with the CPU.
 
 use super::{GpuContext, GpuError, WORKGROUP_SIZE};
 
@@ -10,14 +11,37 @@ struct ProbeParams {
     count: u32,
     draws: u32,
     threads_per_row: u32,
-    pad: u32,
+    n: u32,
 }
 
 /// The first `draws` outputs of the GPU's `Rng::new(seed, stream)` for each pair, row by
 /// row: element `i·draws + d` is draw `d` of pair `i`, which must equal the CPU's
 /// [`crate::Rng::new`]`(seed, stream)` followed by `d + 1` calls of `next_u32`.
 pub fn probe_rng(ctx: &GpuContext, pairs: &[(u64, u64)], draws: u32) -> Result<Vec<u32>, GpuError> {
-    let inputs: Vec<[u32; 4]> = pairs
+    let inputs = key_words(pairs);
+    run(ctx, "probe_rng", &inputs, draws, 0)
+}
+
+/// `(pick, next)` for each `(seed, stream)` pair as the GPU computes them: `pick_uniform(n)`
+/// (Lemire's exact pick, redrawing from the stream while a draw is rejected) on
+/// `Rng::new(seed, stream)`, and the draw that follows it. They must equal the CPU's
+/// [`crate::Uniform::sample`] and the `next_u32` after it (same pick, same draws consumed).
+///
+/// # Panics
+/// If `n` is 0.
+pub fn probe_pick_uniform(
+    ctx: &GpuContext,
+    pairs: &[(u64, u64)],
+    n: u32,
+) -> Result<Vec<(u32, u32)>, GpuError> {
+    assert!(n > 0, "no values to pick from");
+    let words = run(ctx, "probe_pick_uniform", &key_words(pairs), 2, n)?;
+    Ok(words.chunks_exact(2).map(|w| (w[0], w[1])).collect())
+}
+
+/// `(seed_lo, seed_hi, stream_lo, stream_hi)` of each pair.
+fn key_words(pairs: &[(u64, u64)]) -> Vec<[u32; 4]> {
+    pairs
         .iter()
         .map(|&(seed, stream)| {
             [
@@ -27,8 +51,7 @@ pub fn probe_rng(ctx: &GpuContext, pairs: &[(u64, u64)], draws: u32) -> Result<V
                 (stream >> 32) as u32,
             ]
         })
-        .collect();
-    run(ctx, "probe_rng", &inputs, draws)
+        .collect()
 }
 
 /// `(high, low)` words of `a·b` for each pair as the GPU computes them: `mulhi32(a, b)`
@@ -36,17 +59,18 @@ pub fn probe_rng(ctx: &GpuContext, pairs: &[(u64, u64)], draws: u32) -> Result<V
 /// `((a as u64 · b as u64) >> 32, a·b mod 2^32)`.
 pub fn probe_mulhi32(ctx: &GpuContext, pairs: &[(u32, u32)]) -> Result<Vec<(u32, u32)>, GpuError> {
     let inputs: Vec<[u32; 4]> = pairs.iter().map(|&(a, b)| [a, b, 0, 0]).collect();
-    let words = run(ctx, "probe_mulhi32", &inputs, 2)?;
+    let words = run(ctx, "probe_mulhi32", &inputs, 2, 0)?;
     Ok(words.chunks_exact(2).map(|w| (w[0], w[1])).collect())
 }
 
-/// Dispatches `entry` over `inputs` (one thread each) and reads `outputs_per_input` words
-/// per input back.
+/// Dispatches `entry` over `inputs` (one thread each, `n` in the params) and reads
+/// `outputs_per_input` words per input back.
 fn run(
     ctx: &GpuContext,
     entry: &'static str,
     inputs: &[[u32; 4]],
     outputs_per_input: u32,
+    n: u32,
 ) -> Result<Vec<u32>, GpuError> {
     let count = inputs.len() as u64;
     if count == 0 || outputs_per_input == 0 {
@@ -71,7 +95,7 @@ fn run(
         count: count as u32,
         draws: outputs_per_input,
         threads_per_row: groups_x * WORKGROUP_SIZE,
-        pad: 0,
+        n,
     };
     let params_buffer = super::uniform_buffer(ctx, "probe params", 16);
     ctx.queue()

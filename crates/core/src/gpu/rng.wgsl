@@ -1,5 +1,5 @@
 // rng.wgsl: the bit-exact twin of crates/core/src/rng.rs and of the integer sampling paths
-// of AliasTable::sample_u32 / sample_one_random and Uniform::sample_u32. Prepended to every
+// of AliasTable::sample / sample_one_random and Uniform::sample / sample_u32. Prepended to every
 // kernel at pipeline creation (gpu::shader_source). Only u32 arithmetic, which wraps modulo
 // 2^32 in WGSL exactly as Rust's wrapping_* operations do.
 
@@ -49,8 +49,28 @@ fn mulhi32(a: u32, b: u32) -> u32 {
     return hh + (hl >> 16u) + (lh >> 16u) + (middle >> 16u);
 }
 
-// Uniform::sample_u32: light floor(r·N / 2^32), each with probability 1/N (±1 count of r).
+// Uniform::sample_u32, the raw pick floor(r·N / 2^32) of one draw: 2^32 mod N values get
+// one draw more than the others (bias < 2^-32 per value). Kept for the one-random alias
+// (whose column is this raw map); the exact pick is pick_uniform.
 fn sample_uniform(r: u32, n: u32) -> u32 {
+    return mulhi32(r, n);
+}
+
+// Uniform::sample, the exact pick (Lemire, ACM TOMACS 2019): draw r, m = r·N; while the low
+// word of m is below t = 2^32 mod N = (0 − N) % N, draw again from the same stream; return the
+// high word of m. Every value of 0..N is accepted for exactly floor(2^32/N) draws. t is
+// computed only when the low word is below N (t < N), the rare case, so the common pick
+// has no division; the draws consumed are exactly those of the CPU loop, in the same order.
+fn pick_uniform(n: u32, state: ptr<function, u32>) -> u32 {
+    var r = rng_next(state);
+    var low = r * n;
+    if low < n {
+        let t = (0u - n) % n;
+        while low < t {
+            r = rng_next(state);
+            low = r * n;
+        }
+    }
     return mulhi32(r, n);
 }
 

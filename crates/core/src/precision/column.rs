@@ -9,7 +9,7 @@
 //! pass over the `2^24` values of `k`, tracking runs, counts every column exactly without
 //! an `N`-sized array ([`f32_column_pick`]).
 //!
-//! # Multiply-high (the project's way)
+//! # Raw multiply-high (the "before" figure; still the one-random option's column)
 //! Column `c` receives the `r` with `c·2^32 ≤ r·N < (c+1)·2^32`, that is
 //! `r ∈ [⌈c·2^32/N⌉, ⌈(c+1)·2^32/N⌉)`. Writing `2^32 = Q·N + R` (`0 ≤ R < N`), each count
 //! is `Q` or `Q + 1`, and since they add up to `2^32` exactly `R` columns get `Q + 1`. So
@@ -17,6 +17,15 @@
 //! ratio is `(Q + 1)/Q` (1 when `N` is a power of two): at most `1 + N/2^32` roughly,
 //! `1.0156` at `N = 2^26` ([`multiply_high_column_pick`]; [`multiply_high_counts`] lists the
 //! counts from the interval formula, to check the closed form).
+//!
+//! # Exact pick, multiply-high with Lemire's rejection (the project's default)
+//! With `t = R = 2^32 mod N`, a draw is accepted when `r·N mod 2^32 ≥ t`
+//! ([`crate::Uniform::accept`]). Column `c` accepts the `r` with
+//! `c·2^32 + t ≤ r·N < (c+1)·2^32`, that is `r ∈ [⌈(c·2^32 + t)/N⌉, ⌈(c+1)·2^32/N⌉)`
+//! ([`exact_column_r_range`]): an interval of `r·N` of length `2^32 − t = Q·N`, so exactly
+//! `Q` values of `r` for **every** column. The `t` rejected draws are redrawn, so each column
+//! is picked with probability exactly `Q/(Q·N) = 1/N`: ratio 1 for every `N`
+//! ([`exact_column_pick`]; [`exact_column_counts`] evaluates the interval formula).
 
 /// Column counts of one pick method at one `N`, counted over every input.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -108,6 +117,38 @@ pub fn multiply_high_counts(n: u32) -> Vec<u64> {
     (0..n).map(|c| first(c + 1) - first(c)).collect()
 }
 
+/// The accepted randoms `[⌈(c·2^32 + t)/N⌉, ⌈(c+1)·2^32/N⌉)` of column `c` under Lemire's
+/// rejection (`t = 2^32 mod N`): those of the raw range whose low word `r·N mod 2^32 ≥ t`.
+#[inline]
+pub fn exact_column_r_range(c: u64, n: u64) -> (u64, u64) {
+    let t = (1u64 << 32) % n;
+    (((c << 32) + t).div_ceil(n), ((c + 1) << 32).div_ceil(n))
+}
+
+/// The accepted count of every column of the exact pick from the interval formula
+/// ([`exact_column_r_range`], `O(N)`): `⌊2^32/N⌋` for each, which tests check.
+pub fn exact_column_counts(n: u32) -> Vec<u64> {
+    let n = u64::from(n);
+    (0..n)
+        .map(|c| {
+            let (first, end) = exact_column_r_range(c, n);
+            end - first
+        })
+        .collect()
+}
+
+/// Exact [`ColumnPickStats`] of the default pick (multiply-high with Lemire's rejection), in
+/// closed form: every column accepts `Q = ⌊2^32/N⌋` of the `2^32` draws and the other
+/// `2^32 mod N` are redrawn, so `inputs = Q·N`, `min = max = Q` and the ratio is 1.
+///
+/// # Panics
+/// If `n` is 0.
+pub fn exact_column_pick(n: u32) -> ColumnPickStats {
+    assert!(n > 0, "no columns");
+    let q = (1u64 << 32) / u64::from(n);
+    ColumnPickStats::new(u64::from(n), q * u64::from(n), u64::from(n), q, q)
+}
+
 /// The `N` of the default sweep: small, around `2^24`, and up to `2^26`.
 pub const COLUMN_SWEEP: [u32; 9] = [
     3,
@@ -121,18 +162,20 @@ pub const COLUMN_SWEEP: [u32; 9] = [
     1 << 26,
 ];
 
-/// Both pick methods at one `N`.
+/// The pick methods at one `N`.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct ColumnPickComparison {
     /// Number of columns.
     pub n: u64,
     /// `f32(u)·N` with 24-bit `u`.
     pub f32_pick: ColumnPickStats,
-    /// `⌊r·N/2^32⌋`.
+    /// `⌊r·N/2^32⌋` of one draw, no rejection (the raw map, "before").
     pub multiply_high: ColumnPickStats,
+    /// `⌊r·N/2^32⌋` with Lemire's rejection (the default pick: every column `⌊2^32/N⌋`).
+    pub exact: ColumnPickStats,
 }
 
-/// Both methods at each `N` of `ns` (each `f32` figure is one pass over `2^24` inputs).
+/// The three methods at each `N` of `ns` (each `f32` figure is one pass over `2^24` inputs).
 pub fn column_pick_sweep(ns: &[u32]) -> Vec<ColumnPickComparison> {
     use rayon::prelude::*;
     ns.par_iter()
@@ -140,6 +183,7 @@ pub fn column_pick_sweep(ns: &[u32]) -> Vec<ColumnPickComparison> {
             n: u64::from(n),
             f32_pick: f32_column_pick(n),
             multiply_high: multiply_high_column_pick(n),
+            exact: exact_column_pick(n),
         })
         .collect()
 }

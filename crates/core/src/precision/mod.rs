@@ -16,13 +16,17 @@
 //!    to `i`). An `f32` threshold compared with an `f32` uniform `u = k·2^-24` (24 random
 //!    bits) keeps with probability `⌈t_f32·2^24⌉/2^24`, `|t_f32 − t| ≤ 2^-25`, so its bound
 //!    is `(1 + a_i)·1.5·2^-24/N`, 384 times looser.
-//! 3. **Column pick `f32(u)·N` or multiply-high** ([`f32_column_pick`],
-//!    [`multiply_high_column_pick`]). Counted over every input: the `2^24` values of the
-//!    `f32` uniform, and for `⌊r·N/2^32⌋` the closed form (`⌊2^32/N⌋` or `⌈2^32/N⌉` values of
-//!    `r` per column).
+//! 3. **Column pick `f32(u)·N`, raw multiply-high, or exact** ([`f32_column_pick`],
+//!    [`multiply_high_column_pick`], [`exact_column_pick`]). Counted over every input: the
+//!    `2^24` values of the `f32` uniform; for the raw `⌊r·N/2^32⌋` the closed form
+//!    (`⌊2^32/N⌋` or `⌈2^32/N⌉` values of `r` per column, a bias up to `N·2^-32` relative);
+//!    for the default pick, multiply-high with Lemire's rejection, exactly `⌊2^32/N⌋`
+//!    accepted values of `r` per column (exactly uniform).
 //! 4. **One random or two** ([`compare_one_random`]). The exact realized pmf of
 //!    [`crate::AliasTable::sample_one_random`], counted per column in `O(1)`, against the
-//!    exact realized pmf of [`crate::AliasTable::sample_u32`] and against `p`.
+//!    exact realized pmf of the raw two-random [`crate::AliasTable::sample_u32`] ("before"),
+//!    of the default [`crate::AliasTable::sample`] (exact column pick: equal to the packed
+//!    pmf) and against `p`.
 //!
 //! [`PrecisionReport`] gathers 1, 2 and 4 for one set of powers; [`column_pick_sweep`] gives
 //! 3 over a range of `N`. The test powers come from [`Distribution`].
@@ -34,8 +38,9 @@ mod one_random;
 mod thresholds;
 
 pub use column::{
-    COLUMN_SWEEP, ColumnPickComparison, ColumnPickStats, column_pick_sweep, f32_column,
-    f32_column_pick, multiply_high_column_pick, multiply_high_counts,
+    COLUMN_SWEEP, ColumnPickComparison, ColumnPickStats, column_pick_sweep, exact_column_counts,
+    exact_column_pick, exact_column_r_range, f32_column, f32_column_pick,
+    multiply_high_column_pick, multiply_high_counts,
 };
 pub use construction::{
     ConstructionComparison, NaiveF32Table, TableAccuracy, accuracy_of, compare_construction,
@@ -43,8 +48,8 @@ pub use construction::{
 };
 pub use distribution::{Distribution, UnknownDistribution};
 pub use one_random::{
-    OneRandomComparison, column_r_range, compare_one_random, one_random_column, one_random_counts,
-    one_random_pmf, two_random_pmf,
+    OneRandomComparison, column_r_range, compare_one_random, exact_pick_counts, exact_pick_pmf,
+    one_random_column, one_random_counts, one_random_pmf, two_random_pmf,
 };
 pub use thresholds::{
     F32_SPLIT_ERROR, ThresholdComparison, U32_SPLIT_ERROR, alias_in_degree, compare_thresholds,

@@ -194,20 +194,22 @@ fn render_row(
 
 /// `out[j]` = the light of sample `k + j` of pixel `p`: exactly
 /// `sampler.pick_light(&mut Rng::new(seed, ((k + j) << 32) | p))`. For the alias table the
-/// two draws of every sample are made first and the table lookups after (the same
-/// [`crate::AliasTable::sample_u32`] on the same draws, so the same picks).
+/// column pick and the keep draw of every sample are made first and the table lookups after:
+/// the same [`crate::AliasTable::pick_column`] (Lemire's rejection, redrawing from the
+/// sample's own stream) and the same next draw that [`crate::AliasTable::sample`] uses, so
+/// the same picks.
 #[inline]
 fn pick_batch(sampler: &Sampler, seed: u64, p: u64, k: u32, out: &mut [u32]) {
     let stream = |j: usize| (u64::from(k + j as u32) << 32) | p;
     if let Sampler::Alias(table) = sampler {
-        let mut draws = [(0u32, 0u32); BATCH];
+        let mut draws = [(0usize, 0u32); BATCH];
         for (j, d) in draws[..out.len()].iter_mut().enumerate() {
             let mut rng = Rng::new(seed, stream(j));
-            let r1 = rng.next_u32();
-            *d = (r1, rng.next_u32());
+            let column = table.pick_column(&mut rng);
+            *d = (column, rng.next_u32());
         }
-        for (o, &(r1, r2)) in out.iter_mut().zip(&draws) {
-            *o = table.sample_u32(r1, r2);
+        for (o, &(column, r2)) in out.iter_mut().zip(&draws) {
+            *o = table.resolve(column, r2);
         }
     } else {
         for (j, o) in out.iter_mut().enumerate() {

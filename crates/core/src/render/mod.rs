@@ -3,7 +3,9 @@
 //! # The estimator contract (CPU and GPU)
 //! Pixel `p` (row-major, `p = py·width + px`) takes its `k`-th sample (`k` counts from 0
 //! across passes) from the stream `Rng::new(seed, (k << 32) | p)`, picks a light `i` with
-//! [`crate::Sampler::pick_light`], and evaluates the *normalized* estimate
+//! [`crate::Sampler::pick_light`] (uniform and alias: the exact column pick, which draws
+//! again from the same stream, in order, while Lemire's test rejects a draw; alias then
+//! keeps on the next draw), and evaluates the *normalized* estimate
 //!
 //! * uniform: `N · p_i · G_i(x)` (that is `f/pdf = N·Φ_i·G_i` divided by `Φ_total`),
 //! * power-proportional (alias, alias-one-random, cdf): `G_i(x)` (the power cancels:
@@ -13,6 +15,13 @@
 //! normalized estimate and of its square are accumulated per pixel; the image is
 //! `Φ_total · sum / spp`. Factoring `Φ_total` out keeps every GPU quantity within `f32`
 //! range whatever the powers are, and no tiny pdf is ever divided by.
+//!
+//! The pdf the estimate divides by is the one the pick realizes: uniform picks have
+//! probability exactly `1/N`, and the alias picks realize exactly the packed pmf
+//! [`crate::AliasTable::implied_pmf_packed`], within `(1 + a_i)·2^-32/N` of `p_i` (the
+//! threshold quantization), so the power-proportional estimate is biased by at most
+//! `Σ_i |P(i) − p_i|·G_i ≤ 2^-31 · max_i G_i` (total variation `≤ 2^-32`) relative to
+//! `Φ_total`; the one-random option adds up to `1.5·N·2^-32` in total variation.
 
 mod accumulator;
 mod cpu;
