@@ -2,42 +2,9 @@
 //! `lightpick precision` and `lightpick bench`: JSON shape, the default path within its
 //! documented bounds, and one-line errors with exit code 2. Timings are never asserted.
 
-use std::process::{Command, Output};
+mod common;
 
-fn lightpick(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lightpick"))
-        .args(args)
-        .output()
-        .expect("run lightpick")
-}
-
-fn json(args: &[&str]) -> serde_json::Value {
-    let out = lightpick(args);
-    assert!(
-        out.status.success(),
-        "{args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
-}
-
-/// Exit code 2, and the last stderr line is the one `error:` line naming the problem
-/// (earlier lines, if any, come from system libraries probing for a GPU).
-fn assert_error(args: &[&str], needle: &str) {
-    let out = lightpick(args);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-    let ours: Vec<&str> = stderr
-        .lines()
-        .filter(|l| l.starts_with("error:") && !l.contains("XDG_RUNTIME_DIR"))
-        .collect();
-    assert_eq!(ours.len(), 1, "{args:?}: {stderr:?}");
-    assert!(
-        ours[0].contains(needle),
-        "{args:?}: {stderr:?} lacks {needle:?}"
-    );
-    assert!(!stderr.contains("panicked"), "{stderr}");
-}
+use common::{assert_error, json, lightpick};
 
 fn f(v: &serde_json::Value) -> f64 {
     v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))

@@ -2,43 +2,11 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-use std::process::{Command, Output};
+mod common;
 
-fn lightpick(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lightpick"))
-        .args(args)
-        .output()
-        .expect("run lightpick")
-}
+use std::process::Command;
 
-fn json(args: &[&str]) -> serde_json::Value {
-    let out = lightpick(args);
-    assert!(
-        out.status.success(),
-        "{args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
-}
-
-/// Asserts exit code 2 and exactly one stderr line starting with `error:` containing `needle`.
-fn assert_usage_error(args: &[&str], needle: &str) {
-    let out = lightpick(args);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-    let lines: Vec<&str> = stderr.lines().collect();
-    assert_eq!(
-        lines.len(),
-        1,
-        "{args:?}: expected one line, got {stderr:?}"
-    );
-    assert!(lines[0].starts_with("error:"), "{stderr}");
-    assert!(
-        stderr.contains(needle),
-        "{args:?}: {stderr:?} lacks {needle:?}"
-    );
-    assert!(!stderr.contains("panicked"), "{stderr}");
-}
+use common::{assert_error, json, lightpick};
 
 fn as_f64s(v: &serde_json::Value) -> Vec<f64> {
     v.as_array()
@@ -147,28 +115,28 @@ fn estimate_averages_to_18() {
 
 #[test]
 fn bad_inputs_exit_2_with_one_error_line() {
-    assert_usage_error(&["table", "--powers", "2,-5,20"], "light 1 is negative");
-    assert_usage_error(&["table", "--powers", "2,NaN,20"], "light 1 is not finite");
-    assert_usage_error(&["table", "--powers", "2,inf"], "light 1 is not finite");
-    assert_usage_error(&["table", "--powers", "0,0"], "all 2 powers are zero");
-    assert_usage_error(&["table", "--powers", ""], "empty");
-    assert_usage_error(
+    assert_error(&["table", "--powers", "2,-5,20"], "light 1 is negative");
+    assert_error(&["table", "--powers", "2,NaN,20"], "light 1 is not finite");
+    assert_error(&["table", "--powers", "2,inf"], "light 1 is not finite");
+    assert_error(&["table", "--powers", "0,0"], "all 2 powers are zero");
+    assert_error(&["table", "--powers", ""], "empty");
+    assert_error(
         &["table", "--powers", "2,x"],
         "item 1 ('x') is not a number",
     );
-    assert_usage_error(&["table"], "no powers given");
-    assert_usage_error(
+    assert_error(&["table"], "no powers given");
+    assert_error(
         &["table", "--powers-file", "/nonexistent/p.txt"],
         "/nonexistent/p.txt",
     );
-    assert_usage_error(&["sample", "--powers", "1,2", "--count", "0"], "--count");
-    assert_usage_error(&["sample", "--powers", "1,2", "--scheme", "magic"], "magic");
-    assert_usage_error(&["sample", "--powers", "1,2", "--count", "-3"], "-3");
-    assert_usage_error(
+    assert_error(&["sample", "--powers", "1,2", "--count", "0"], "--count");
+    assert_error(&["sample", "--powers", "1,2", "--scheme", "magic"], "magic");
+    assert_error(&["sample", "--powers", "1,2", "--count", "-3"], "-3");
+    assert_error(
         &["estimate", "--powers", "1,2", "--contrib", "1,2,3"],
         "--contrib has 3 values but there are 2 lights",
     );
-    assert_usage_error(&["frobnicate"], "frobnicate");
+    assert_error(&["frobnicate"], "frobnicate");
 }
 
 #[test]

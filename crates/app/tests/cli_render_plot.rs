@@ -4,52 +4,11 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("lightpick-cli-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use std::path::Path;
 
-fn lightpick(args: &[&str]) -> Output {
-    // A private runtime dir: without one, Mesa's Vulkan driver (via libwayland) prints a
-    // warning on stderr, which would hide whether lightpick itself kept to one error line.
-    let runtime = scratch("runtime");
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt as _;
-        std::fs::set_permissions(&runtime, std::fs::Permissions::from_mode(0o700)).unwrap();
-    }
-    Command::new(env!("CARGO_BIN_EXE_lightpick"))
-        .args(args)
-        .env("XDG_RUNTIME_DIR", &runtime)
-        .output()
-        .expect("run lightpick")
-}
-
-fn ok_json(args: &[&str]) -> serde_json::Value {
-    let out = lightpick(args);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON object")
-}
-
-fn assert_error(args: &[&str], needle: &str) {
-    let out = lightpick(args);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-    let lines: Vec<&str> = stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "{args:?}: {stderr:?}");
-    assert!(
-        lines[0].starts_with("error:") && lines[0].contains(needle),
-        "{stderr:?}"
-    );
-}
+use common::{assert_error, json as ok_json, lightpick, scratch};
 
 fn png_size(path: &Path) -> (u32, u32) {
     let img = image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));

@@ -9,6 +9,7 @@
 //! [`LightpickApp::ui`] draws the whole window into any [`egui::Ui`], so tests drive it with
 //! `egui_kittest` without eframe.
 
+pub mod background;
 pub mod colors;
 pub mod controls_ui;
 pub mod convergence_ui;

@@ -7,14 +7,13 @@
 //! `f32` column pick), so they are computed on a background thread in the app — a second or
 //! so at `10^6` lights — and inline in tests.
 
-use std::sync::{Arc, mpsc};
+use std::sync::Arc;
 
 use egui::Ui;
 use lightpick_core::LightPowers;
 use lightpick_core::precision::{
     ColumnPickStats, PrecisionReport, f32_column_pick, multiply_high_column_pick,
 };
-use lightpick_core::scene::Scene;
 
 use super::colors;
 use super::fractions;
@@ -34,58 +33,7 @@ pub struct PrecisionMeasurement {
 }
 
 /// The panel's measurement: the latest result and the one being computed.
-#[derive(Debug, Default)]
-pub struct PrecisionRun {
-    /// The latest finished measurement.
-    pub result: Option<PrecisionMeasurement>,
-    /// Measure on the caller's thread (tests), else in the background.
-    pub inline: bool,
-    pending: Option<(u64, mpsc::Receiver<PrecisionMeasurement>)>,
-}
-
-impl PrecisionRun {
-    /// Whether a measurement is running.
-    pub fn is_measuring(&self) -> bool {
-        self.pending.is_some()
-    }
-
-    /// Starts measuring the powers of `scene` (generation `generation`) unless that is
-    /// already running.
-    pub fn start(&mut self, generation: u64, scene: &Arc<Scene>) {
-        if self.pending.as_ref().is_some_and(|(g, _)| *g == generation) {
-            return;
-        }
-        if self.inline {
-            self.result = Some(measure(generation, &scene.powers));
-            return;
-        }
-        let (sender, receiver) = mpsc::channel();
-        let scene = Arc::clone(scene);
-        let spawned = std::thread::Builder::new()
-            .name("lightpick-precision".to_owned())
-            .spawn(move || {
-                let _ = sender.send(measure(generation, &scene.powers));
-            });
-        if spawned.is_ok() {
-            self.pending = Some((generation, receiver));
-        }
-    }
-
-    /// Takes a finished background measurement; call once per frame.
-    pub fn poll(&mut self) {
-        let Some((_, receiver)) = &self.pending else {
-            return;
-        };
-        match receiver.try_recv() {
-            Ok(m) => {
-                self.result = Some(m);
-                self.pending = None;
-            }
-            Err(mpsc::TryRecvError::Empty) => {}
-            Err(mpsc::TryRecvError::Disconnected) => self.pending = None,
-        }
-    }
-}
+pub type PrecisionRun = super::background::Background<PrecisionMeasurement>;
 
 /// Every figure of the panel for `powers`.
 pub fn measure(generation: u64, powers: &LightPowers) -> PrecisionMeasurement {
@@ -111,7 +59,11 @@ pub fn precision_ui(ui: &mut Ui, state: &mut AppState) {
     // Small tables are measured as soon as they change; large ones on request.
     if stale && !state.precision.is_measuring() && state.built.len() <= SYNC_BUILD_LIMIT {
         let scene = Arc::clone(&state.built.scene);
-        state.precision.start(generation, &scene);
+        state
+            .precision
+            .start(generation, "lightpick-precision", move |_| {
+                measure(generation, &scene.powers)
+            });
     }
     ui.horizontal(|ui| {
         ui.heading("Precision of the table");
@@ -128,7 +80,11 @@ pub fn precision_ui(ui: &mut Ui, state: &mut AppState) {
             .clicked()
         {
             let scene = Arc::clone(&state.built.scene);
-            state.precision.start(generation, &scene);
+            state
+                .precision
+                .start(generation, "lightpick-precision", move |_| {
+                    measure(generation, &scene.powers)
+                });
         }
         if state.precision.is_measuring() {
             ui.spinner().on_hover_text("Measuring in the background");

@@ -9,8 +9,6 @@
 //! background thread in the app (the window never waits for it, even at `10^6` lights) and
 //! inline with virtual timings in tests (deterministic snapshots).
 
-use std::sync::mpsc;
-
 use egui::Ui;
 use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
 use lightpick_core::Scheme;
@@ -77,58 +75,9 @@ pub struct TradeMeasurement {
     pub rows: Vec<TradeRow>,
 }
 
-/// The panel's measurement: the latest result and the one being computed.
-#[derive(Debug, Default)]
-pub struct TradeRun {
-    /// The latest finished measurement.
-    pub result: Option<TradeMeasurement>,
-    /// Measure on the caller's thread with virtual timings (tests), else in the background.
-    pub inline: bool,
-    pending: Option<(u64, mpsc::Receiver<TradeMeasurement>)>,
-}
-
-impl TradeRun {
-    /// Whether a measurement is running.
-    pub fn is_measuring(&self) -> bool {
-        self.pending.is_some()
-    }
-
-    /// Starts measuring `scene` (generation `generation`) unless that is already running.
-    pub fn start(&mut self, generation: u64, scene: &std::sync::Arc<Scene>) {
-        if self.pending.as_ref().is_some_and(|(g, _)| *g == generation) {
-            return;
-        }
-        if self.inline {
-            self.result = Some(measure(generation, scene, true));
-            return;
-        }
-        let (sender, receiver) = mpsc::channel();
-        let scene = std::sync::Arc::clone(scene);
-        let spawned = std::thread::Builder::new()
-            .name("lightpick-trade".to_owned())
-            .spawn(move || {
-                let _ = sender.send(measure(generation, &scene, false));
-            });
-        if spawned.is_ok() {
-            self.pending = Some((generation, receiver));
-        }
-    }
-
-    /// Takes a finished background measurement; call once per frame.
-    pub fn poll(&mut self) {
-        let Some((_, receiver)) = &self.pending else {
-            return;
-        };
-        match receiver.try_recv() {
-            Ok(m) => {
-                self.result = Some(m);
-                self.pending = None;
-            }
-            Err(mpsc::TryRecvError::Empty) => {}
-            Err(mpsc::TryRecvError::Disconnected) => self.pending = None,
-        }
-    }
-}
+/// The panel's measurement: the latest result and the one being computed (inline mode
+/// uses virtual timings).
+pub type TradeRun = super::background::Background<TradeMeasurement>;
 
 /// The scene at most [`TRADE_SIDE`] pixels a side (same plane extent, coarser pixels).
 fn small_scene(scene: &Scene) -> Scene {
@@ -193,7 +142,11 @@ pub fn trade_ui(ui: &mut Ui, state: &mut AppState) {
     // Small scenes are measured as soon as they change; large ones on request.
     if stale && !state.trade.is_measuring() && state.built.len() <= SYNC_BUILD_LIMIT {
         let scene = std::sync::Arc::clone(&state.built.scene);
-        state.trade.start(generation, &scene);
+        state
+            .trade
+            .start(generation, "lightpick-trade", move |inline| {
+                measure(generation, &scene, inline)
+            });
     }
     ui.horizontal(|ui| {
         ui.heading("Speed against accuracy");
@@ -207,7 +160,11 @@ pub fn trade_ui(ui: &mut Ui, state: &mut AppState) {
             .clicked()
         {
             let scene = std::sync::Arc::clone(&state.built.scene);
-            state.trade.start(generation, &scene);
+            state
+                .trade
+                .start(generation, "lightpick-trade", move |inline| {
+                    measure(generation, &scene, inline)
+                });
         }
         if state.trade.is_measuring() {
             ui.spinner().on_hover_text("Measuring in the background");

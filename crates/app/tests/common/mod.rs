@@ -1,0 +1,61 @@
+//! Helpers shared by the tests of the `lightpick` binary.
+
+#![allow(dead_code, clippy::unwrap_used)] // Each test file uses a subset; a panic is the report.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// A scratch directory unique to this test process.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("lightpick-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs `lightpick args…`. A private runtime dir is set because, without one, Mesa's Vulkan
+/// driver (through libwayland) prints a warning on stderr when a GPU is opened, which would
+/// hide whether lightpick itself kept to one error line.
+pub fn lightpick(args: &[&str]) -> Output {
+    let runtime = scratch("runtime");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt as _;
+        std::fs::set_permissions(&runtime, std::fs::Permissions::from_mode(0o700)).unwrap();
+    }
+    Command::new(env!("CARGO_BIN_EXE_lightpick"))
+        .args(args)
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .output()
+        .expect("run lightpick")
+}
+
+/// Runs a command that must succeed and print one JSON object.
+pub fn json(args: &[&str]) -> serde_json::Value {
+    let out = lightpick(args);
+    assert!(
+        out.status.success(),
+        "{args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
+}
+
+/// Asserts exit code 2 and exactly one stderr line, starting with `error:` and containing
+/// `needle`, and no panic.
+pub fn assert_error(args: &[&str], needle: &str) {
+    let out = lightpick(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(
+        lines.len(),
+        1,
+        "{args:?}: expected one line, got {stderr:?}"
+    );
+    assert!(lines[0].starts_with("error:"), "{stderr}");
+    assert!(
+        stderr.contains(needle),
+        "{args:?}: {stderr:?} lacks {needle:?}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
