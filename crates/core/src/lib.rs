@@ -21,6 +21,7 @@ mod chi_square;
 pub mod draw;
 pub mod fraction;
 pub mod gpu;
+pub mod inspect;
 mod moments;
 mod powers;
 pub mod precision;

@@ -18,6 +18,7 @@ pub mod file_dialog_ui;
 pub mod fractions;
 pub mod gpu_images;
 pub mod histogram_ui;
+pub mod inspector_ui;
 pub mod lights_ui;
 pub mod precision_ui;
 pub mod render_ui;
@@ -120,6 +121,8 @@ pub enum PanelKind {
     Trade,
     /// The precision lab's figures for the current powers.
     Precision,
+    /// The per-pixel inspector (of the pixel selected in `state.inspector`).
+    Inspector,
 }
 
 /// The app: the state, the render engine and the textures of its latest frame.
@@ -320,11 +323,13 @@ impl LightpickApp {
             }
             PanelKind::Trade => trade_ui::trade_ui(ui, &mut self.state),
             PanelKind::Precision => precision_ui::precision_ui(ui, &mut self.state),
+            PanelKind::Inspector => inspector_ui::inspector_ui(ui, &mut self.state),
         });
         self.end_frame(ui, published.as_deref());
     }
 
-    /// The optional windows of the View menu: speed against accuracy, and precision.
+    /// The optional windows: speed against accuracy and precision (View menu), and the pixel
+    /// inspector (a click on an image).
     fn lab_windows(&mut self, ctx: &egui::Context) {
         let mut open = self.state.settings.show_trade;
         egui::Window::new("Speed against accuracy")
@@ -340,6 +345,7 @@ impl LightpickApp {
             .default_pos([20.0, 400.0])
             .show(ctx, |ui| precision_ui::precision_ui(ui, &mut self.state));
         self.state.settings.show_precision = open;
+        inspector_ui::inspector_window(ctx, &mut self.state);
     }
 
     /// Everything a frame does before drawing: background builds, shortcuts, theme, engine

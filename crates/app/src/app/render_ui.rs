@@ -7,6 +7,7 @@ use lightpick_core::Scheme;
 use super::colors;
 use super::engine::{Published, SchemeImage};
 use super::fractions;
+use super::inspector_ui;
 use super::state::{AppState, BudgetMode};
 
 /// The textures of the latest published frame.
@@ -129,8 +130,20 @@ pub fn images_ui(
         },
         |[u, i]| [Some(u), Some(i)],
     );
+    let (width, height) = (published.width, published.height);
+    let dark = state.dark();
+    let inspector = &mut state.inspector;
+    let mut inspect = |ui: &Ui, response: Option<egui::Response>| {
+        let Some(response) = response else { return };
+        if let Some(pixel) = inspector_ui::clicked_pixel(&response, width, height) {
+            inspector.pixel = Some(pixel);
+        }
+        if let Some(pixel) = inspector.pixel {
+            inspector_ui::mark_pixel_ui(ui, response.rect, pixel, width, height, dark);
+        }
+    };
     ui.horizontal_top(|ui| {
-        image_column(
+        let response = image_column(
             ui,
             "Uniform",
             Scheme::Uniform,
@@ -143,7 +156,8 @@ pub fn images_ui(
             },
             size,
         );
-        image_column(
+        inspect(ui, response);
+        let response = image_column(
             ui,
             "Importance (alias)",
             Scheme::Alias,
@@ -156,13 +170,18 @@ pub fn images_ui(
             },
             size,
         );
+        inspect(ui, response);
         if columns == 3
             && let Some(reference) = &textures.reference
         {
             ui.vertical(|ui| {
                 ui.colored_label(colors::reference(), "Reference (exact)");
-                ui.image((reference.id(), size))
-                    .on_hover_text("Exact irradiance: the sum over every light");
+                let response = ui
+                    .add(egui::Image::new((reference.id(), size)).sense(egui::Sense::click()))
+                    .on_hover_text(
+                        "Exact irradiance: the sum over every light. Click a pixel to inspect it",
+                    );
+                inspect(ui, Some(response));
             });
         }
     });
@@ -190,13 +209,16 @@ fn image_column(
     texture: Option<egui::TextureId>,
     error: Option<&TextureHandle>,
     size: egui::Vec2,
-) {
+) -> Option<egui::Response> {
     ui.vertical(|ui| {
         ui.colored_label(colors::scheme(scheme), title);
-        if let Some(t) = texture {
-            ui.image((t, size))
-                .on_hover_text(format!("{title}: progressive estimate, {} spp", image.spp));
-        }
+        let response = texture.map(|t| {
+            ui.add(egui::Image::new((t, size)).sense(egui::Sense::click()))
+                .on_hover_text(format!(
+                    "{title}: progressive estimate, {} spp. Click a pixel to inspect it",
+                    image.spp
+                ))
+        });
         ui.label(format!("spp {}", image.spp))
             .on_hover_text("Samples per pixel accumulated");
         if let Some(rmse) = image.rmse {
@@ -214,5 +236,7 @@ fn image_column(
                 "{title}: |estimate − reference| (brighter = larger)"
             ));
         }
-    });
+        response
+    })
+    .inner
 }

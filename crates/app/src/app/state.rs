@@ -313,6 +313,8 @@ pub struct AppState {
     pub trade: super::trade_ui::TradeRun,
     /// The precision measurement.
     pub precision: super::precision_ui::PrecisionRun,
+    /// The pixel inspector (a clicked pixel of the images).
+    pub inspector: super::inspector_ui::Inspector,
     next_generation: u64,
     pending: Option<PendingBuild>,
     rebuild_queued: bool,
@@ -339,6 +341,7 @@ impl AppState {
             reset_requested: false,
             trade: super::trade_ui::TradeRun::default(),
             precision: super::precision_ui::PrecisionRun::default(),
+            inspector: super::inspector_ui::Inspector::default(),
             next_generation: 2,
             pending: None,
             rebuild_queued: false,

@@ -1,0 +1,304 @@
+//! The per-pixel inspector: click a pixel of either image to see, at that point of the
+//! plane, each light's pick probability under power sampling beside its true share of the
+//! irradiance there, and the variance per sample that follows
+//! (`Var/E² = Σ s_i²/q_i − 1`, see [`lightpick_core::inspect`]).
+
+use egui::{Color32, Rect, Response, Sense, Ui, vec2};
+use egui_plot::{Bar, BarChart, Legend, Plot};
+use lightpick_core::Scheme;
+use lightpick_core::inspect::PointInspection;
+use lightpick_core::scene::pixel_center;
+
+use super::colors;
+use super::fractions;
+use super::state::AppState;
+
+/// Which pixel is inspected, and its inspection for the current scene.
+#[derive(Debug, Default)]
+pub struct Inspector {
+    /// The inspected pixel `(px, py)`, or `None` (the window is closed).
+    pub pixel: Option<[u32; 2]>,
+    cached: Option<Cached>,
+}
+
+#[derive(Debug)]
+struct Cached {
+    generation: u64,
+    pixel: [u32; 2],
+    inspection: PointInspection,
+}
+
+impl Inspector {
+    /// The inspection of the selected pixel for the scene of `state.built`, computed
+    /// (`O(N)`) when the pixel or the scene changed. `None` when no pixel is selected or it
+    /// lies outside the scene's image.
+    fn inspection(
+        &mut self,
+        generation: u64,
+        scene: &lightpick_core::scene::Scene,
+    ) -> Option<&PointInspection> {
+        let pixel = self.pixel?;
+        if pixel[0] >= scene.plane.width || pixel[1] >= scene.plane.height {
+            return None;
+        }
+        let fresh = self
+            .cached
+            .as_ref()
+            .is_some_and(|c| c.generation == generation && c.pixel == pixel);
+        if !fresh {
+            let x = pixel_center(&scene.plane, pixel[0], pixel[1]);
+            self.cached = Some(Cached {
+                generation,
+                pixel,
+                inspection: PointInspection::at(scene, x),
+            });
+        }
+        self.cached.as_ref().map(|c| &c.inspection)
+    }
+}
+
+/// The pixel of a `width × height` image under a click on its `response`, if it was
+/// clicked.
+pub fn clicked_pixel(response: &Response, width: u32, height: u32) -> Option<[u32; 2]> {
+    if !response.clicked() {
+        return None;
+    }
+    let pos = response.interact_pointer_pos()?;
+    let rect = response.rect;
+    let fx = (pos.x - rect.min.x) / rect.width().max(1.0);
+    let fy = (pos.y - rect.min.y) / rect.height().max(1.0);
+    if !(0.0..=1.0).contains(&fx) || !(0.0..=1.0).contains(&fy) {
+        return None;
+    }
+    let to_index = |f: f32, n: u32| ((f * n as f32) as u32).min(n.saturating_sub(1));
+    Some([to_index(fx, width), to_index(fy, height)])
+}
+
+/// Draws a small crosshair on an image shown in `rect` at the inspected pixel.
+pub fn mark_pixel_ui(ui: &Ui, rect: Rect, pixel: [u32; 2], width: u32, height: u32, dark: bool) {
+    if pixel[0] >= width || pixel[1] >= height {
+        return;
+    }
+    let cell = vec2(rect.width() / width as f32, rect.height() / height as f32);
+    let center = rect.min
+        + vec2(
+            (pixel[0] as f32 + 0.5) * cell.x,
+            (pixel[1] as f32 + 0.5) * cell.y,
+        );
+    let arm = 7.0_f32.max(cell.x);
+    let painter = ui.painter_at(rect);
+    for (color, width) in [(Color32::BLACK, 3.0), (colors::foreground(dark), 1.5)] {
+        let stroke = egui::Stroke::new(width, color);
+        painter.line_segment([center - vec2(arm, 0.0), center - vec2(2.0, 0.0)], stroke);
+        painter.line_segment([center + vec2(2.0, 0.0), center + vec2(arm, 0.0)], stroke);
+        painter.line_segment([center - vec2(0.0, arm), center - vec2(0.0, 2.0)], stroke);
+        painter.line_segment([center + vec2(0.0, 2.0), center + vec2(0.0, arm)], stroke);
+    }
+}
+
+/// The inspector window, open while a pixel is selected.
+pub fn inspector_window(ctx: &egui::Context, state: &mut AppState) {
+    if state.inspector.pixel.is_none() {
+        return;
+    }
+    let mut open = true;
+    egui::Window::new("Pixel inspector")
+        .open(&mut open)
+        .default_size([520.0, 560.0])
+        .default_pos([780.0, 420.0])
+        .show(ctx, |ui| inspector_ui(ui, state));
+    if !open {
+        state.inspector.pixel = None;
+    }
+}
+
+/// The inspector's contents: the point, the variance of each scheme there, and the lights'
+/// pick probabilities beside their shares.
+pub fn inspector_ui(ui: &mut Ui, state: &mut AppState) {
+    let dark = state.dark();
+    let built = std::sync::Arc::clone(&state.built);
+    let Some(pixel) = state.inspector.pixel else {
+        ui.label("Click a pixel of either image to inspect it.");
+        return;
+    };
+    let Some(inspection) = state.inspector.inspection(built.generation, &built.scene) else {
+        ui.label("The selected pixel is outside the image; click a pixel of either image.");
+        return;
+    };
+    ui.label(format!(
+        "pixel ({}, {}) · point x = ({}, {}) · exact irradiance E(x) = {}",
+        pixel[0],
+        pixel[1],
+        fractions::short(inspection.x[0]),
+        fractions::short(inspection.x[1]),
+        fractions::short(inspection.irradiance),
+    ))
+    .on_hover_text("E(x) = Σ Φ_i·max(0, cos θ)/(4π r²), summed over every light");
+    if inspection.irradiance <= 0.0 {
+        ui.label("No light reaches this point: every estimate is 0, with no variance.");
+        return;
+    }
+    variance_ui(ui, inspection);
+    ui.add_space(4.0);
+    shares_plot_ui(ui, inspection);
+    ui.add_space(4.0);
+    shares_table_ui(ui, inspection, dark);
+}
+
+/// The variance of uniform, power and ideal picking at the point.
+fn variance_ui(ui: &mut Ui, inspection: &PointInspection) {
+    ui.label("Variance of one sample here: Var/E² = Σ s_i²/q_i − 1 (zero when q = s)")
+        .on_hover_text(
+            "s_i: light i's share of E(x); q_i: the probability that the scheme picks it. \
+             The estimate f_i/q_i is constant (no noise) exactly when q_i = s_i.",
+        );
+    let e2 = inspection.irradiance * inspection.irradiance;
+    let rows = [
+        (
+            "uniform (q = 1/N)",
+            colors::scheme(Scheme::Uniform),
+            inspection.uniform_relative_variance,
+        ),
+        (
+            "power (q = p, alias)",
+            colors::scheme(Scheme::Alias),
+            inspection.power_relative_variance,
+        ),
+        ("ideal (q = s)", colors::reference(), 0.0),
+    ];
+    egui::Grid::new("inspector_variance")
+        .num_columns(4)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.strong("scheme");
+            ui.strong("Var/E²");
+            ui.strong("Var per sample");
+            ui.strong("vs uniform");
+            ui.end_row();
+            for (name, color, relative) in rows {
+                ui.colored_label(color, name);
+                ui.label(fractions::short(relative));
+                ui.label(fractions::short(relative * e2));
+                let ratio = if name.starts_with("uniform") {
+                    "baseline".to_owned()
+                } else if relative > 0.0 {
+                    format!(
+                        "{}× lower",
+                        fractions::short(inspection.uniform_relative_variance / relative)
+                    )
+                } else if inspection.uniform_relative_variance > 0.0 {
+                    "no noise".to_owned()
+                } else {
+                    "—".to_owned()
+                };
+                ui.label(ratio);
+                ui.end_row();
+            }
+        });
+    ui.label(format!(
+        "power sampling is ½Σ|s − p| = {} away from the ideal pmf at this point",
+        fractions::short(inspection.total_variation)
+    ))
+    .on_hover_text("Total variation distance between the shares and the power pmf");
+}
+
+/// Bars: each listed light's power pmf beside its share.
+fn shares_plot_ui(ui: &mut Ui, inspection: &PointInspection) {
+    let width = 0.38;
+    let pmf_color = colors::scheme(Scheme::Alias);
+    let share_color = colors::reference();
+    let bars = |side: f64, value: fn(&lightpick_core::inspect::LightShare) -> f64, color| {
+        inspection
+            .lights
+            .iter()
+            .enumerate()
+            .map(|(k, l)| {
+                Bar::new(k as f64 + 1.0 + side * width / 2.0, value(l))
+                    .width(width)
+                    .fill(color)
+                    .name(format!("light {}", l.index + 1))
+            })
+            .collect::<Vec<_>>()
+    };
+    let labels: Vec<String> = inspection
+        .lights
+        .iter()
+        .map(|l| format!("{}", l.index + 1))
+        .collect();
+    Plot::new("inspector_shares")
+        .legend(Legend::default().position(egui_plot::Corner::RightTop))
+        .show_background(false)
+        .height(170.0)
+        .allow_zoom(false)
+        .allow_drag(false)
+        .allow_scroll(false)
+        .include_y(0.0)
+        .x_axis_label("light (largest share first)")
+        .x_axis_formatter(move |mark, _range| {
+            let k = mark.value.round();
+            if (mark.value - k).abs() < 1e-6 && k >= 1.0 {
+                labels.get(k as usize - 1).cloned().unwrap_or_default()
+            } else {
+                String::new()
+            }
+        })
+        .y_axis_label("probability")
+        .show(ui, |plot_ui| {
+            plot_ui.bar_chart(
+                BarChart::new("pmf p (power)", bars(-1.0, |l| l.pmf, pmf_color)).color(pmf_color),
+            );
+            plot_ui.bar_chart(
+                BarChart::new("share s of E(x)", bars(1.0, |l| l.share, share_color))
+                    .color(share_color),
+            );
+        });
+}
+
+/// The listed lights, one row each, and the rest summed.
+fn shares_table_ui(ui: &mut Ui, inspection: &PointInspection, dark: bool) {
+    egui::ScrollArea::vertical()
+        .max_height(ui.available_height().max(120.0))
+        .show(ui, |ui| {
+            egui::Grid::new("inspector_lights")
+                .num_columns(5)
+                .striped(true)
+                .show(ui, |ui| {
+                    ui.strong("light");
+                    ui.strong("power Φ");
+                    ui.strong("pmf p");
+                    ui.strong("share s");
+                    ui.strong("s / p").on_hover_text(
+                        "Above 1: power sampling picks this light too rarely here \
+                         (its estimate f/p is large); below 1: too often",
+                    );
+                    ui.end_row();
+                    for l in &inspection.lights {
+                        ui.horizontal(|ui| {
+                            let (swatch, _) =
+                                ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
+                            ui.painter()
+                                .rect_filled(swatch, 2.0, colors::light(l.index));
+                            ui.label(format!("{}", l.index + 1));
+                        });
+                        ui.label(fractions::short(l.power));
+                        ui.label(fractions::short(l.pmf));
+                        ui.label(fractions::short(l.share));
+                        ui.label(if l.pmf > 0.0 {
+                            fractions::short(l.share / l.pmf)
+                        } else {
+                            "—".to_owned()
+                        });
+                        ui.end_row();
+                    }
+                    let others = inspection.others;
+                    if others.count > 0 {
+                        ui.colored_label(colors::muted(dark), format!("{} others", others.count));
+                        ui.label("");
+                        ui.label(fractions::short(others.pmf));
+                        ui.label(fractions::short(others.share));
+                        ui.label("");
+                        ui.end_row();
+                    }
+                });
+        });
+}

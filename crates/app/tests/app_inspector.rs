@@ -1,0 +1,162 @@
+//! The per-pixel inspector: a click on an image selects a pixel, and the inspector shows
+//! that point's irradiance, each light's pmf beside its share, and the variance of each
+//! scheme there, equal to the core's [`PointInspection`]; it follows a power change.
+
+use egui::accesskit::Role;
+use egui_kittest::kittest::Queryable as _;
+use egui_kittest::{Harness, SnapshotOptions};
+use lightpick::app::fractions::short;
+use lightpick::app::{LightpickApp, PanelKind};
+use lightpick_core::inspect::PointInspection;
+use lightpick_core::scene::pixel_center;
+
+fn whole_app() -> Harness<'static, LightpickApp> {
+    let mut harness = Harness::builder()
+        .with_size([1560.0, 960.0])
+        .build_ui_state(
+            |ui, app: &mut LightpickApp| app.ui(ui),
+            LightpickApp::for_tests(),
+        );
+    harness.run();
+    harness.state_mut().step();
+    harness.run();
+    harness
+}
+
+/// A primary click at `pos`, queued as a user's hover, press and release.
+fn click_at(harness: &mut Harness<'static, LightpickApp>, pos: egui::Pos2) {
+    harness.hover_at(pos);
+    for pressed in [true, false] {
+        harness.event(egui::Event::PointerButton {
+            pos,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::default(),
+        });
+    }
+    harness.run();
+}
+
+/// The core's inspection of the selected pixel of the app's current scene.
+fn expected(harness: &Harness<'static, LightpickApp>) -> PointInspection {
+    let state = &harness.state().state;
+    let pixel = state.inspector.pixel.expect("a pixel is selected");
+    let scene = &state.built.scene;
+    PointInspection::at(scene, pixel_center(&scene.plane, pixel[0], pixel[1]))
+}
+
+fn shows_containing(harness: &Harness<'static, LightpickApp>, text: &str) -> bool {
+    harness.query_all_by_label_contains(text).next().is_some()
+}
+
+#[test]
+fn clicking_an_image_inspects_that_pixel() {
+    let mut harness = whole_app();
+    assert!(harness.state().state.inspector.pixel.is_none());
+    assert!(harness.query_by_label("Pixel inspector").is_none());
+    // Below the caption of the importance image lies the image itself.
+    let caption = harness.get_by_label("Importance (alias)").rect();
+    click_at(
+        &mut harness,
+        egui::pos2(caption.left() + 60.0, caption.bottom() + 40.0),
+    );
+    let pixel = harness
+        .state()
+        .state
+        .inspector
+        .pixel
+        .expect("the click selected a pixel");
+    let plane = &harness.state().state.built.scene.plane;
+    assert!(pixel[0] < plane.width && pixel[1] < plane.height);
+    assert!(
+        pixel[0] > 0 && pixel[1] > 0,
+        "{pixel:?} should lie inside, off the corner"
+    );
+    harness.get_by_label("Pixel inspector");
+    let inspection = expected(&harness);
+    assert!(inspection.irradiance > 0.0);
+    let header = format!("pixel ({}, {})", pixel[0], pixel[1]);
+    assert!(shows_containing(&harness, &header), "{header} missing");
+    let irradiance = format!("E(x) = {}", short(inspection.irradiance));
+    assert!(
+        shows_containing(&harness, &irradiance),
+        "{irradiance} missing"
+    );
+    for value in [
+        inspection.uniform_relative_variance,
+        inspection.power_relative_variance,
+    ] {
+        assert!(
+            harness.query_all_by_label(&short(value)).next().is_some(),
+            "variance {} missing",
+            short(value)
+        );
+    }
+    // Every light's share is listed (three lights).
+    assert_eq!(inspection.lights.len(), 3);
+    for light in &inspection.lights {
+        assert!(
+            harness
+                .query_all_by_label(&short(light.share))
+                .next()
+                .is_some()
+        );
+    }
+}
+
+#[test]
+fn the_inspection_follows_a_power_change() {
+    let mut harness = whole_app();
+    harness.state_mut().state.inspector.pixel = Some([40, 200]);
+    harness.run();
+    let before = expected(&harness);
+    harness
+        .get_by_role_and_label(Role::SpinButton, "power of light 1")
+        .set_value_accesskit(200.0);
+    harness.run();
+    harness.run();
+    let after = expected(&harness);
+    assert_eq!(
+        harness.state().state.built.scene.powers.as_slice(),
+        &[200.0, 5.0, 20.0]
+    );
+    assert!(after.irradiance > before.irradiance);
+    let irradiance = format!("E(x) = {}", short(after.irradiance));
+    assert!(
+        shows_containing(&harness, &irradiance),
+        "{irradiance} missing"
+    );
+    assert!(!shows_containing(
+        &harness,
+        &format!("E(x) = {}", short(before.irradiance))
+    ));
+}
+
+#[test]
+fn closing_the_window_clears_the_selection() {
+    let mut harness = whole_app();
+    harness.state_mut().state.inspector.pixel = Some([10, 10]);
+    harness.run();
+    harness.get_by_label("Pixel inspector");
+    harness.get_by_label("Close window").click();
+    harness.run();
+    assert!(harness.state().state.inspector.pixel.is_none());
+}
+
+#[test]
+fn inspector_snapshot() {
+    let mut harness = Harness::builder()
+        .with_size([520.0, 560.0])
+        .wgpu()
+        .build_ui_state(
+            |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Inspector),
+            LightpickApp::for_tests(),
+        );
+    harness.state_mut().state.inspector.pixel = Some([64, 170]);
+    harness.run();
+    harness.snapshot_options(
+        "app_inspector",
+        &SnapshotOptions::new()
+            .output_path(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/snapshots")),
+    );
+}
