@@ -443,7 +443,9 @@ impl Walkthrough {
                     join(self.aliases.iter().map(|a| format!("{}", a + 1)), ", "),
                     join(self.aliases.iter().map(u32::to_string), ", ")
                 ),
-                format!("column c = ⌊U1·{n}⌋ + 1; keep light c if U2 < threshold_c, else alias_c"),
+                format!(
+                    "column c = floor(U1·{n}) + 1; keep light c if U2 < threshold_c, else alias_c"
+                ),
             ],
             highlight: Highlight {
                 cells,
@@ -485,10 +487,8 @@ impl Walkthrough {
             formulas.push(format!("= {} = {total}", values.join(" + ")));
         }
         formulas.push(format!(
-            "Φ_{}/ΣΦ = {}/{} = {}   ✓",
+            "same as Φ_{}/ΣΦ = {}",
             j + 1,
-            number(self.powers[j]),
-            number(self.total_power),
             self.fraction(self.pmf[j])
         ));
         let text = if prob.from_aliases.is_empty() {

@@ -4,7 +4,8 @@
 //! with a `*_ui` function over it: [`lights_ui`], [`table_ui`] (table and diagram),
 //! [`histogram_ui`] (sampling), [`render_ui`] (images), [`convergence_ui`], plus
 //! [`trade_ui`] (speed against accuracy) and [`precision_ui`] (optional windows, from the
-//! View menu), [`controls_ui`] (menu, run controls, status bar) and [`file_dialog_ui`]. Progressive
+//! View menu), the classroom's [`walkthrough_ui`] and [`stepper_ui`] (windows too),
+//! [`controls_ui`] (menu, run controls, status bar) and [`file_dialog_ui`]. Progressive
 //! images come from the [`engine`], on a worker thread in the app and inline in tests.
 //! [`LightpickApp::ui`] draws the whole window into any [`egui::Ui`], so tests drive it with
 //! `egui_kittest` without eframe.
@@ -23,8 +24,10 @@ pub mod precision_ui;
 pub mod render_ui;
 pub mod scene_io;
 pub mod state;
+pub mod stepper_ui;
 pub mod table_ui;
 pub mod trade_ui;
+pub mod walkthrough_ui;
 
 use std::path::Path;
 use std::sync::Arc;
@@ -340,6 +343,8 @@ impl LightpickApp {
             .default_pos([20.0, 400.0])
             .show(ctx, |ui| precision_ui::precision_ui(ui, &mut self.state));
         self.state.settings.show_precision = open;
+        walkthrough_ui::walkthrough_window(ctx, &mut self.state);
+        stepper_ui::stepper_window(ctx, &mut self.state);
     }
 
     /// Everything a frame does before drawing: background builds, shortcuts, theme, engine
@@ -350,6 +355,7 @@ impl LightpickApp {
         }
         self.state.frame += 1;
         self.state.poll_build();
+        walkthrough_ui::prepare(&mut self.state);
         self.shortcuts(ctx);
         self.apply_theme(ctx);
         self.advance(ctx);
