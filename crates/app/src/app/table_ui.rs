@@ -19,7 +19,7 @@ const ROW_HEIGHT: f32 = 18.0;
 /// The whole panel: heading, diagram, then the table.
 pub fn table_panel_ui(ui: &mut Ui, state: &mut AppState) {
     let built = std::sync::Arc::clone(&state.built);
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         ui.heading("Alias table");
         ui.label(format!(
             "N = {}   ΣΦ = {}",
