@@ -647,8 +647,15 @@ impl eframe::App for LightpickApp {
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         eframe::set_value(storage, SETTINGS_KEY, &self.state.settings);
-        if self.state.built.len() <= PERSIST_SCENE_LIMIT {
-            storage.set_string(SCENE_KEY, scene_io::to_json(&self.state.built.scene));
+        // While the walkthrough shows the classic scene, the user's own scene is the one kept.
+        let scene = self
+            .state
+            .walkthrough
+            .saved_scene
+            .as_ref()
+            .unwrap_or(&self.state.built.scene);
+        if scene.light_count() <= PERSIST_SCENE_LIMIT {
+            storage.set_string(SCENE_KEY, scene_io::to_json(scene));
         }
     }
 }
