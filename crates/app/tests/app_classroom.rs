@@ -284,10 +284,33 @@ fn stepper_walks_vose_on_the_seed() {
 
     click(&mut h, "Reset stepper");
     assert_eq!(stepper_state(&mut h), (vec![0, 1], vec![2], 0));
-    // Play starts playing (one event per interval; time does not pass between these frames).
+}
+
+#[test]
+fn stepper_play_advances_one_event_per_interval_and_stops_at_the_end() {
+    let mut h = harness();
+    h.get_by_role_and_label(Role::Button, "Construction")
+        .click();
+    h.run();
+    // Each harness step advances egui's clock by kittest's step of 1/4 s: 2 s per event is
+    // 8 steps.
+    h.state_mut().state.stepper.seconds_per_step = 2.0;
     h.get_by_label("Play").click();
     h.step();
     assert!(h.state().state.stepper.playing);
+    assert_eq!(h.state().state.stepper.index, 0);
+    for _ in 0..10 {
+        h.step();
+    }
+    assert_eq!(h.state().state.stepper.index, 1, "one event after 2 s");
+    assert!(h.state().state.stepper.playing);
+    for _ in 0..40 {
+        h.step();
+    }
+    assert_eq!(h.state().state.stepper.index, 3);
+    assert!(!h.state().state.stepper.playing, "playing stops at the end");
+    h.run();
+    h.get_by_label_contains("exactly the Table panel's table.");
 }
 
 #[test]
