@@ -273,7 +273,7 @@ impl AliasTable {
 /// nudges once it passes half an ulp (`q + carry` rounds to a neighbour of `q`). What stays
 /// is at most about four ulps of 1 in total. Small columns (`q < 1`) are never touched, so
 /// the carry can never swamp a small value.
-fn spread_residue(q: &mut [f64], n: f64) {
+pub(crate) fn spread_residue(q: &mut [f64], n: f64) {
     let mut large_mass = 0.0;
     let (total_hi, total_lo) = double_double_sum(q.iter().map(|&x| {
         large_mass += if x >= 1.0 { x } else { 0.0 };
@@ -299,7 +299,7 @@ fn spread_residue(q: &mut [f64], n: f64) {
 /// `Σ x_i` as a double-double `(hi, lo)`: eight independent `TwoSum` lanes (branch-free)
 /// whose compensations are summed plainly; the error is that of adding the compensations,
 /// negligible against one ulp of the total for any `N < 2^32`.
-fn double_double_sum(values: impl Iterator<Item = f64>) -> (f64, f64) {
+pub(crate) fn double_double_sum(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let mut hi = [0.0f64; 8];
     let mut lo = [0.0f64; 8];
     for (i, x) in values.enumerate() {
@@ -393,7 +393,7 @@ fn pair_columns(q: &mut [f64], alias: &mut [u32]) {
 
 /// Knuth's `TwoSum`: `a + b = s + e` exactly, `s = fl(a + b)`.
 #[inline]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
+pub(crate) fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let bb = s - a;
     (s, (a - (s - bb)) + (b - bb))
@@ -401,7 +401,7 @@ fn two_sum(a: f64, b: f64) -> (f64, f64) {
 
 /// The next column at or after `*cursor` with `q < 1`; the cursor moves past it.
 #[inline]
-fn next_small(q: &[f64], cursor: &mut usize) -> Option<usize> {
+pub(crate) fn next_small(q: &[f64], cursor: &mut usize) -> Option<usize> {
     let found = q[*cursor..].iter().position(|&x| x < 1.0)? + *cursor;
     *cursor = found + 1;
     Some(found)
@@ -409,7 +409,7 @@ fn next_small(q: &[f64], cursor: &mut usize) -> Option<usize> {
 
 /// The next column at or after `*cursor` with `q ≥ 1`; the cursor moves past it.
 #[inline]
-fn next_large(q: &[f64], cursor: &mut usize) -> Option<usize> {
+pub(crate) fn next_large(q: &[f64], cursor: &mut usize) -> Option<usize> {
     let found = q[*cursor..].iter().position(|&x| x >= 1.0)? + *cursor;
     *cursor = found + 1;
     Some(found)

@@ -11,6 +11,8 @@
 //!   Olano 2020) that the CPU and the WGSL shaders both implement.
 //! * [`Welford`], [`analytic_moments`] and [`chi_square`] measure estimators and samplers.
 //! * [`precision`] measures what each numerical choice of the alias table costs.
+//! * [`walkthrough`] and [`construction`] hold the classroom's material: the classic
+//!   explanation's steps with live numbers, and Vose's construction recorded step by step.
 //! * [`draw`] renders the diagrams, plots and image sheets headless (tiny-skia → PNG).
 //!
 //! Nothing here depends on a UI toolkit.
@@ -18,6 +20,7 @@
 mod alias;
 mod cdf;
 mod chi_square;
+pub mod construction;
 pub mod draw;
 pub mod fraction;
 pub mod gpu;
@@ -31,6 +34,7 @@ mod sampler;
 pub mod scene;
 mod seed_example;
 mod uniform;
+pub mod walkthrough;
 mod welford;
 
 pub use alias::{AliasTable, PackedAliasEntry};

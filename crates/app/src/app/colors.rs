@@ -96,3 +96,21 @@ pub fn error_ramp(t: f64) -> [u8; 3] {
     };
     [c.r(), c.g(), c.b()]
 }
+
+/// The classroom highlight (walkthrough cells and columns, the stepper's current pairing):
+/// a bright yellow on dark backgrounds, a deep magenta on light ones, distinct from the first
+/// light colours and readable on a projector.
+pub fn highlight(dark: bool) -> Color32 {
+    if dark {
+        Color32::from_rgb(0xFF, 0xE1, 0x4D)
+    } else {
+        Color32::from_rgb(0xC2, 0x18, 0x5B)
+    }
+}
+
+/// A veil over what a classroom step does not talk about: the panel background, mostly
+/// opaque, so highlighted columns stand out.
+pub fn dim(dark: bool) -> Color32 {
+    let c = theme(dark).background;
+    to_color32(c).gamma_multiply(0.62)
+}

@@ -51,6 +51,13 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
                 .on_hover_text(
                     "What f32, one random or an f32 column pick would cost on these powers",
                 );
+            ui.separator();
+            ui.checkbox(&mut state.settings.show_walkthrough, "Walkthrough")
+                .on_hover_text(
+                    "The classic explanation (lights 2, 5, 20) step by step on the live table",
+                );
+            ui.checkbox(&mut state.settings.show_stepper, "Construction stepper")
+                .on_hover_text("Vose's algorithm building the alias table, one pairing at a time");
         });
         ui.separator();
         controls_ui(ui, state);

@@ -4,7 +4,9 @@
 //! with a `*_ui` function over it: [`lights_ui`], [`table_ui`] (table and diagram),
 //! [`histogram_ui`] (sampling), [`render_ui`] (images), [`convergence_ui`], plus
 //! [`trade_ui`] (speed against accuracy) and [`precision_ui`] (optional windows, from the
-//! View menu), [`controls_ui`] (menu, run controls, status bar) and [`file_dialog_ui`]. Progressive
+//! View menu), the classroom's [`walkthrough_ui`] and [`stepper_ui`] (windows too), the
+//! [`inspector_ui`] (a window opened by clicking a pixel of an image),
+//! [`controls_ui`] (menu, run controls, status bar) and [`file_dialog_ui`]. Progressive
 //! images come from the [`engine`], on a worker thread in the app and inline in tests.
 //! [`LightpickApp::ui`] draws the whole window into any [`egui::Ui`], so tests drive it with
 //! `egui_kittest` without eframe.
@@ -24,8 +26,10 @@ pub mod precision_ui;
 pub mod render_ui;
 pub mod scene_io;
 pub mod state;
+pub mod stepper_ui;
 pub mod table_ui;
 pub mod trade_ui;
+pub mod walkthrough_ui;
 
 use std::path::Path;
 use std::sync::Arc;
@@ -346,6 +350,8 @@ impl LightpickApp {
             .show(ctx, |ui| precision_ui::precision_ui(ui, &mut self.state));
         self.state.settings.show_precision = open;
         inspector_ui::inspector_window(ctx, &mut self.state);
+        walkthrough_ui::walkthrough_window(ctx, &mut self.state);
+        stepper_ui::stepper_window(ctx, &mut self.state);
     }
 
     /// Everything a frame does before drawing: background builds, shortcuts, theme, engine
@@ -356,6 +362,7 @@ impl LightpickApp {
         }
         self.state.frame += 1;
         self.state.poll_build();
+        walkthrough_ui::prepare(&mut self.state);
         self.shortcuts(ctx);
         self.apply_theme(ctx);
         self.advance(ctx);
@@ -647,8 +654,15 @@ impl eframe::App for LightpickApp {
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         eframe::set_value(storage, SETTINGS_KEY, &self.state.settings);
-        if self.state.built.len() <= PERSIST_SCENE_LIMIT {
-            storage.set_string(SCENE_KEY, scene_io::to_json(&self.state.built.scene));
+        // While the walkthrough shows the classic scene, the user's own scene is the one kept.
+        let scene = self
+            .state
+            .walkthrough
+            .saved_scene
+            .as_ref()
+            .unwrap_or(&self.state.built.scene);
+        if scene.light_count() <= PERSIST_SCENE_LIMIT {
+            storage.set_string(SCENE_KEY, scene_io::to_json(scene));
         }
     }
 }

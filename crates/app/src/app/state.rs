@@ -85,6 +85,10 @@ pub struct Settings {
     pub show_trade: bool,
     /// Show the precision window.
     pub show_precision: bool,
+    /// Show the classroom walkthrough window.
+    pub show_walkthrough: bool,
+    /// Show the construction stepper window.
+    pub show_stepper: bool,
 }
 
 impl Default for Settings {
@@ -106,6 +110,8 @@ impl Default for Settings {
             dark: true,
             show_trade: false,
             show_precision: false,
+            show_walkthrough: false,
+            show_stepper: false,
         }
     }
 }
@@ -315,6 +321,12 @@ pub struct AppState {
     pub precision: super::precision_ui::PrecisionRun,
     /// The pixel inspector (a clicked pixel of the images).
     pub inspector: super::inspector_ui::Inspector,
+    /// The classroom walkthrough (step, saved scene).
+    pub walkthrough: super::walkthrough_ui::WalkthroughState,
+    /// The construction stepper (trace, position, playback).
+    pub stepper: super::stepper_ui::StepperState,
+    /// What the table and its diagram highlight this frame (set by the walkthrough).
+    pub table_highlight: Option<lightpick_core::walkthrough::Highlight>,
     next_generation: u64,
     pending: Option<PendingBuild>,
     rebuild_queued: bool,
@@ -342,6 +354,9 @@ impl AppState {
             trade: super::trade_ui::TradeRun::default(),
             precision: super::precision_ui::PrecisionRun::default(),
             inspector: super::inspector_ui::Inspector::default(),
+            walkthrough: super::walkthrough_ui::WalkthroughState::default(),
+            stepper: super::stepper_ui::StepperState::default(),
+            table_highlight: None,
             next_generation: 2,
             pending: None,
             rebuild_queued: false,

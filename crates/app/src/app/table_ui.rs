@@ -4,6 +4,8 @@
 
 use egui::{Align2, FontId, Rect, Sense, Stroke, StrokeKind, Ui, Vec2, pos2, vec2};
 
+use lightpick_core::walkthrough::{ColumnPart, Highlight, TableField};
+
 use super::colors;
 use super::fractions;
 use super::state::{AppState, OneDraw};
@@ -17,7 +19,7 @@ const ROW_HEIGHT: f32 = 18.0;
 /// The whole panel: heading, diagram, then the table.
 pub fn table_panel_ui(ui: &mut Ui, state: &mut AppState) {
     let built = std::sync::Arc::clone(&state.built);
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         ui.heading("Alias table");
         ui.label(format!(
             "N = {}   ΣΦ = {}",
@@ -29,6 +31,10 @@ pub fn table_panel_ui(ui: &mut Ui, state: &mut AppState) {
             ui.spinner();
             ui.label("rebuilding…");
         }
+        ui.toggle_value(&mut state.settings.show_walkthrough, "Walkthrough")
+            .on_hover_text("The classic explanation (lights 2, 5, 20) step by step");
+        ui.toggle_value(&mut state.settings.show_stepper, "Construction")
+            .on_hover_text("Watch Vose's algorithm build this table, one pairing at a time");
     });
     diagram_ui(ui, state, None);
     ui.add_space(4.0);
@@ -43,6 +49,7 @@ pub fn table_ui(ui: &mut Ui, state: &AppState) {
     let pmf = built.table.pmf_slice();
     let thresholds = built.table.thresholds();
     let aliases = built.table.aliases();
+    let highlight = state.table_highlight.as_ref();
     let widths = [44.0, 90.0, 90.0, 90.0, 54.0];
     let header = ["i", "power Φ", "pmf p", "threshold", "alias"];
     let tips = [
@@ -77,27 +84,87 @@ pub fn table_ui(ui: &mut Ui, state: &AppState) {
                         [widths[0] - 14.0, ROW_HEIGHT],
                         egui::Label::new(format!("{}", i + 1)),
                     );
-                    ui.add_sized(
+                    let power = ui.add_sized(
                         [widths[1], ROW_HEIGHT],
                         egui::Label::new(fractions::short(powers[i])),
                     );
-                    ui.add_sized(
-                        [widths[2], ROW_HEIGHT],
-                        egui::Label::new(fractions::show(pmf[i], den)),
-                    )
-                    .on_hover_text(format!("p = {:.12}", pmf[i]));
-                    ui.add_sized(
-                        [widths[3], ROW_HEIGHT],
-                        egui::Label::new(fractions::show(thresholds[i], den)),
-                    )
-                    .on_hover_text(format!("threshold = {:.12}", thresholds[i]));
-                    ui.add_sized(
+                    mark_cell(ui, highlight, i, TableField::Power, power.rect);
+                    let p = ui
+                        .add_sized(
+                            [widths[2], ROW_HEIGHT],
+                            egui::Label::new(fractions::show(pmf[i], den)),
+                        )
+                        .on_hover_text(format!("p = {:.12}", pmf[i]));
+                    mark_cell(ui, highlight, i, TableField::Pmf, p.rect);
+                    let t = ui
+                        .add_sized(
+                            [widths[3], ROW_HEIGHT],
+                            egui::Label::new(fractions::show(thresholds[i], den)),
+                        )
+                        .on_hover_text(format!("threshold = {:.12}", thresholds[i]));
+                    mark_cell(ui, highlight, i, TableField::Threshold, t.rect);
+                    let a = ui.add_sized(
                         [widths[4], ROW_HEIGHT],
                         egui::Label::new(format!("{}", aliases[i] + 1)),
                     );
+                    mark_cell(ui, highlight, i, TableField::Alias, a.rect);
                 });
             }
         });
+}
+
+/// Outlines a table cell the walkthrough's current step talks about.
+fn mark_cell(ui: &Ui, highlight: Option<&Highlight>, row: usize, field: TableField, rect: Rect) {
+    if highlight.is_some_and(|h| h.has_cell(row, field)) {
+        let color = colors::highlight(ui.visuals().dark_mode);
+        ui.painter().rect_stroke(
+            rect.shrink2(vec2(8.0, 0.0)),
+            3.0,
+            Stroke::new(2.5, color),
+            StrokeKind::Inside,
+        );
+    }
+}
+
+/// Outlines the parts of diagram column `i` the walkthrough's current step talks about, and
+/// veils the column when the step points at other columns only.
+#[allow(clippy::too_many_arguments)] // The column's geometry, as the diagram computed it.
+fn mark_column(
+    painter: &egui::Painter,
+    highlight: &Highlight,
+    i: usize,
+    x: (f32, f32),
+    split: f32,
+    top: f32,
+    bottom: f32,
+    dark: bool,
+) {
+    if highlight.columns.is_empty() {
+        return;
+    }
+    let (x0, x1) = x;
+    let mut any = false;
+    for part in highlight.parts(i) {
+        any = true;
+        let (y0, y1) = match part {
+            ColumnPart::Whole => (top, bottom),
+            ColumnPart::Own => (split, bottom),
+            ColumnPart::Alias => (top, split),
+        };
+        painter.rect_stroke(
+            Rect::from_min_max(pos2(x0, y0), pos2(x1, y1)),
+            0.0,
+            Stroke::new(3.5, colors::highlight(dark)),
+            StrokeKind::Inside,
+        );
+    }
+    if !any {
+        painter.rect_filled(
+            Rect::from_min_max(pos2(x0, top), pos2(x1, bottom)),
+            0.0,
+            colors::dim(dark),
+        );
+    }
 }
 
 /// The sentence that explains column `i`, in the seed example's words: "column 1 keeps
@@ -216,6 +283,18 @@ pub fn diagram_ui(ui: &mut Ui, state: &mut AppState, height: Option<f32>) {
         // Ghost of the original pmf bar this column's light had.
         let ghost = Rect::from_min_max(pos2(x0, y_of(pmf[i])), pos2(x1, plot.bottom()));
         painter.rect_stroke(ghost, 0.0, Stroke::new(1.0, muted), StrokeKind::Middle);
+        if let Some(h) = &state.table_highlight {
+            mark_column(
+                &painter,
+                h,
+                i,
+                (x0, x1),
+                split,
+                y_of(avg),
+                plot.bottom(),
+                dark,
+            );
+        }
         // Column label.
         if col_w > 14.0 || k % (shown / 16).max(1) == 0 {
             painter.text(

@@ -1,0 +1,225 @@
+//! The classroom walkthrough: the classic explanation of power-based light picking, retold
+//! step by step on the live table ([`lightpick_core::walkthrough`] holds the steps and
+//! their numbers).
+//!
+//! The window shows one step at a time (Back / Next, or Page Up / Page Down as a presenter
+//! remote sends them), its formulas with the current powers, and sets
+//! [`AppState::table_highlight`] so the table panel outlines the cells and diagram columns
+//! the step talks about. The classic has three lights: with another count the window
+//! offers to load the seed scene (2, 5, 20), keeps the user's scene and restores it when the
+//! walkthrough closes (or on request; "Keep the classic scene" forgets it).
+
+use std::sync::Arc;
+
+use egui::{Key, Modifiers, RichText, Ui};
+use lightpick_core::scene::Scene;
+use lightpick_core::walkthrough::{CLASSIC_GEOMETRY, CLASSIC_POWERS, WalkStep, Walkthrough};
+
+use super::scene_io;
+use super::state::{AppState, MessageKind};
+
+/// The walkthrough retells the classic explanation, which has exactly this many lights.
+pub const WALKTHROUGH_LIGHTS: usize = 3;
+
+/// Text size of the formulas: readable from the back of a classroom.
+pub const FORMULA_SIZE: f32 = 19.0;
+
+/// The walkthrough of the current powers and its steps.
+pub type Lesson = Arc<(Walkthrough, Vec<WalkStep>)>;
+
+/// The walkthrough's own state (in [`AppState::walkthrough`]).
+#[derive(Default)]
+pub struct WalkthroughState {
+    /// The current step (0-based).
+    pub step: usize,
+    /// The user's scene, kept while the classic scene is shown; restored on close.
+    pub saved_scene: Option<Scene>,
+    cache: Option<(u64, Lesson)>,
+    was_open: bool,
+}
+
+/// Once per frame, before the panels: restores the user's scene when the walkthrough was
+/// just closed, and sets the table highlight of the current step (or clears it).
+pub fn prepare(state: &mut AppState) {
+    let open = state.settings.show_walkthrough;
+    if state.walkthrough.was_open && !open {
+        restore_scene(state);
+    }
+    state.walkthrough.was_open = open;
+    state.table_highlight = None;
+    if let Some(walk) = current(state) {
+        let k = state.walkthrough.step.min(walk.1.len() - 1);
+        state.walkthrough.step = k;
+        state.table_highlight = Some(walk.1[k].highlight.clone());
+    }
+}
+
+/// The walkthrough of the current powers (cached per table generation), `None` when the
+/// window is closed or the scene does not have three lights.
+pub fn current(state: &mut AppState) -> Option<Lesson> {
+    if !state.settings.show_walkthrough || state.built.len() != WALKTHROUGH_LIGHTS {
+        return None;
+    }
+    let generation = state.built.generation;
+    if let Some((g, walk)) = &state.walkthrough.cache
+        && *g == generation
+    {
+        return Some(Arc::clone(walk));
+    }
+    let walk = Walkthrough::new(&state.built.scene.powers, &CLASSIC_GEOMETRY);
+    let steps = walk.steps();
+    let walk = Arc::new((walk, steps));
+    state.walkthrough.cache = Some((generation, Arc::clone(&walk)));
+    Some(walk)
+}
+
+/// The Walkthrough window (View menu, or the table panel's button).
+pub fn walkthrough_window(ctx: &egui::Context, state: &mut AppState) {
+    let mut open = state.settings.show_walkthrough;
+    egui::Window::new("Walkthrough")
+        .open(&mut open)
+        .default_pos([right_edge(ctx) - 540.0, 40.0])
+        .default_width(520.0)
+        .show(ctx, |ui| walkthrough_ui(ui, state));
+    state.settings.show_walkthrough = open;
+}
+
+/// Where the classroom windows open: their right edge near the window's right edge, over
+/// the Images panel, so the table and its diagram stay visible.
+pub fn right_edge(ctx: &egui::Context) -> f32 {
+    ctx.content_rect().right() - 12.0
+}
+
+/// The window's content: the current step, or the offer to load the classic scene.
+pub fn walkthrough_ui(ui: &mut Ui, state: &mut AppState) {
+    let Some(walk) = current(state) else {
+        ui.label(format!(
+            "The walkthrough retells the classic explanation, which has {WALKTHROUGH_LIGHTS} \
+             lights; this scene has {}.",
+            state.built.len()
+        ));
+        if ui
+            .button("Load the classic scene (2, 5, 20)")
+            .on_hover_text(
+                "Show the classic three lights; your scene is kept and comes back when the \
+                 walkthrough closes",
+            )
+            .clicked()
+        {
+            load_classic(state);
+        }
+        saved_scene_ui(ui, state);
+        return;
+    };
+    let (w, steps) = (&walk.0, &walk.1);
+    let total = steps.len();
+    let k = state.walkthrough.step.min(total - 1);
+    let step = &steps[k];
+    let next_key = ui.input_mut(|i| i.consume_key(Modifiers::NONE, Key::PageDown));
+    let back_key = ui.input_mut(|i| i.consume_key(Modifiers::NONE, Key::PageUp));
+    ui.horizontal(|ui| {
+        let back = ui
+            .add_enabled(k > 0, egui::Button::new(RichText::new("← Back").size(16.0)))
+            .on_hover_text("Previous step (Page Up)");
+        if (back.clicked() || back_key) && k > 0 {
+            state.walkthrough.step = k - 1;
+        }
+        ui.label(RichText::new(format!("Step {} of {total}", k + 1)).size(16.0))
+            .on_hover_text("Where we are in the classic explanation");
+        let next = ui
+            .add_enabled(
+                k + 1 < total,
+                egui::Button::new(RichText::new("Next →").size(16.0)),
+            )
+            .on_hover_text("Next step (Page Down)");
+        if (next.clicked() || next_key) && k + 1 < total {
+            state.walkthrough.step = k + 1;
+        }
+    });
+    ui.add_space(4.0);
+    ui.label(RichText::new(&step.title).size(22.0).strong());
+    ui.label(RichText::new(&step.text).size(15.0));
+    ui.separator();
+    for formula in &step.formulas {
+        ui.label(RichText::new(formula).size(FORMULA_SIZE).strong());
+    }
+    ui.separator();
+    ui.label(
+        RichText::new(format!(
+            "g = {} stay with their lights: change a power (Lights panel) and every number \
+             follows, f = g·Φ.",
+            CLASSIC_GEOMETRY
+                .map(lightpick_core::walkthrough::number)
+                .join(", ")
+        ))
+        .size(13.0),
+    )
+    .on_hover_text("The geometry factor g: distance and angle from the light to the point");
+    let classic = w.powers.as_slice() == CLASSIC_POWERS.as_slice();
+    if !classic
+        && state.walkthrough.saved_scene.is_none()
+        && ui
+            .button("Classic powers 2, 5, 20")
+            .on_hover_text("Load the classic scene; yours comes back when the walkthrough closes")
+            .clicked()
+    {
+        load_classic(state);
+    }
+    saved_scene_ui(ui, state);
+}
+
+/// While the user's scene is kept: say so, and offer to restore it now or forget it.
+fn saved_scene_ui(ui: &mut Ui, state: &mut AppState) {
+    let Some(saved) = &state.walkthrough.saved_scene else {
+        return;
+    };
+    let note = format!(
+        "Your scene \"{}\" ({} lights) comes back when the walkthrough closes.",
+        saved.name,
+        saved.light_count()
+    );
+    ui.label(RichText::new(note).size(13.0));
+    ui.horizontal(|ui| {
+        if ui
+            .button("Restore my scene")
+            .on_hover_text("Bring your scene back now")
+            .clicked()
+        {
+            restore_scene(state);
+        }
+        if ui
+            .button("Keep the classic scene")
+            .on_hover_text("Forget your previous scene and keep working on the classic one")
+            .clicked()
+        {
+            state.walkthrough.saved_scene = None;
+        }
+    });
+}
+
+/// Loads the seed scene (2, 5, 20), keeping the user's scene for later.
+pub fn load_classic(state: &mut AppState) {
+    if state.walkthrough.saved_scene.is_none() {
+        state.walkthrough.saved_scene = Some((*state.built.scene).clone());
+    }
+    state.load_scene(scene_io::seed_scene());
+    state.walkthrough.step = 0;
+    state.message(
+        "classic scene loaded (powers 2, 5, 20); your scene comes back when the walkthrough \
+         closes",
+        MessageKind::Info,
+    );
+}
+
+/// Puts the kept scene back, if any.
+pub fn restore_scene(state: &mut AppState) {
+    if let Some(scene) = state.walkthrough.saved_scene.take() {
+        let text = format!(
+            "restored your scene \"{}\" ({} lights)",
+            scene.name,
+            scene.light_count()
+        );
+        state.load_scene(scene);
+        state.message(text, MessageKind::Success);
+    }
+}
