@@ -51,6 +51,10 @@ fn images_panel() {
         published.importance.rmse.expect("rmse"),
     );
     assert!(a < u, "importance RMSE {a} vs uniform {u}");
+    // Three lights: the spatial image is the exact contribution pick, exact up to rounding.
+    assert_eq!(published.spatial.spp, 64);
+    let s = published.spatial.rmse.expect("rmse");
+    assert!(s <= 1e-12 * a, "spatial RMSE {s}");
     harness.snapshot_options("app_images", &options());
 }
 

@@ -65,7 +65,7 @@ fn trade_panel_lists_every_scheme_after_measuring() {
         .clone()
         .expect("a measurement");
     assert_eq!(m.generation, harness.state().state.built.generation);
-    assert_eq!(m.rows.len(), 4);
+    assert_eq!(m.rows.len(), TRADE_SCHEMES.len());
     let row = |s| {
         m.rows
             .iter()
@@ -79,6 +79,13 @@ fn trade_panel_lists_every_scheme_after_measuring() {
     assert!(
         alias.efficiency > uniform.efficiency,
         "alias {alias:?} vs uniform {uniform:?}"
+    );
+    // Three lights: the spatial scheme is the exact contribution pick, zero variance up
+    // to rounding.
+    let spatial = row(lightpick_core::Scheme::Spatial).efficiency;
+    assert!(
+        spatial.variance_per_sample <= 1e-12 * uniform.variance_per_sample,
+        "spatial {spatial:?}"
     );
     for r in &m.rows {
         assert_eq!(r.series.last().map(|p| p.spp), Some(64));

@@ -13,6 +13,8 @@
 //! * [`precision`] measures what each numerical choice of the alias table costs.
 //! * [`walkthrough`] and [`construction`] hold the classroom's material: the classic
 //!   explanation's steps with live numbers, and Vose's construction recorded step by step.
+//! * [`spatial`] picks lights by their contribution at a shading point (exact for few
+//!   lights, a light tree for many): the render-only scheme [`Scheme::Spatial`].
 //! * [`draw`] renders the diagrams, plots and image sheets headless (tiny-skia → PNG).
 //!
 //! Nothing here depends on a UI toolkit.
@@ -33,6 +35,7 @@ mod rng;
 mod sampler;
 pub mod scene;
 mod seed_example;
+pub mod spatial;
 mod uniform;
 pub mod walkthrough;
 mod welford;
@@ -43,7 +46,7 @@ pub use chi_square::{ChiSquare, chi_square};
 pub use moments::{EstimatorMoments, analytic_moments};
 pub use powers::{LightPowers, PowersError};
 pub use rng::{Rng, pcg_hash, unit_f64};
-pub use sampler::{LightSampler, Pick, Sampler, Scheme, UnknownScheme};
+pub use sampler::{LightSampler, NeedsShadingPoint, Pick, Sampler, Scheme, UnknownScheme};
 pub use seed_example::SeedExample;
 pub use uniform::{Uniform, rejection_threshold};
 pub use welford::Welford;

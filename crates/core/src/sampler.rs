@@ -45,15 +45,23 @@ pub enum Scheme {
     AliasOneRandom,
     /// Power-proportional, inverse CDF by binary search.
     Cdf,
+    /// Contribution-aware, render only: at each shading point `x`, `P(i | x) ∝ p_i·G_i(x)`
+    /// exactly for few lights, or a light-tree descent for many ([`crate::spatial`]). It needs
+    /// a shading point, so it has no [`Sampler`] and is not in [`Scheme::ALL`]; `sample` and
+    /// `estimate` refuse it ([`Scheme::needs_shading_point`]).
+    Spatial,
 }
 
 /// A scheme name that is not one of [`Scheme::ALL`].
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown scheme '{0}' (expected uniform, alias (or power), alias-one-random, cdf)")]
+#[error(
+    "unknown scheme '{0}' (expected uniform, alias (or power), alias-one-random, cdf, spatial)"
+)]
 pub struct UnknownScheme(pub String);
 
 impl Scheme {
-    /// Every scheme, in display order.
+    /// Every scheme that picks lights without a shading point (all but [`Scheme::Spatial`]),
+    /// in display order: the schemes a [`Sampler`] realizes.
     pub const ALL: [Scheme; 4] = [
         Scheme::Uniform,
         Scheme::Alias,
@@ -68,12 +76,19 @@ impl Scheme {
             Scheme::Alias => "alias",
             Scheme::AliasOneRandom => "alias-one-random",
             Scheme::Cdf => "cdf",
+            Scheme::Spatial => "spatial",
         }
+    }
+
+    /// Whether the scheme picks by contribution at a shading point ([`Scheme::Spatial`]):
+    /// renderers support it, the point-free `sample`/`estimate` and [`Sampler`] do not.
+    pub fn needs_shading_point(self) -> bool {
+        matches!(self, Scheme::Spatial)
     }
 
     /// Whether the scheme picks lights in proportion to their power.
     pub fn is_power_proportional(self) -> bool {
-        !matches!(self, Scheme::Uniform)
+        !matches!(self, Scheme::Uniform | Scheme::Spatial)
     }
 }
 
@@ -93,10 +108,20 @@ impl std::str::FromStr for Scheme {
             "alias" | "power" => Ok(Scheme::Alias),
             "alias-one-random" | "alias1" => Ok(Scheme::AliasOneRandom),
             "cdf" => Ok(Scheme::Cdf),
+            "spatial" => Ok(Scheme::Spatial),
             other => Err(UnknownScheme(other.to_owned())),
         }
     }
 }
+
+/// A scheme that picks by contribution at a shading point, asked for where there is none.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "scheme '{0}' picks lights by their contribution at a shading point; it renders \
+     (render, bench, the app) but cannot sample or estimate without a point \
+     (use uniform, alias, alias-one-random or cdf)"
+)]
+pub struct NeedsShadingPoint(pub Scheme);
 
 /// A built sampler of one [`Scheme`].
 #[derive(Clone, Debug, PartialEq)]
@@ -113,13 +138,27 @@ pub enum Sampler {
 
 impl Sampler {
     /// Builds the sampler for `scheme` over `powers` (`O(N)`).
+    ///
+    /// # Panics
+    /// For [`Scheme::Spatial`], which needs a shading point and the light positions (see
+    /// [`crate::spatial::SpatialSampler`]); check [`Scheme::needs_shading_point`] first, or use
+    /// [`Sampler::try_build`].
     pub fn build(scheme: Scheme, powers: &LightPowers) -> Self {
-        match scheme {
+        match Self::try_build(scheme, powers) {
+            Ok(sampler) => sampler,
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    /// [`Sampler::build`], refusing [`Scheme::Spatial`] with [`NeedsShadingPoint`].
+    pub fn try_build(scheme: Scheme, powers: &LightPowers) -> Result<Self, NeedsShadingPoint> {
+        Ok(match scheme {
             Scheme::Uniform => Sampler::Uniform(Uniform::new(powers.len() as u32)),
             Scheme::Alias => Sampler::Alias(AliasTable::build(powers)),
             Scheme::AliasOneRandom => Sampler::AliasOneRandom(AliasTable::build(powers)),
             Scheme::Cdf => Sampler::Cdf(CdfTable::build(powers)),
-        }
+            Scheme::Spatial => return Err(NeedsShadingPoint(scheme)),
+        })
     }
 
     /// The scheme this sampler realizes.

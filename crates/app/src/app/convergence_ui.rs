@@ -1,15 +1,23 @@
 //! The convergence panel: log-log RMSE against samples per pixel and against seconds for
-//! both schemes, the `−1/2` slope of Monte Carlo convergence, efficiency `1/(Var·T)` and the
-//! speed-up of importance sampling over uniform selection.
+//! the three schemes (uniform, importance, spatial), the `−1/2` slope of Monte Carlo
+//! convergence, efficiency `1/(Var·T)` and the speed-ups of importance and spatial sampling
+//! over uniform selection. The exact spatial pick (few lights) has zero variance: its RMSE
+//! is rounding only, its efficiency infinite (shown as "∞").
 
 use egui::Ui;
 use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints};
 use lightpick_core::Scheme;
 
 use super::colors;
-use super::engine::{ConvergencePoint, Published};
+use super::engine::{ConvergencePoint, Published, SchemeImage};
 use super::fractions;
 use super::state::AppState;
+
+/// A variance below this fraction of the uniform scheme's is the rounding of a zero-variance
+/// estimator (the exact spatial pick): `Σê² − (Σê)²/n` cancels to about `10^-16` relative in
+/// `f64`. Such a scheme is shown with an infinite efficiency and left off the plot, whose
+/// log axis it would otherwise stretch over sixteen decades.
+pub(crate) const ZERO_VARIANCE_RTOL: f64 = 1e-12;
 
 /// Which x axis the plot uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -41,9 +49,10 @@ pub fn convergence_ui(
     let pixels = published.width as usize * published.height as usize;
     let u = &published.uniform;
     let a = &published.importance;
+    let sp = &published.spatial;
     ui.horizontal_wrapped(|ui| {
-        for (name, image) in [("uniform", u), ("importance", a)] {
-            let eff = image.efficiency(pixels).map_or("–".to_owned(), fractions::short);
+        for (name, image) in [("uniform", u), ("importance", a), ("spatial", sp)] {
+            let eff = efficiency_text(image, u, pixels);
             ui.label(format!(
                 "{name}: Var/sample {} · T/sample {} s · efficiency 1/(Var·T) {eff}",
                 fractions::short(image.variance),
@@ -52,23 +61,13 @@ pub fn convergence_ui(
             .on_hover_text("Mean per-pixel variance of one sample, time per pixel sample, and their inverse product");
         }
     });
-    let speedup = u
-        .efficiency(pixels)
-        .zip(a.efficiency(pixels))
-        .map(|(eu, ea)| ea / eu);
-    let variance_ratio = (a.variance > 0.0).then(|| u.variance / a.variance);
-    ui.label(
-        egui::RichText::new(format!(
-            "speed-up of importance over uniform: {}× (variance ratio {}×)",
-            speedup.map_or("–".to_owned(), fractions::short),
-            variance_ratio.map_or("–".to_owned(), fractions::short),
-        ))
-        .strong(),
-    )
-    .on_hover_text(
-        "Efficiency ratio: how much less time importance sampling needs for the same error",
-    );
-    if u.series.is_empty() && a.series.is_empty() {
+    for (name, image) in [("importance", a), ("spatial", sp)] {
+        ui.label(egui::RichText::new(speedup_text(name, u, image, pixels)).strong())
+            .on_hover_text(format!(
+                "Efficiency ratio: how much less time {name} sampling needs for the same error"
+            ));
+    }
+    if u.series.is_empty() && a.series.is_empty() && sp.series.is_empty() {
         ui.label(
             published
                 .reference_note
@@ -90,6 +89,16 @@ pub fn convergence_ui(
     };
     let uniform_points = log_points(&u.series);
     let importance_points = log_points(&a.series);
+    let spatial_exact = zero_variance(sp, u);
+    let spatial_points = if spatial_exact {
+        Vec::new()
+    } else {
+        log_points(&sp.series)
+    };
+    if spatial_exact {
+        ui.label("spatial: the exact contribution pick (few lights), zero variance: its RMSE is rounding, off the plot")
+            .on_hover_text("p(i | x) ∝ p_i·G_i(x) makes every sample equal to the exact irradiance");
+    }
     // The −1/2 slope through the first uniform point.
     let slope = uniform_points
         .first()
@@ -122,6 +131,11 @@ pub fn convergence_ui(
                     .color(colors::scheme(Scheme::Alias))
                     .width(2.0),
             );
+            plot_ui.line(
+                Line::new("spatial (by contribution)", PlotPoints::new(spatial_points))
+                    .color(colors::scheme(Scheme::Spatial))
+                    .width(2.0),
+            );
             if let Some(slope) = slope {
                 plot_ui.line(
                     Line::new("slope −1/2", PlotPoints::new(slope))
@@ -130,4 +144,42 @@ pub fn convergence_ui(
                 );
             }
         });
+}
+
+/// Whether `image` has zero variance up to rounding (see [`ZERO_VARIANCE_RTOL`]).
+fn zero_variance(image: &SchemeImage, uniform: &SchemeImage) -> bool {
+    image.spp >= 2 && is_zero_variance(image.variance, uniform.variance)
+}
+
+/// Whether a variance per sample is the rounding of zero next to a `reference` variance
+/// (the uniform scheme's, or the largest measured): `v ≤` [`ZERO_VARIANCE_RTOL`]` · reference`.
+pub(crate) fn is_zero_variance(variance: f64, reference: f64) -> bool {
+    reference > 0.0 && variance <= ZERO_VARIANCE_RTOL * reference
+}
+
+/// `1/(Var·T)` of one image: "∞" for zero variance (up to rounding), "–" before any sample.
+fn efficiency_text(image: &SchemeImage, uniform: &SchemeImage, pixels: usize) -> String {
+    if zero_variance(image, uniform) && uniform.variance > 0.0 {
+        return "∞".to_owned();
+    }
+    image
+        .efficiency(pixels)
+        .map_or("–".to_owned(), fractions::short)
+}
+
+/// "speed-up of NAME over uniform: E× (variance ratio V×)", "∞" for zero variance.
+fn speedup_text(name: &str, u: &SchemeImage, image: &SchemeImage, pixels: usize) -> String {
+    if zero_variance(image, u) && u.variance > 0.0 {
+        return format!("speed-up of {name} over uniform: ∞ (zero variance)");
+    }
+    let speedup = u
+        .efficiency(pixels)
+        .zip(image.efficiency(pixels))
+        .map(|(eu, e)| e / eu);
+    let variance_ratio = (image.variance > 0.0).then(|| u.variance / image.variance);
+    format!(
+        "speed-up of {name} over uniform: {}× (variance ratio {}×)",
+        speedup.map_or("–".to_owned(), fractions::short),
+        variance_ratio.map_or("–".to_owned(), fractions::short),
+    )
 }

@@ -1,5 +1,6 @@
-//! The progressive-image engine: two renderers (uniform and importance) over the last valid
-//! scene, their reference, errors, timings and convergence series.
+//! The progressive-image engine: three renderers (uniform, importance and spatial) over the
+//! last valid scene, their reference, errors, timings and convergence series. The spatial
+//! lane's light tree (`O(N log N)`) is built with the job, on the worker thread.
 //!
 //! It runs on its own thread in the app (so rendering never blocks the window) or inline
 //! (`threaded = false`, for tests: every step is deterministic and timings are virtual).
@@ -122,6 +123,8 @@ pub struct Published {
     pub uniform: SchemeImage,
     /// Power-proportional selection (alias table).
     pub importance: SchemeImage,
+    /// Contribution-aware selection (exact for few lights, light tree for many).
+    pub spatial: SchemeImage,
     /// The tonemapped exact reference.
     pub reference_rgba: Option<Vec<u8>>,
     /// Why there is no reference, when there is none.
@@ -166,6 +169,7 @@ struct Job {
     scene: Arc<Scene>,
     uniform: Lane,
     importance: Lane,
+    spatial: Lane,
     reference: Reference,
     reference_note: Option<String>,
     frame: u64,
@@ -178,6 +182,7 @@ impl Job {
             generation,
             uniform: Lane::new(&scene, Scheme::Uniform, seed),
             importance: Lane::new(&scene, Scheme::Alias, seed),
+            spatial: Lane::new(&scene, Scheme::Spatial, seed),
             scene,
             reference,
             reference_note,
@@ -189,17 +194,14 @@ impl Job {
         self.scene.plane.pixel_count()
     }
 
-    /// Accumulates one frame of both schemes.
+    /// Accumulates one frame of every scheme.
     fn advance(&mut self, config: &EngineConfig, virtual_time: bool) {
         let pixels = self.pixels();
         let reference = &self.reference;
-        // Alternate which scheme goes first, so neither is always timed right after the
-        // window's own frame work (a bias in the time per frame on a loaded machine).
-        let lanes = if self.frame.is_multiple_of(2) {
-            [&mut self.uniform, &mut self.importance]
-        } else {
-            [&mut self.importance, &mut self.uniform]
-        };
+        // Rotate which scheme goes first, so none is always timed right after the window's
+        // own frame work (a bias in the time per frame on a loaded machine).
+        let mut lanes = [&mut self.uniform, &mut self.importance, &mut self.spatial];
+        lanes.rotate_left((self.frame % 3) as usize);
         for lane in lanes {
             let spent = match config.budget {
                 BudgetMode::EqualSamples => {
@@ -258,6 +260,7 @@ impl Job {
             height: self.scene.plane.height,
             uniform: scheme_image(&self.uniform),
             importance: scheme_image(&self.importance),
+            spatial: scheme_image(&self.spatial),
             reference_rgba: full.map(|r| tonemap_rgba8(r, exposure)),
             reference_note: self.reference_note.clone(),
             device_note: device_note.to_owned(),

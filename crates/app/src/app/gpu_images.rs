@@ -1,6 +1,6 @@
-//! Progressive images on the GPU: two `lightpick_core::gpu::GpuRenderer`s (uniform and
-//! importance) on eframe's own wgpu device, whose `Rgba8Unorm` outputs egui shows as native
-//! textures (no copy through the CPU). Every few frames the sums are read back for the
+//! Progressive images on the GPU: three `lightpick_core::gpu::GpuRenderer`s (uniform,
+//! importance and spatial) on eframe's own wgpu device, whose `Rgba8Unorm` outputs egui
+//! shows as native textures (no copy through the CPU). Every few frames the sums are read back for the
 //! RMSE, the error maps and the convergence curves, computed exactly as the CPU engine does.
 //!
 //! All of it runs on the UI thread, which waits for each lane's compute work (an honest time
@@ -43,21 +43,29 @@ struct Lanes {
     reference_note: Option<String>,
     uniform: Lane,
     importance: Lane,
+    spatial: Lane,
     frame: u64,
     /// Frames to skip before the next GPU work.
     cooldown: u32,
 }
 
-/// Both renderers of a scene (`O(N)`: alias tables and uploads).
-fn build_pair(
-    ctx: &GpuContext,
-    scene: &Scene,
-    seed: u64,
-) -> Result<(GpuRenderer, GpuRenderer), String> {
+impl Lanes {
+    /// The uniform, importance and spatial lanes, in display order.
+    fn each_mut(&mut self) -> [&mut Lane; 3] {
+        [&mut self.uniform, &mut self.importance, &mut self.spatial]
+    }
+}
+
+/// The three renderers of a scene: uniform, importance, spatial.
+type Trio = (GpuRenderer, GpuRenderer, GpuRenderer);
+
+/// Every renderer of a scene (`O(N)` alias tables and uploads, `O(N log N)` light tree).
+fn build_trio(ctx: &GpuContext, scene: &Scene, seed: u64) -> Result<Trio, String> {
     let uniform = GpuRenderer::new(ctx, scene, Scheme::Uniform, seed).map_err(|e| e.to_string())?;
     let importance =
         GpuRenderer::new(ctx, scene, Scheme::Alias, seed).map_err(|e| e.to_string())?;
-    Ok((uniform, importance))
+    let spatial = GpuRenderer::new(ctx, scene, Scheme::Spatial, seed).map_err(|e| e.to_string())?;
+    Ok((uniform, importance, spatial))
 }
 
 /// Renderers being built on a worker thread.
@@ -65,7 +73,7 @@ struct PendingBuild {
     generation: u64,
     seed: u64,
     scene: Arc<Scene>,
-    receiver: mpsc::Receiver<Result<(GpuRenderer, GpuRenderer), String>>,
+    receiver: mpsc::Receiver<Result<Trio, String>>,
 }
 
 /// The GPU side of the images panel.
@@ -75,7 +83,7 @@ pub struct GpuImages {
     lanes: Option<Lanes>,
     exposure: Option<f64>,
     /// Texture ids kept across scenes (re-pointed at each new renderer's output).
-    ids: Option<[egui::TextureId; 2]>,
+    ids: Option<[egui::TextureId; 3]>,
     latest: Option<Arc<Published>>,
     pending: Option<PendingBuild>,
     /// The reference being computed, and for which scene generation.
@@ -110,11 +118,11 @@ impl GpuImages {
         self.ctx.description()
     }
 
-    /// The native textures of the uniform and importance images.
-    pub fn texture_ids(&self) -> Option<[egui::TextureId; 2]> {
+    /// The native textures of the uniform, importance and spatial images.
+    pub fn texture_ids(&self) -> Option<[egui::TextureId; 3]> {
         self.lanes
             .as_ref()
-            .map(|l| [l.uniform.texture, l.importance.texture])
+            .map(|l| [l.uniform.texture, l.importance.texture, l.spatial.texture])
     }
 
     /// The latest frame (its `rgba` fields are empty: the images are native textures).
@@ -140,7 +148,7 @@ impl GpuImages {
         if stale {
             self.request(generation, scene, config.seed)?;
         } else if reset && let Some(lanes) = self.lanes.as_mut() {
-            for lane in [&mut lanes.uniform, &mut lanes.importance] {
+            for lane in lanes.each_mut() {
                 lane.renderer.reset();
                 lane.image = SchemeImage::default();
             }
@@ -155,8 +163,8 @@ impl GpuImages {
         if self.exposure.is_none()
             && let Some(lanes) = self.lanes.as_mut()
         {
-            // A new pair's outputs are blank until tonemapped (black before any sample).
-            for lane in [&mut lanes.uniform, &mut lanes.importance] {
+            // A new trio's outputs are blank until tonemapped (black before any sample).
+            for lane in lanes.each_mut() {
                 lane.renderer
                     .tonemap(config.exposure)
                     .map_err(|e| e.to_string())?;
@@ -204,7 +212,7 @@ impl GpuImages {
         if advance {
             let spp = config.spp_per_frame.max(1);
             let mut total = 0.0;
-            for lane in [&mut lanes.uniform, &mut lanes.importance] {
+            for lane in lanes.each_mut() {
                 let started = Instant::now();
                 lane.renderer.accumulate(spp).map_err(|e| e.to_string())?;
                 // Wait for this lane's work, so the time per frame is the lane's own.
@@ -221,7 +229,7 @@ impl GpuImages {
             lanes.frame += 1;
         }
         if advance || self.exposure != Some(config.exposure) {
-            for lane in [&mut lanes.uniform, &mut lanes.importance] {
+            for lane in lanes.each_mut() {
                 lane.renderer
                     .tonemap(config.exposure)
                     .map_err(|e| e.to_string())?;
@@ -234,11 +242,17 @@ impl GpuImages {
             || reference_arrived
             || (advance && lanes.frame % READBACK_EVERY == 1);
         if readback {
-            let reference = lanes.reference.as_ref();
-            for lane in [&mut lanes.uniform, &mut lanes.importance] {
+            let Lanes {
+                reference,
+                uniform,
+                importance,
+                spatial,
+                ..
+            } = lanes;
+            for lane in [uniform, importance, spatial] {
                 let acc = lane.renderer.readback().map_err(|e| e.to_string())?;
                 lane.image.variance = mean_variance_per_sample(&acc);
-                if let Some(r) = reference {
+                if let Some(r) = reference.as_ref() {
                     let rmse = lightpick_core::render::rmse(&acc, r);
                     lane.image.rmse = Some(rmse);
                     lane.image.error_rgba = r.image().map(|full| {
@@ -266,6 +280,7 @@ impl GpuImages {
             height: lanes.scene.plane.height,
             uniform: lanes.uniform.image.clone(),
             importance: lanes.importance.image.clone(),
+            spatial: lanes.spatial.image.clone(),
             reference_rgba: lanes
                 .reference
                 .as_ref()
@@ -289,9 +304,9 @@ impl GpuImages {
             return Ok(());
         }
         if scene.light_count() <= SYNC_BUILD_LIMIT {
-            let pair = build_pair(&self.ctx, scene, seed)?;
+            let trio = build_trio(&self.ctx, scene, seed)?;
             self.pending = None;
-            self.lanes = Some(self.install(generation, seed, scene, pair));
+            self.lanes = Some(self.install(generation, seed, scene, trio));
             self.exposure = None;
             return Ok(());
         }
@@ -304,7 +319,7 @@ impl GpuImages {
         std::thread::Builder::new()
             .name("lightpick-gpu-upload".to_owned())
             .spawn(move || {
-                let _ = sender.send(build_pair(&ctx, &for_build, seed));
+                let _ = sender.send(build_trio(&ctx, &for_build, seed));
             })
             .map_err(|e| e.to_string())?;
         self.pending = Some(PendingBuild {
@@ -326,7 +341,7 @@ impl GpuImages {
         let Some(pending) = &self.pending else {
             return Ok(());
         };
-        let pair = match pending.receiver.try_recv() {
+        let trio = match pending.receiver.try_recv() {
             Ok(result) => result?,
             Err(mpsc::TryRecvError::Empty) => return Ok(()),
             Err(mpsc::TryRecvError::Disconnected) => {
@@ -337,7 +352,7 @@ impl GpuImages {
         let (built_generation, built_seed, built_scene) =
             (pending.generation, pending.seed, Arc::clone(&pending.scene));
         self.pending = None;
-        self.lanes = Some(self.install(built_generation, built_seed, &built_scene, pair));
+        self.lanes = Some(self.install(built_generation, built_seed, &built_scene, trio));
         self.exposure = None;
         if built_generation != generation || built_seed != seed {
             self.request(generation, scene, seed)?;
@@ -345,37 +360,34 @@ impl GpuImages {
         Ok(())
     }
 
-    /// Points the egui textures at a new pair of renderers and starts their reference.
+    /// Points the egui textures at a new trio of renderers and starts their reference.
     fn install(
         &mut self,
         generation: u64,
         seed: u64,
         scene: &Arc<Scene>,
-        (uniform, importance): (GpuRenderer, GpuRenderer),
+        (uniform, importance, spatial): Trio,
     ) -> Lanes {
         let device = &self.render_state.device;
         let filter = wgpu::FilterMode::Nearest;
         let ids = {
             let mut renderer = self.render_state.renderer.write();
             match self.ids {
-                Some([u, i]) => {
-                    renderer.update_egui_texture_from_wgpu_texture(
-                        device,
-                        uniform.output_view(),
-                        filter,
-                        u,
-                    );
-                    renderer.update_egui_texture_from_wgpu_texture(
-                        device,
-                        importance.output_view(),
-                        filter,
-                        i,
-                    );
-                    [u, i]
+                Some(ids) => {
+                    for (id, r) in ids.iter().zip([&uniform, &importance, &spatial]) {
+                        renderer.update_egui_texture_from_wgpu_texture(
+                            device,
+                            r.output_view(),
+                            filter,
+                            *id,
+                        );
+                    }
+                    ids
                 }
                 None => [
                     renderer.register_native_texture(device, uniform.output_view(), filter),
                     renderer.register_native_texture(device, importance.output_view(), filter),
+                    renderer.register_native_texture(device, spatial.output_view(), filter),
                 ],
             }
         };
@@ -394,6 +406,11 @@ impl GpuImages {
             importance: Lane {
                 renderer: importance,
                 texture: ids[1],
+                image: SchemeImage::default(),
+            },
+            spatial: Lane {
+                renderer: spatial,
+                texture: ids[2],
                 image: SchemeImage::default(),
             },
             frame: 0,

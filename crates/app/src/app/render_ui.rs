@@ -1,5 +1,5 @@
-//! The images panel: uniform and importance progressive images side by side, the exact
-//! reference and the error maps, with spp, RMSE and frame time under each.
+//! The images panel: uniform, importance and spatial progressive images side by side, the
+//! exact reference and the error maps, with spp, RMSE and frame time under each.
 
 use egui::{ColorImage, TextureHandle, TextureOptions, Ui};
 use lightpick_core::Scheme;
@@ -13,15 +13,17 @@ use super::state::{AppState, BudgetMode};
 /// The textures of the latest published frame.
 #[derive(Default)]
 pub struct ImageTextures {
-    /// Native (GPU) textures of the uniform and importance images, which replace the
-    /// uploaded ones while the GPU renders.
-    pub native: Option<[egui::TextureId; 2]>,
+    /// Native (GPU) textures of the uniform, importance and spatial images, which replace
+    /// the uploaded ones while the GPU renders.
+    pub native: Option<[egui::TextureId; 3]>,
     frame: Option<(u64, u64)>,
     uniform: Option<TextureHandle>,
     importance: Option<TextureHandle>,
+    spatial: Option<TextureHandle>,
     reference: Option<TextureHandle>,
     uniform_error: Option<TextureHandle>,
     importance_error: Option<TextureHandle>,
+    spatial_error: Option<TextureHandle>,
 }
 
 impl ImageTextures {
@@ -49,6 +51,13 @@ impl ImageTextures {
         );
         upload(
             ctx,
+            &mut self.spatial,
+            "spatial",
+            size,
+            Some(&published.spatial.rgba),
+        );
+        upload(
+            ctx,
             &mut self.reference,
             "reference",
             size,
@@ -67,6 +76,13 @@ impl ImageTextures {
             "importance_error",
             size,
             published.importance.error_rgba.as_deref(),
+        );
+        upload(
+            ctx,
+            &mut self.spatial_error,
+            "spatial_error",
+            size,
+            published.spatial.error_rgba.as_deref(),
         );
     }
 }
@@ -112,9 +128,9 @@ pub fn images_ui(
     };
     let stale = published.generation != state.built.generation;
     let columns = if state.settings.show_reference && textures.reference.is_some() {
-        3
+        4
     } else {
-        2
+        3
     };
     let spacing = ui.spacing().item_spacing.x;
     let side =
@@ -126,9 +142,10 @@ pub fn images_ui(
             [
                 textures.uniform.as_ref().map(TextureHandle::id),
                 textures.importance.as_ref().map(TextureHandle::id),
+                textures.spatial.as_ref().map(TextureHandle::id),
             ]
         },
-        |[u, i]| [Some(u), Some(i)],
+        |[u, i, s]| [Some(u), Some(i), Some(s)],
     );
     let (width, height) = (published.width, published.height);
     let dark = state.dark();
@@ -171,10 +188,25 @@ pub fn images_ui(
             size,
         );
         inspect(ui, response);
-        if columns == 3
+        let response = image_column(
+            ui,
+            "Spatial",
+            Scheme::Spatial,
+            &published.spatial,
+            ids[2],
+            if state.settings.show_error {
+                textures.spatial_error.as_ref()
+            } else {
+                None
+            },
+            size,
+        );
+        inspect(ui, response);
+        if columns == 4
             && let Some(reference) = &textures.reference
         {
             ui.vertical(|ui| {
+                ui.set_max_width(size.x);
                 ui.colored_label(colors::reference(), "Reference (exact)");
                 let response = ui
                     .add(egui::Image::new((reference.id(), size)).sense(egui::Sense::click()))
@@ -211,11 +243,14 @@ fn image_column(
     size: egui::Vec2,
 ) -> Option<egui::Response> {
     ui.vertical(|ui| {
+        // The labels wrap within the image's width, so four columns fit side by side.
+        ui.set_max_width(size.x);
         ui.colored_label(colors::scheme(scheme), title);
         let response = texture.map(|t| {
             ui.add(egui::Image::new((t, size)).sense(egui::Sense::click()))
                 .on_hover_text(format!(
-                    "{title}: progressive estimate, {} spp. Click a pixel to inspect it",
+                    "{title} ({}): progressive estimate, {} spp. Click a pixel to inspect it",
+                    scheme_hint(scheme),
                     image.spp
                 ))
         });
@@ -239,4 +274,15 @@ fn image_column(
         response
     })
     .inner
+}
+
+/// How each scheme picks its light, for the image's hover text.
+fn scheme_hint(scheme: Scheme) -> &'static str {
+    match scheme {
+        Scheme::Uniform => "every light equally likely",
+        Scheme::Spatial => {
+            "by contribution p_i·G_i(x) at each pixel: exact for ≤ 16 lights, a light tree beyond"
+        }
+        _ => "in proportion to power",
+    }
 }

@@ -50,7 +50,12 @@ pub fn table_ui(ui: &mut Ui, state: &AppState) {
     let thresholds = built.table.thresholds();
     let aliases = built.table.aliases();
     let highlight = state.table_highlight.as_ref();
-    let widths = [44.0, 90.0, 90.0, 90.0, 54.0];
+    // Column widths at full size, narrowed (down to 55 %) to fit a narrow panel so that the
+    // threshold and alias columns stay visible.
+    let full = [44.0_f32, 90.0, 90.0, 90.0, 54.0];
+    let room = ui.available_width() - 4.0 * ui.spacing().item_spacing.x;
+    let fit = (room / full.iter().sum::<f32>()).clamp(0.55, 1.0);
+    let widths = full.map(|w| w * fit);
     let header = ["i", "power Φ", "pmf p", "threshold", "alias"];
     let tips = [
         "Light / column number (1-based)",

@@ -18,6 +18,7 @@ use lightpick_core::render::{
 use lightpick_core::scene::Scene;
 
 use super::colors;
+use super::convergence_ui::is_zero_variance;
 use super::fractions;
 use super::state::{AppState, SYNC_BUILD_LIMIT};
 
@@ -32,11 +33,12 @@ const TRADE_REFERENCE_BUDGET: u64 = 1 << 24;
 /// Virtual seconds per pixel sample in inline (test) mode, the engine's figure.
 const VIRTUAL_SECONDS_PER_SAMPLE: f64 = 1.0e-8;
 /// The schemes measured, in display order.
-pub const TRADE_SCHEMES: [Scheme; 4] = [
+pub const TRADE_SCHEMES: [Scheme; 5] = [
     Scheme::Uniform,
     Scheme::Cdf,
     Scheme::Alias,
     Scheme::AliasOneRandom,
+    Scheme::Spatial,
 ];
 
 /// The display name of a scheme in this panel.
@@ -46,6 +48,7 @@ pub fn scheme_label(scheme: Scheme) -> &'static str {
         Scheme::Cdf => "cdf (binary search)",
         Scheme::Alias => "alias, two randoms",
         Scheme::AliasOneRandom => "alias, one random",
+        Scheme::Spatial => "spatial (by contribution)",
     }
 }
 
@@ -192,14 +195,41 @@ pub fn trade_ui(ui: &mut Ui, state: &mut AppState) {
     ui.label(egui::RichText::new(note).color(colors::muted(dark)))
         .on_hover_text("What the figures below were measured on");
     figures_ui(ui, m);
+    let largest = largest_variance(m);
+    if let Some(row) = m.rows.iter().find(|r| is_exact(r, largest)) {
+        ui.label(
+            egui::RichText::new(format!(
+                "{}: zero variance (the exact pick p(i | x) ∝ p_i·G_i(x)), off the plot",
+                scheme_label(row.scheme)
+            ))
+            .color(colors::muted(dark)),
+        );
+    }
     plot_ui(ui, m, state.settings.spp_per_frame, dark);
 }
 
-/// The table of `T`, `V`, `1/(V·T)` and the final RMSE per scheme.
+/// The largest variance per sample measured: what a zero variance is judged against.
+fn largest_variance(m: &TradeMeasurement) -> f64 {
+    m.rows
+        .iter()
+        .map(|r| r.efficiency.variance_per_sample)
+        .fold(0.0f64, f64::max)
+}
+
+/// Whether a row is a zero-variance estimator up to rounding (the exact spatial pick).
+fn is_exact(row: &TradeRow, largest: f64) -> bool {
+    is_zero_variance(row.efficiency.variance_per_sample, largest)
+}
+
+/// The table of `T`, `V`, `1/(V·T)` and the final RMSE per scheme. A zero-variance row (the
+/// exact spatial pick on few lights) has an infinite efficiency, shown as "∞ (exact)" and left
+/// out of the relative column's best.
 fn figures_ui(ui: &mut Ui, m: &TradeMeasurement) {
+    let largest = largest_variance(m);
     let best = m
         .rows
         .iter()
+        .filter(|r| !is_exact(r, largest))
         .map(|r| r.efficiency.efficiency)
         .filter(|e| e.is_finite())
         .fold(0.0f64, f64::max);
@@ -227,8 +257,15 @@ fn figures_ui(ui: &mut Ui, m: &TradeMeasurement) {
                 ui.colored_label(colors::scheme(row.scheme), scheme_label(row.scheme));
                 ui.label(fractions::short(e.seconds_per_sample * 1e9));
                 ui.label(fractions::short(e.variance_per_sample));
-                ui.label(fractions::short(e.efficiency));
-                let relative = if best > 0.0 && e.efficiency.is_finite() {
+                let exact = is_exact(row, largest);
+                ui.label(if exact {
+                    "∞ (exact)".to_owned()
+                } else {
+                    fractions::short(e.efficiency)
+                });
+                let relative = if exact {
+                    "∞".to_owned()
+                } else if best > 0.0 && e.efficiency.is_finite() {
                     format!("{:.0}%", 100.0 * e.efficiency / best)
                 } else {
                     "–".to_owned()
@@ -259,7 +296,10 @@ fn plot_ui(ui: &mut Ui, m: &TradeMeasurement, spp_per_frame: u32, dark: bool) {
         .x_axis_formatter(|mark, _| log_tick(mark.value))
         .y_axis_formatter(|mark, _| log_tick(mark.value))
         .show(ui, |plot_ui| {
-            for row in &m.rows {
+            let largest = largest_variance(m);
+            // A zero-variance row's RMSE is rounding (~1e-16): off the plot, which it would
+            // stretch over sixteen decades (the table lists it).
+            for row in m.rows.iter().filter(|r| !is_exact(r, largest)) {
                 let points: Vec<[f64; 2]> = row.series.iter().filter_map(log).collect();
                 let color = colors::scheme(row.scheme);
                 plot_ui.line(
@@ -277,6 +317,7 @@ fn plot_ui(ui: &mut Ui, m: &TradeMeasurement, spp_per_frame: u32, dark: bool) {
             let ringed: Vec<[f64; 2]> = m
                 .rows
                 .iter()
+                .filter(|r| !is_exact(r, largest))
                 .filter_map(|row| {
                     row.series
                         .iter()

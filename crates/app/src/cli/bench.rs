@@ -11,7 +11,10 @@
 //! * Renders: for each preset, at a small resolution, the variance per sample `V`, the
 //!   time per sample `T` and the efficiency `1/(V·T)` of each scheme on the CPU, and the
 //!   RMSE each reaches at the same rendering time (the shortest of the schemes' runs,
-//!   interpolated log-log on its convergence series).
+//!   interpolated log-log on its convergence series). The spatial (contribution-aware)
+//!   scheme is one of them; each row also gives the sampler's build time (the light tree's
+//!   `O(N log N)` for spatial). A zero-variance row (the exact spatial pick, `N ≤ 16`) has an
+//!   infinite efficiency, written `null` in the JSON.
 //!
 //! A timing is the median of several repetitions, each timing a batch of many operations
 //! (`std::time::Instant`, results through `std::hint::black_box`).
@@ -55,11 +58,12 @@ const QUICK_PRESETS: [&str; 6] = [
 /// Runs of each render; the fastest is kept.
 const RENDER_RUNS: usize = 3;
 /// The schemes rendered.
-const RENDER_SCHEMES: [Scheme; 4] = [
+const RENDER_SCHEMES: [Scheme; 5] = [
     Scheme::Uniform,
     Scheme::Alias,
     Scheme::AliasOneRandom,
     Scheme::Cdf,
+    Scheme::Spatial,
 ];
 
 /// Arguments of `lightpick bench`.
@@ -445,7 +449,7 @@ pub struct SchemeRender {
     pub variance_per_sample: f64,
     /// `T`, seconds per pixel sample.
     pub seconds_per_sample: f64,
-    /// `1/(V·T)`.
+    /// `1/(V·T)` (`null` in JSON when `V = 0`: infinite).
     pub efficiency: f64,
     /// Efficiency over the uniform scheme's.
     pub efficiency_vs_uniform: f64,
@@ -453,6 +457,8 @@ pub struct SchemeRender {
     pub rmse: f64,
     /// RMSE at the preset's equal-time point (log-log interpolation of the series).
     pub rmse_at_equal_time: f64,
+    /// Seconds to build the renderer's sampler (alias table, CDF, light tree).
+    pub build_seconds: f64,
     /// The convergence series.
     pub series: Vec<SeriesPoint>,
 }
@@ -493,8 +499,11 @@ fn render_preset(
         // The render is deterministic; only its timing varies. Keep the fastest of three
         // runs (the machine may be shared).
         let mut best: Option<(CpuRenderer, Vec<SeriesPoint>)> = None;
+        let mut build_seconds = f64::INFINITY;
         for _ in 0..RENDER_RUNS {
+            let started = Instant::now();
             let mut renderer = CpuRenderer::new(&scene, scheme, seed);
+            build_seconds = build_seconds.min(started.elapsed().as_secs_f64());
             let series = convergence_series(&mut renderer, &reference, spp);
             let seconds = series.last().map_or(0.0, |p| p.seconds);
             if best
@@ -517,6 +526,7 @@ fn render_preset(
             efficiency_vs_uniform: 0.0,
             rmse: series.last().map_or(0.0, |p| p.rmse),
             rmse_at_equal_time: 0.0,
+            build_seconds,
             series,
         });
     }
@@ -646,20 +656,28 @@ fn text(
         );
         let _ = writeln!(
             out,
-            "  {:<17} {:>12} {:>12} {:>12} {:>9} {:>12} {:>14}",
-            "scheme", "Var/sample", "ns/sample", "1/(Var·T)", "vs unif", "RMSE", "RMSE equal-t"
+            "  {:<17} {:>12} {:>12} {:>12} {:>9} {:>12} {:>14} {:>10}",
+            "scheme",
+            "Var/sample",
+            "ns/sample",
+            "1/(Var·T)",
+            "vs unif",
+            "RMSE",
+            "RMSE equal-t",
+            "build ms"
         );
         for s in &r.schemes {
             let _ = writeln!(
                 out,
-                "  {:<17} {:>12.4e} {:>12.2} {:>12.4e} {:>9.3e} {:>12.4e} {:>14.4e}",
+                "  {:<17} {:>12.4e} {:>12.2} {:>12.4e} {:>9.3e} {:>12.4e} {:>14.4e} {:>10.3}",
                 s.scheme.name(),
                 s.variance_per_sample,
                 s.seconds_per_sample * 1e9,
                 s.efficiency,
                 s.efficiency_vs_uniform,
                 s.rmse,
-                s.rmse_at_equal_time
+                s.rmse_at_equal_time,
+                s.build_seconds * 1e3
             );
         }
     }

@@ -47,7 +47,7 @@ pub fn run(args: &EstimateArgs) -> anyhow::Result<()> {
     if let Some(i) = contrib.iter().position(|f| !f.is_finite()) {
         bail!("--contrib: item {i} is not finite ({})", contrib[i]);
     }
-    let sampler = Sampler::build(args.scheme, &powers);
+    let sampler = Sampler::try_build(args.scheme, &powers)?;
     let stats = estimate(&sampler, &contrib, args.count, args.seed);
     let moments = analytic_moments(&contrib, |i| sampler.probability(i));
     let z = if stats.std_error() > 0.0 {

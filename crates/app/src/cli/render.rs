@@ -46,7 +46,8 @@ pub struct RenderArgs {
     /// The scene to render.
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// uniform, power (alias), alias-one-random, cdf (CPU only).
+    /// uniform, power (alias), alias-one-random, cdf (CPU only), spatial (by contribution
+    /// at each pixel: exact for ≤ 16 lights, a light tree beyond).
     #[arg(long, default_value = "power")]
     pub scheme: Scheme,
     /// Samples per pixel.

@@ -41,7 +41,7 @@ pub struct SampleArgs {
 pub fn run(args: &SampleArgs) -> anyhow::Result<()> {
     check_count(args.count)?;
     let powers = args.powers.load()?;
-    let sampler = Sampler::build(args.scheme, &powers);
+    let sampler = Sampler::try_build(args.scheme, &powers)?;
     let counts = match choose(Some(args.device), true)? {
         None => count_cpu(&sampler, args.count, args.seed),
         Some(ctx) => lightpick_core::gpu::histogram(&ctx, &sampler, args.count, args.seed)

@@ -117,6 +117,8 @@ pub const ALIAS: Rgba8 = Rgba8::hex(0x00_72_B2);
 pub const ALIAS_ONE_RANDOM: Rgba8 = Rgba8::hex(0x56_B4_E9);
 /// Inverse CDF: bluish green.
 pub const CDF: Rgba8 = Rgba8::hex(0x00_9E_73);
+/// Contribution-aware (spatial) selection: reddish purple (Okabe & Ito).
+pub const SPATIAL: Rgba8 = Rgba8::hex(0xCC_79_A7);
 /// The reference (exact) solution and expected values: neutral grey, legible on both themes.
 pub const REFERENCE: Rgba8 = Rgba8::hex(0x8C_8C_8C);
 
@@ -133,6 +135,7 @@ pub fn scheme_color(scheme: Scheme) -> Rgba8 {
         Scheme::Alias => ALIAS,
         Scheme::AliasOneRandom => ALIAS_ONE_RANDOM,
         Scheme::Cdf => CDF,
+        Scheme::Spatial => SPATIAL,
     }
 }
 
@@ -211,8 +214,9 @@ mod tests {
 
     #[test]
     fn schemes_have_distinct_colors() {
-        for (k, a) in Scheme::ALL.iter().enumerate() {
-            for b in &Scheme::ALL[..k] {
+        let all = [Scheme::ALL.as_slice(), &[Scheme::Spatial]].concat();
+        for (k, a) in all.iter().enumerate() {
+            for b in &all[..k] {
                 assert_ne!(scheme_color(*a), scheme_color(*b));
             }
             assert_ne!(scheme_color(*a), REFERENCE);

@@ -22,8 +22,9 @@
 //! the tests check this bit for bit. Floating-point estimates are `f32` on the GPU and are
 //! compared with the `f64` CPU ones within derived bounds.
 //!
-//! Only [`Scheme::Uniform`], [`Scheme::Alias`] and [`Scheme::AliasOneRandom`] run on the
-//! GPU; the inverse-CDF peer is a CPU-only comparison ([`GpuError::UnsupportedScheme`]).
+//! [`Scheme::Uniform`], [`Scheme::Alias`], [`Scheme::AliasOneRandom`] and
+//! [`Scheme::Spatial`] (`spatial.wgsl`, the twin of [`crate::spatial`]) run on the GPU; the
+//! inverse-CDF peer is a CPU-only comparison ([`GpuError::UnsupportedScheme`]).
 //!
 //! # Limits
 //! Each buffer is one storage binding, so it must fit the device's
@@ -38,6 +39,7 @@ mod error;
 mod histogram;
 mod probe;
 mod renderer;
+mod spatial;
 
 pub use context::GpuContext;
 pub use error::GpuError;
@@ -67,12 +69,14 @@ pub fn shader_source(parts: &[&str]) -> String {
 /// Threads per workgroup of the one-dimensional kernels.
 pub(crate) const WORKGROUP_SIZE: u32 = 256;
 
-/// The scheme word the kernels switch on: 0 uniform, 1 alias, 2 alias with one random.
+/// The scheme word the kernels switch on: 0 uniform, 1 alias, 2 alias with one random,
+/// 3 spatial (the renderer uses 4 instead when its spatial sampler is a light tree).
 pub(crate) fn scheme_code(scheme: Scheme) -> Result<u32, GpuError> {
     match scheme {
         Scheme::Uniform => Ok(0),
         Scheme::Alias => Ok(1),
         Scheme::AliasOneRandom => Ok(2),
+        Scheme::Spatial => Ok(spatial::SCHEME_SPATIAL_EXACT),
         Scheme::Cdf => Err(GpuError::UnsupportedScheme {
             scheme,
             reason: "the inverse-CDF binary search is a CPU-only peer; \
@@ -295,7 +299,11 @@ mod tests {
     /// Every kernel parses and validates with naga, without needing a device.
     #[test]
     fn every_kernel_validates_with_naga() {
-        let kernels: [(&str, &[&str]); 5] = [
+        let kernels: [(&str, &[&str]); 6] = [
+            (
+                "spatial",
+                &[PICK_WGSL, renderer::RENDER_WGSL, spatial::SPATIAL_WGSL],
+            ),
             ("probe", &[probe::PROBE_WGSL]),
             ("histogram", &[PICK_WGSL, histogram::HISTOGRAM_WGSL]),
             ("render", &[PICK_WGSL, renderer::RENDER_WGSL]),

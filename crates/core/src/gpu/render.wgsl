@@ -21,7 +21,8 @@ struct RenderParams {
     plane_extent_y: f32,
     // N as f32, for the uniform estimate N·p_i·G_i.
     n_f32: f32,
-    _pad0: u32,
+    // Leaves of the spatial light tree (spatial.wgsl), 0 for the other schemes.
+    tree_leaves: u32,
     _pad1: u32,
     _pad2: u32,
 }

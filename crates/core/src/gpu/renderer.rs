@@ -1,5 +1,6 @@
 //! The progressive renderer on the GPU, the twin of the CPU estimator contract.
 
+use super::spatial::SpatialGpu;
 use super::{GpuContext, GpuError, PICK_WGSL};
 use crate::render::Accumulator;
 use crate::scene::Scene;
@@ -33,7 +34,8 @@ struct RenderParams {
     plane_extent_x: f32,
     plane_extent_y: f32,
     n_f32: f32,
-    pad: [u32; 3],
+    tree_leaves: u32,
+    pad: [u32; 2],
 }
 
 #[repr(C)]
@@ -53,6 +55,10 @@ struct TonemapParams {
 ///
 /// * uniform: `ê = N · p_i · G_i(x)`,
 /// * alias and alias-one-random (power-proportional): `ê = G_i(x)` (the power cancels),
+/// * spatial: `ê = p_i·G_i(x) / P(i | x)` from `spatial.wgsl`, the twin of
+///   [`crate::spatial`] (the exact pick for `N ≤` [`crate::spatial::EXACT_MAX_LIGHTS`], else
+///   the light tree, built in `f64` on the CPU as the CPU renderer builds it and uploaded as
+///   `f32` nodes the first time the scheme is used: 36 more bytes per light),
 ///
 /// with `G_i(x) = z_i / (4π r³)` evaluated in `f32` with power-of-two rescaling, so it
 /// neither overflows nor underflows before `G` itself leaves the `f32` range. The image is
@@ -70,7 +76,9 @@ pub struct GpuRenderer {
     seed: u64,
     width: u32,
     height: u32,
-    positions: Vec<[f32; 3]>,
+    positions: Vec<[f64; 3]>,
+    powers: LightPowers,
+    spatial: Option<SpatialGpu>,
     total_power: f64,
     samples_per_pixel: u32,
     plane: [f32; 4],
@@ -125,11 +133,7 @@ impl GpuRenderer {
             (plane.max[0] - plane.min[0]) as f32,
             (plane.max[1] - plane.min[1]) as f32,
         ];
-        let positions: Vec<[f32; 3]> = scene
-            .positions
-            .iter()
-            .map(|p| [p[0] as f32, p[1] as f32, p[2] as f32])
-            .collect();
+        let positions = scene.positions.clone();
 
         let lights = super::zeroed_storage_buffer(
             ctx,
@@ -234,6 +238,8 @@ impl GpuRenderer {
             width,
             height,
             positions,
+            powers: scene.powers.clone(),
+            spatial: None,
             total_power: 0.0,
             samples_per_pixel: 0,
             plane,
@@ -269,9 +275,9 @@ impl GpuRenderer {
             .zip(table.packed())
             .map(|((p, &pmf), e)| {
                 [
-                    p[0].to_bits(),
-                    p[1].to_bits(),
-                    p[2].to_bits(),
+                    (p[0] as f32).to_bits(),
+                    (p[1] as f32).to_bits(),
+                    (p[2] as f32).to_bits(),
                     (pmf as f32).to_bits(),
                     e.threshold,
                     e.alias,
@@ -286,14 +292,36 @@ impl GpuRenderer {
             Ok(())
         })?;
         self.total_power = powers.total();
+        self.powers = powers.clone();
+        self.spatial = None;
+        if self.scheme == Scheme::Spatial {
+            self.ensure_spatial()?;
+        }
         self.reset();
+        Ok(())
+    }
+
+    /// Builds and uploads the spatial sampler (`O(N log N)`) unless it is there already.
+    fn ensure_spatial(&mut self) -> Result<(), GpuError> {
+        if self.spatial.is_none() {
+            self.spatial = Some(SpatialGpu::new(
+                &self.ctx,
+                &self.positions,
+                &self.powers,
+                [&self.params, &self.lights, &self.sums],
+            )?);
+        }
         Ok(())
     }
 
     /// Switches the selection scheme and restarts the accumulation; [`Scheme::Cdf`] is
     /// refused ([`GpuError::UnsupportedScheme`]) and leaves the renderer unchanged.
+    /// [`Scheme::Spatial`] builds and uploads its light tree the first time.
     pub fn set_scheme(&mut self, scheme: Scheme) -> Result<(), GpuError> {
         super::scheme_code(scheme)?;
+        if scheme == Scheme::Spatial {
+            self.ensure_spatial()?;
+        }
         self.scheme = scheme;
         self.reset();
         Ok(())
@@ -333,7 +361,20 @@ impl GpuRenderer {
             })?;
         let pixels = u64::from(self.width) * u64::from(self.height);
         let per_dispatch = (SAMPLES_PER_DISPATCH / pixels).clamp(1, u64::from(u32::MAX)) as u32;
-        let scheme = super::scheme_code(self.scheme)?;
+        if self.scheme == Scheme::Spatial {
+            self.ensure_spatial()?;
+        }
+        let (pipeline, bind_group, tree_leaves, scheme) = match &self.spatial {
+            Some(s) if self.scheme == Scheme::Spatial => {
+                (&s.pipeline, &s.bind_group, s.leaves, s.code)
+            }
+            _ => (
+                &self.accumulate_pipeline,
+                &self.accumulate_bind_group,
+                0,
+                super::scheme_code(self.scheme)?,
+            ),
+        };
         let mut k = self.samples_per_pixel;
         while k < total {
             let k_count = per_dispatch.min(total - k);
@@ -351,7 +392,8 @@ impl GpuRenderer {
                 plane_extent_x: self.plane[2],
                 plane_extent_y: self.plane[3],
                 n_f32: self.positions.len() as f32,
-                pad: [0; 3],
+                tree_leaves,
+                pad: [0; 2],
             };
             super::scoped(&self.ctx, "dispatching render samples", || {
                 self.ctx
@@ -368,8 +410,8 @@ impl GpuRenderer {
                         label: Some("render accumulate"),
                         timestamp_writes: None,
                     });
-                    pass.set_pipeline(&self.accumulate_pipeline);
-                    pass.set_bind_group(0, &self.accumulate_bind_group, &[]);
+                    pass.set_pipeline(pipeline);
+                    pass.set_bind_group(0, bind_group, &[]);
                     pass.dispatch_workgroups(
                         self.width.div_ceil(TILE),
                         self.height.div_ceil(TILE),
@@ -537,16 +579,21 @@ impl GpuRenderer {
         self.total_power
     }
 
-    /// GPU bytes per light: 16 for `(x, y, z, p_i)` as `f32`, 8 for the packed alias entry.
+    /// GPU bytes per light: 16 for `(x, y, z, p_i)` as `f32`, 8 for the packed alias entry;
+    /// with the spatial light tree uploaded, 36 more (a 32-byte internal node per light but
+    /// one, and the leaf's 4-byte scene index), rounded up.
     pub fn gpu_bytes_per_light(&self) -> u64 {
-        BYTES_PER_LIGHT
+        let n = self.positions.len() as u64;
+        let tree = self.spatial.as_ref().map_or(0, |s| s.bytes);
+        BYTES_PER_LIGHT + tree.div_ceil(n.max(1))
     }
 
     /// GPU bytes held by the renderer: lights, table, per-pixel sums (8 bytes) and the
     /// output texture (4 bytes per pixel).
     pub fn gpu_bytes(&self) -> u64 {
         let pixels = u64::from(self.width) * u64::from(self.height);
-        self.positions.len() as u64 * BYTES_PER_LIGHT + pixels * 12
+        let tree = self.spatial.as_ref().map_or(0, |s| s.bytes);
+        self.positions.len() as u64 * BYTES_PER_LIGHT + tree + pixels * 12
     }
 
     /// The context the renderer runs on.

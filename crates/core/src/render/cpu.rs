@@ -11,6 +11,16 @@ use super::Accumulator;
 use crate::rng::Rng;
 use crate::sampler::{Sampler, Scheme};
 use crate::scene::{ReceiverPlane, Scene, geometry_term, pixel_center};
+use crate::spatial::SpatialSampler;
+
+/// How lights are picked: a point-free [`Sampler`], or by contribution at the pixel.
+#[derive(Clone, Debug)]
+enum Picker {
+    /// A power-only (or uniform) sampler: `ê = w_i · G_i(x)`.
+    Power(Sampler),
+    /// [`Scheme::Spatial`]: `ê = p_i·G_i(x) / P(i | x)` ([`SpatialSampler`]).
+    Spatial(SpatialSampler),
+}
 
 /// What a sample needs of light `i`, in one 32-byte record (a single cache line access):
 /// its position and the weight `w_i` with normalized estimate `ê = w_i · G_i(x)`,
@@ -29,20 +39,51 @@ struct LightRecord {
 /// the normalized estimate `ê = w_i · G_i(x_p)` (see [`crate::render`]) and `ê²` to the
 /// pixel's sums. `E[ê] = Σ_i p_i·G_i(x_p)`, so `Φ_total · Σê / spp` is an unbiased estimate of
 /// the irradiance `E(x_p) = Σ_i Φ_i·G_i(x_p)`.
+///
+/// With [`Scheme::Spatial`] the sample instead draws from the same stream through
+/// [`SpatialSampler::estimate`] at `x_p`: `ê = p_i·G_i(x_p) / P(i | x_p)`, same expectation.
 #[derive(Clone, Debug)]
 pub struct CpuRenderer {
     plane: ReceiverPlane,
-    sampler: Sampler,
+    picker: Picker,
     lights: Vec<LightRecord>,
     seed: u64,
     accumulator: Accumulator,
 }
 
 impl CpuRenderer {
-    /// Builds the sampler of `scheme` over the scene's powers (`O(N)`) and an empty
-    /// accumulator with scale `Φ_total`.
+    /// Builds the sampler of `scheme` over the scene's powers (`O(N)`; the spatial light
+    /// tree `O(N log N)`) and an empty accumulator with scale `Φ_total`.
     pub fn new(scene: &Scene, scheme: Scheme, seed: u64) -> Self {
-        Self::with_sampler(scene, Sampler::build(scheme, &scene.powers), seed)
+        match Sampler::try_build(scheme, &scene.powers) {
+            Ok(sampler) => Self::with_sampler(scene, sampler, seed),
+            Err(_) => Self::with_spatial(
+                scene,
+                SpatialSampler::build(&scene.positions, &scene.powers),
+                seed,
+            ),
+        }
+    }
+
+    /// A [`Scheme::Spatial`] renderer with a spatial sampler already built over the scene.
+    ///
+    /// # Panics
+    /// If the sampler's light count differs from the scene's.
+    pub fn with_spatial(scene: &Scene, spatial: SpatialSampler, seed: u64) -> Self {
+        assert_eq!(
+            spatial.light_count(),
+            scene.light_count(),
+            "sampler built for another scene"
+        );
+        let plane = scene.plane.clone();
+        let accumulator = Accumulator::new(plane.width, plane.height, scene.powers.total());
+        Self {
+            plane,
+            picker: Picker::Spatial(spatial),
+            lights: Vec::new(),
+            seed,
+            accumulator,
+        }
     }
 
     /// Like [`CpuRenderer::new`] with a sampler already built over `scene.powers` (the app
@@ -73,7 +114,7 @@ impl CpuRenderer {
         let accumulator = Accumulator::new(plane.width, plane.height, scene.powers.total());
         Self {
             plane,
-            sampler,
+            picker: Picker::Power(sampler),
             lights,
             seed,
             accumulator,
@@ -92,28 +133,33 @@ impl CpuRenderer {
         }
         let Self {
             plane,
-            sampler,
+            picker,
             lights,
             seed,
             accumulator,
         } = self;
-        let (plane, sampler, lights, seed) = (&*plane, &*sampler, lights.as_slice(), *seed);
+        let (plane, picker, lights, seed) = (&*plane, &*picker, lights.as_slice(), *seed);
         accumulator
             .sum
             .par_chunks_mut(width)
             .zip(accumulator.sum_sq.par_chunks_mut(width))
             .enumerate()
-            .for_each(|(py, (sum_row, sq_row))| {
-                render_row(
-                    plane,
-                    sampler,
-                    lights,
-                    seed,
-                    py as u32,
-                    (k0, spp),
-                    sum_row,
-                    sq_row,
-                );
+            .for_each(|(py, (sum_row, sq_row))| match picker {
+                Picker::Power(sampler) => {
+                    render_row(
+                        plane,
+                        sampler,
+                        lights,
+                        seed,
+                        py as u32,
+                        (k0, spp),
+                        sum_row,
+                        sq_row,
+                    );
+                }
+                Picker::Spatial(spatial) => {
+                    render_row_spatial(plane, spatial, seed, py as u32, (k0, spp), sum_row, sq_row);
+                }
             });
         accumulator.samples_per_pixel = k0 + spp;
     }
@@ -136,12 +182,26 @@ impl CpuRenderer {
 
     /// The scheme lights are picked with.
     pub fn scheme(&self) -> Scheme {
-        self.sampler.scheme()
+        match &self.picker {
+            Picker::Power(sampler) => sampler.scheme(),
+            Picker::Spatial(_) => Scheme::Spatial,
+        }
     }
 
-    /// The sampler lights are picked with.
-    pub fn sampler(&self) -> &Sampler {
-        &self.sampler
+    /// The point-free sampler lights are picked with (`None` for [`Scheme::Spatial`]).
+    pub fn sampler(&self) -> Option<&Sampler> {
+        match &self.picker {
+            Picker::Power(sampler) => Some(sampler),
+            Picker::Spatial(_) => None,
+        }
+    }
+
+    /// The spatial sampler (`Some` only for [`Scheme::Spatial`]).
+    pub fn spatial(&self) -> Option<&SpatialSampler> {
+        match &self.picker {
+            Picker::Power(_) => None,
+            Picker::Spatial(spatial) => Some(spatial),
+        }
     }
 
     /// The seed of every pixel stream.
@@ -186,6 +246,33 @@ fn render_row(
                 q += e * e;
             }
             k += batch.len() as u32;
+        }
+        *sum = s;
+        *sq = q;
+    }
+}
+
+/// [`render_row`] for [`Scheme::Spatial`]: sample `k` of pixel `p` is
+/// `spatial.estimate(x_p, &mut Rng::new(seed, (k << 32) | p))`.
+#[inline]
+fn render_row_spatial(
+    plane: &ReceiverPlane,
+    spatial: &SpatialSampler,
+    seed: u64,
+    py: u32,
+    (k0, spp): (u32, u32),
+    sum_row: &mut [f64],
+    sq_row: &mut [f64],
+) {
+    let row_start = u64::from(py) * u64::from(plane.width);
+    for (px, (sum, sq)) in sum_row.iter_mut().zip(sq_row.iter_mut()).enumerate() {
+        let x = pixel_center(plane, px as u32, py);
+        let p = row_start + px as u64;
+        let (mut s, mut q) = (*sum, *sq);
+        for k in k0..k0 + spp {
+            let e = spatial.estimate(x, &mut Rng::new(seed, (u64::from(k) << 32) | p));
+            s += e;
+            q += e * e;
         }
         *sum = s;
         *sq = q;

@@ -11,6 +11,11 @@
 //! * power-proportional (alias, alias-one-random, cdf): `G_i(x)` (the power cancels:
 //!   `f/pdf = Φ_i·G_i / (Φ_i/Φ_total) = Φ_total·G_i`),
 //!
+//! * spatial (contribution-aware, [`crate::spatial`]): the sample draws from the same stream
+//!   through [`crate::spatial::SpatialSampler::sample`] at the pixel centre `x` (the exact
+//!   pick: one draw; the light tree: one draw per level) and the estimate is
+//!   `p_i·G_i(x) / P(i | x)` (the exact pick: `Σ_j p_j·G_j(x)` for every pick),
+//!
 //! where `p_i = Φ_i/Φ_total` and `G` is [`crate::scene::geometry_term`]. Sums of the
 //! normalized estimate and of its square are accumulated per pixel; the image is
 //! `Φ_total · sum / spp`. Factoring `Φ_total` out keeps every GPU quantity within `f32`

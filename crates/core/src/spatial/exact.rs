@@ -1,0 +1,99 @@
+//! Exact contribution sampling for few lights: `P(i | x) = p_i·G_i(x) / Σ_j p_j·G_j(x)`.
+
+use super::{EXACT_MAX_LIGHTS, SpatialLight, SpatialPick, contributing, unit24};
+use crate::powers::LightPowers;
+use crate::rng::Rng;
+use crate::scene::geometry_term;
+
+/// Picks light `i` at `x` with probability `c_i/S`, `c_i = p_i·G_i(x)`, `S = Σ_j c_j`, so the
+/// estimate `c_i / (c_i/S) = S` is the same for every pick: zero variance for the unoccluded
+/// model, at `O(N)` per shading point (every `c_j` is evaluated).
+///
+/// The pick: one draw `u` ([`unit24`]), the first light whose running sum `c_0 + … + c_i`
+/// exceeds `u·S` (the last light with `c_i > 0` should rounding leave none).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExactSampler {
+    lights: Vec<(u32, SpatialLight)>,
+    n: usize,
+}
+
+impl ExactSampler {
+    /// Keeps the contributing lights (`p_i > 0`, `z_i > 0`). Meant for at most
+    /// [`EXACT_MAX_LIGHTS`] lights; more work too, at `O(N)` per pick.
+    ///
+    /// # Panics
+    /// If `positions` and `powers` have different lengths.
+    pub fn build(positions: &[[f64; 3]], powers: &LightPowers) -> Self {
+        Self {
+            lights: contributing(positions, powers),
+            n: positions.len(),
+        }
+    }
+
+    /// Number of lights of the scene.
+    pub fn light_count(&self) -> usize {
+        self.n
+    }
+
+    /// The pick at `x` (one draw), `None` when `S = 0`.
+    #[inline]
+    pub fn sample(&self, x: [f64; 2], rng: &mut Rng) -> Option<SpatialPick> {
+        let mut c = [0.0f64; EXACT_MAX_LIGHTS];
+        let mut total = 0.0;
+        let small = self.lights.len() <= EXACT_MAX_LIGHTS;
+        if small {
+            for (ci, (_, l)) in c.iter_mut().zip(&self.lights) {
+                *ci = l[3] * geometry_term([l[0], l[1], l[2]], x);
+                total += *ci;
+            }
+        } else {
+            total = self.lights.iter().map(|(_, l)| contribution(l, x)).sum();
+        }
+        let u = unit24(rng.next_u32());
+        if total <= 0.0 {
+            return None;
+        }
+        let target = u * total;
+        let (mut running, mut chosen) = (0.0, None);
+        for (k, (index, l)) in self.lights.iter().enumerate() {
+            let ck = if small { c[k] } else { contribution(l, x) };
+            if ck > 0.0 {
+                chosen = Some((*index, ck));
+                running += ck;
+                if running > target {
+                    break;
+                }
+            }
+        }
+        chosen.map(|(light, ck)| SpatialPick {
+            light,
+            pdf: ck / total,
+            estimate: total,
+        })
+    }
+
+    /// `P(i | x) = c_i / S` (0 for a light that cannot contribute, or when `S = 0`).
+    pub fn pdf(&self, x: [f64; 2], light: usize) -> f64 {
+        let total: f64 = self.lights.iter().map(|(_, l)| contribution(l, x)).sum();
+        self.lights
+            .iter()
+            .find(|(i, _)| *i as usize == light)
+            .map_or(0.0, |(_, l)| {
+                if total > 0.0 {
+                    contribution(l, x) / total
+                } else {
+                    0.0
+                }
+            })
+    }
+
+    /// The contributing lights as `(scene index, [x, y, z, p_i])`.
+    pub fn lights(&self) -> &[(u32, SpatialLight)] {
+        &self.lights
+    }
+}
+
+#[inline]
+fn contribution(l: &SpatialLight, x: [f64; 2]) -> f64 {
+    l[3] * geometry_term([l[0], l[1], l[2]], x)
+}
