@@ -11,6 +11,7 @@ use lightpick_core::Scheme;
 use super::colors;
 use super::engine::{ConvergencePoint, Published, SchemeImage};
 use super::fractions;
+use super::log_axes;
 use super::state::AppState;
 
 /// A variance below this fraction of the uniform scheme's is the rounding of a zero-variance
@@ -50,23 +51,7 @@ pub fn convergence_ui(
     let u = &published.uniform;
     let a = &published.importance;
     let sp = &published.spatial;
-    ui.horizontal_wrapped(|ui| {
-        for (name, image) in [("uniform", u), ("importance", a), ("spatial", sp)] {
-            let eff = efficiency_text(image, u, pixels);
-            ui.label(format!(
-                "{name}: Var/sample {} · T/sample {} s · efficiency 1/(Var·T) {eff}",
-                fractions::short(image.variance),
-                fractions::short(image.seconds_per_sample(pixels)),
-            ))
-            .on_hover_text("Mean per-pixel variance of one sample, time per pixel sample, and their inverse product");
-        }
-    });
-    for (name, image) in [("importance", a), ("spatial", sp)] {
-        ui.label(egui::RichText::new(speedup_text(name, u, image, pixels)).strong())
-            .on_hover_text(format!(
-                "Efficiency ratio: how much less time {name} sampling needs for the same error"
-            ));
-    }
+    figures_ui(ui, [u, a, sp], pixels);
     if u.series.is_empty() && a.series.is_empty() && sp.series.is_empty() {
         ui.label(
             published
@@ -108,18 +93,16 @@ pub fn convergence_ui(
             vec![*first, [x_end, first[1] - 0.5 * (x_end - first[0])]]
         });
     let x_label = match axis {
-        ConvergenceAxis::Spp => "log10 spp",
-        ConvergenceAxis::Seconds => "log10 seconds",
+        ConvergenceAxis::Spp => "samples per pixel (log scale)",
+        ConvergenceAxis::Seconds => "seconds (log scale)",
     };
     let dark = state.dark();
-    Plot::new(("convergence", *axis == ConvergenceAxis::Spp))
+    log_axes::log_log_plot(Plot::new(("convergence", *axis == ConvergenceAxis::Spp)))
         .legend(Legend::default())
         .show_background(false)
         .height(ui.available_height().max(140.0))
         .x_axis_label(x_label)
-        .y_axis_label("log10 RMSE")
-        .x_axis_formatter(|mark, _| format!("1e{}", mark.value))
-        .y_axis_formatter(|mark, _| format!("1e{}", mark.value))
+        .y_axis_label("RMSE (log scale)")
         .show(ui, |plot_ui| {
             plot_ui.line(
                 Line::new("uniform", PlotPoints::new(uniform_points))
@@ -157,6 +140,59 @@ pub(crate) fn is_zero_variance(variance: f64, reference: f64) -> bool {
     reference > 0.0 && variance <= ZERO_VARIANCE_RTOL * reference
 }
 
+/// The schemes of the panel, in display order, with their names.
+const SCHEMES: [(&str, Scheme); 3] = [
+    ("uniform", Scheme::Uniform),
+    ("importance", Scheme::Alias),
+    ("spatial", Scheme::Spatial),
+];
+
+/// One row per scheme: variance and time per sample, efficiency `1/(Var·T)`, and the
+/// efficiency and variance ratios over uniform selection.
+fn figures_ui(ui: &mut Ui, images: [&SchemeImage; 3], pixels: usize) {
+    let u = images[0];
+    egui::Grid::new("convergence_figures")
+        .striped(true)
+        .num_columns(5)
+        .show(ui, |ui| {
+            for (text, tip) in [
+                ("scheme", "How each light is picked"),
+                (
+                    "Var/sample",
+                    "Mean per-pixel variance of one sample (normalized irradiance)",
+                ),
+                ("T/sample", "Render time per pixel sample"),
+                (
+                    "1/(Var·T)",
+                    "Efficiency: the inverse of variance times time",
+                ),
+                (
+                    "vs uniform",
+                    "Efficiency over uniform selection: how much less time the scheme needs for \
+                     the same error (the variance ratio in parentheses)",
+                ),
+            ] {
+                ui.strong(text).on_hover_text(tip);
+            }
+            ui.end_row();
+            for ((name, scheme), image) in SCHEMES.into_iter().zip(images) {
+                ui.colored_label(colors::scheme(scheme), name);
+                ui.label(fractions::short(image.variance));
+                ui.label(format!(
+                    "{} s",
+                    fractions::short(image.seconds_per_sample(pixels))
+                ));
+                ui.label(efficiency_text(image, u, pixels));
+                if scheme == Scheme::Uniform {
+                    ui.label("1×");
+                } else {
+                    ui.label(speedup_text(u, image, pixels));
+                }
+                ui.end_row();
+            }
+        });
+}
+
 /// `1/(Var·T)` of one image: "∞" for zero variance (up to rounding), "–" before any sample.
 fn efficiency_text(image: &SchemeImage, uniform: &SchemeImage, pixels: usize) -> String {
     if zero_variance(image, uniform) && uniform.variance > 0.0 {
@@ -167,19 +203,23 @@ fn efficiency_text(image: &SchemeImage, uniform: &SchemeImage, pixels: usize) ->
         .map_or("–".to_owned(), fractions::short)
 }
 
-/// "speed-up of NAME over uniform: E× (variance ratio V×)", "∞" for zero variance.
-fn speedup_text(name: &str, u: &SchemeImage, image: &SchemeImage, pixels: usize) -> String {
+/// "E× (variance V×)": the efficiency and variance ratios of `image` over uniform; "∞" for
+/// zero variance, "–" before any sample.
+fn speedup_text(u: &SchemeImage, image: &SchemeImage, pixels: usize) -> String {
     if zero_variance(image, u) && u.variance > 0.0 {
-        return format!("speed-up of {name} over uniform: ∞ (zero variance)");
+        return "∞ (zero variance)".to_owned();
     }
     let speedup = u
         .efficiency(pixels)
         .zip(image.efficiency(pixels))
         .map(|(eu, e)| e / eu);
     let variance_ratio = (image.variance > 0.0).then(|| u.variance / image.variance);
-    format!(
-        "speed-up of {name} over uniform: {}× (variance ratio {}×)",
-        speedup.map_or("–".to_owned(), fractions::short),
-        variance_ratio.map_or("–".to_owned(), fractions::short),
-    )
+    match (speedup, variance_ratio) {
+        (Some(s), Some(v)) => format!(
+            "{}× (variance {}×)",
+            fractions::short(s),
+            fractions::short(v)
+        ),
+        _ => "–".to_owned(),
+    }
 }

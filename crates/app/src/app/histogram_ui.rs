@@ -2,7 +2,7 @@
 //! realizes, their chi-square p-values, and "draw one sample" replayed on the diagram.
 
 use egui::Ui;
-use egui_plot::{Bar, BarChart, Legend, Plot, Points};
+use egui_plot::{Bar, BarChart, Plot, Points};
 use lightpick_core::{ChiSquare, Scheme};
 
 use super::colors;
@@ -19,7 +19,7 @@ pub fn sampling_ui(ui: &mut Ui, state: &mut AppState) {
                 "Light picks drawn so far by each scheme (both restart when the table changes)",
             );
     });
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         let label = ui.label("picks/frame");
         ui.add(
             egui::DragValue::new(&mut state.settings.picks_per_frame)
@@ -126,8 +126,38 @@ fn histogram_plot_ui(ui: &mut Ui, state: &AppState) {
         format!("lights, {per} per bar")
     };
     let fg = colors::foreground(state.dark());
+    // The key sits above the plot, where it never covers a bar.
+    ui.horizontal_wrapped(|ui| {
+        key_ui(
+            ui,
+            Marker::Bar,
+            uniform_color,
+            "uniform picks",
+            "Share of the uniform picks per light",
+        );
+        key_ui(
+            ui,
+            Marker::Bar,
+            alias_color,
+            "alias picks",
+            "Share of the alias picks per light",
+        );
+        key_ui(
+            ui,
+            Marker::Diamond,
+            fg,
+            "pmf",
+            "Expected share under alias sampling: Φ_i/ΣΦ",
+        );
+        key_ui(
+            ui,
+            Marker::Circle,
+            colors::reference(),
+            "1/N",
+            "Expected share under uniform picking",
+        );
+    });
     Plot::new("histograms")
-        .legend(Legend::default().position(egui_plot::Corner::LeftTop))
         .show_background(false)
         .height(ui.available_height().max(140.0))
         .allow_zoom(false)
@@ -152,4 +182,43 @@ fn histogram_plot_ui(ui: &mut Ui, state: &AppState) {
                     .color(colors::reference()),
             );
         });
+}
+
+/// The mark drawn before an entry of the histogram's key.
+#[derive(Clone, Copy)]
+enum Marker {
+    Bar,
+    Diamond,
+    Circle,
+}
+
+/// One entry of the key above the histogram: the plot's mark, painted, then its name.
+fn key_ui(ui: &mut Ui, marker: Marker, color: egui::Color32, text: &str, tip: &str) {
+    let side = ui.text_style_height(&egui::TextStyle::Body) * 0.7;
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(side, side), egui::Sense::hover());
+    let painter = ui.painter();
+    let c = rect.center();
+    let r = side / 2.0;
+    match marker {
+        Marker::Bar => {
+            painter.rect_filled(rect, 1.0, color);
+        }
+        Marker::Diamond => {
+            let points = vec![
+                c + egui::vec2(0.0, -r),
+                c + egui::vec2(r, 0.0),
+                c + egui::vec2(0.0, r),
+                c + egui::vec2(-r, 0.0),
+            ];
+            painter.add(egui::Shape::convex_polygon(
+                points,
+                color,
+                egui::Stroke::NONE,
+            ));
+        }
+        Marker::Circle => {
+            painter.circle_filled(c, r * 0.8, color);
+        }
+    }
+    ui.label(text).on_hover_text(tip);
 }

@@ -22,6 +22,7 @@ pub mod gpu_images;
 pub mod histogram_ui;
 pub mod inspector_ui;
 pub mod lights_ui;
+pub mod log_axes;
 pub mod precision_ui;
 pub mod render_ui;
 pub mod scene_io;
@@ -258,22 +259,26 @@ impl LightpickApp {
             .show(ui, |ui| {
                 controls_ui::status_ui(ui, &self.state, &device_note, frame_ms);
             });
+        // Default widths in proportion to the window (a 1280-pixel projector and a 1920
+        // monitor both show the whole table and the images); resizable, and remembered.
+        let width = ui.available_width();
         egui::Panel::left("lightpick_lights")
             .frame(frame)
             .resizable(true)
-            .default_size(430.0)
+            .default_size((0.25 * width).clamp(300.0, 440.0))
             .show(ui, |ui| {
                 lights_ui::lights_ui(ui, &mut self.state);
             });
         egui::Panel::right("lightpick_images")
             .frame(frame)
             .resizable(true)
-            .default_size(560.0)
+            .default_size((0.42 * width).clamp(420.0, 900.0))
             .show(ui, |ui| {
+                let height = ui.available_height();
                 egui::Panel::bottom("lightpick_convergence")
                     .frame(frame)
                     .resizable(true)
-                    .default_size(330.0)
+                    .default_size((0.42 * height).clamp(240.0, 480.0))
                     .show(ui, |ui| {
                         convergence_ui::convergence_ui(
                             ui,
@@ -288,7 +293,11 @@ impl LightpickApp {
             });
         egui::CentralPanel::default().frame(frame).show(ui, |ui| {
             egui::Panel::bottom("lightpick_sampling")
-                .frame(egui::Frame::NONE)
+                // A little room on the left for the plot's rotated axis label.
+                .frame(egui::Frame::NONE.inner_margin(egui::Margin {
+                    left: 4,
+                    ..egui::Margin::ZERO
+                }))
                 .resizable(true)
                 .default_size(360.0)
                 .show(ui, |ui| {

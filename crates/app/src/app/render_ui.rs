@@ -115,12 +115,26 @@ pub fn images_ui(
     published: Option<&Published>,
     textures: &ImageTextures,
 ) {
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         ui.heading("Images");
         ui.checkbox(&mut state.settings.show_reference, "reference")
             .on_hover_text("Show the exact reference image (sum over every light)");
         ui.checkbox(&mut state.settings.show_error, "error maps")
             .on_hover_text("Show |estimate − reference| per pixel under each image");
+        if let Some(published) = published {
+            let mode = match state.settings.budget {
+                BudgetMode::EqualSamples => "equal samples",
+                BudgetMode::EqualTime => "equal time",
+            };
+            ui.label(
+                egui::RichText::new(format!(
+                    "{}×{} px · {mode}",
+                    published.width, published.height
+                ))
+                .color(colors::muted(state.dark())),
+            )
+            .on_hover_text("Image resolution, and how the frame's work is shared between schemes");
+        }
     });
     let Some(published) = published else {
         ui.label("waiting for the first frame…");
@@ -132,11 +146,12 @@ pub fn images_ui(
     } else {
         3
     };
-    let spacing = ui.spacing().item_spacing.x;
-    let side =
-        ((ui.available_width() - spacing * (columns as f32 - 1.0)) / columns as f32).max(64.0);
-    let aspect = published.height as f32 / published.width.max(1) as f32;
-    let size = egui::vec2(side, side * aspect);
+    let size = image_size(
+        ui,
+        columns,
+        state.settings.show_error,
+        [published.width, published.height],
+    );
     let ids = textures.native.map_or_else(
         || {
             [
@@ -223,14 +238,23 @@ pub fn images_ui(
     if let Some(note) = &published.reference_note {
         ui.label(note);
     }
-    let mode = match state.settings.budget {
-        BudgetMode::EqualSamples => "equal samples",
-        BudgetMode::EqualTime => "equal time",
-    };
-    ui.label(format!(
-        "{}×{} pixels, {mode}",
-        published.width, published.height
-    ));
+}
+
+/// Text rows under each image: title, spp, RMSE, time (which may wrap to two rows).
+const TEXT_ROWS_PER_IMAGE: f32 = 5.0;
+
+/// The on-screen size of each image: `columns` side by side in the panel's width, and the
+/// image (plus its error map when shown) and its text rows within the panel's height.
+fn image_size(ui: &Ui, columns: usize, show_error: bool, [width, height]: [u32; 2]) -> egui::Vec2 {
+    let spacing = ui.spacing().item_spacing;
+    let aspect = height as f32 / width.max(1) as f32;
+    let by_width = (ui.available_width() - spacing.x * (columns as f32 - 1.0)) / columns as f32;
+    let row = ui.text_style_height(&egui::TextStyle::Body) + spacing.y;
+    let images = if show_error { 2.0 } else { 1.0 };
+    let by_height = (ui.available_height() - TEXT_ROWS_PER_IMAGE * row - images * spacing.y)
+        / (images * aspect);
+    let side = by_width.min(by_height).max(48.0);
+    egui::vec2(side, side * aspect)
 }
 
 fn image_column(
@@ -261,13 +285,21 @@ fn image_column(
                 .on_hover_text("Root-mean-square error against the reference");
         }
         ui.label(format!(
-            "{:.1} ms/frame · {:.2} s total",
+            "{:.1} ms/frame, {:.2} s",
             image.last_frame_seconds * 1e3,
             image.seconds
         ))
-        .on_hover_text("Render time of the last frame, and in total");
+        .on_hover_text("Render time of the last frame, and in total so far");
         if let Some(e) = error {
-            ui.image((e.id(), size)).on_hover_text(format!(
+            // Outlined: a zero-error map is as dark as the panel (the exact spatial pick).
+            let response = ui.image((e.id(), size));
+            ui.painter().rect_stroke(
+                response.rect,
+                0.0,
+                egui::Stroke::new(1.0, colors::reference()),
+                egui::StrokeKind::Outside,
+            );
+            response.on_hover_text(format!(
                 "{title}: |estimate − reference| (brighter = larger)"
             ));
         }

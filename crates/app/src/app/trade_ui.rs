@@ -20,6 +20,7 @@ use lightpick_core::scene::Scene;
 use super::colors;
 use super::convergence_ui::is_zero_variance;
 use super::fractions;
+use super::log_axes;
 use super::state::{AppState, SYNC_BUILD_LIMIT};
 
 /// The measurement image is at most this many pixels a side.
@@ -287,14 +288,12 @@ fn plot_ui(ui: &mut Ui, m: &TradeMeasurement, spp_per_frame: u32, dark: bool) {
     let log = |p: &SeriesPoint| {
         (p.rmse > 0.0 && p.seconds > 0.0).then(|| [p.seconds.log10(), p.rmse.log10()])
     };
-    Plot::new("trade_plot")
+    log_axes::log_log_plot(Plot::new("trade_plot"))
         .legend(Legend::default())
         .show_background(false)
         .height(ui.available_height().max(160.0))
-        .x_axis_label("log10 seconds (render time)")
-        .y_axis_label("log10 RMSE (irradiance)")
-        .x_axis_formatter(|mark, _| log_tick(mark.value))
-        .y_axis_formatter(|mark, _| log_tick(mark.value))
+        .x_axis_label("seconds (render time, log scale)")
+        .y_axis_label("RMSE (irradiance, log scale)")
         .show(ui, |plot_ui| {
             let largest = largest_variance(m);
             // A zero-variance row's RMSE is rounding (~1e-16): off the plot, which it would
@@ -335,13 +334,4 @@ fn plot_ui(ui: &mut Ui, m: &TradeMeasurement, spp_per_frame: u32, dark: bool) {
                 .radius(7.0),
             );
         });
-}
-
-/// The label of a tick at `log10 x = v`: `1e-3` on whole decades, else `x` itself.
-fn log_tick(v: f64) -> String {
-    if (v - v.round()).abs() < 1e-9 {
-        format!("1e{}", v.round())
-    } else {
-        fractions::short(10f64.powf(v))
-    }
 }
