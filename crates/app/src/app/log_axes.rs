@@ -1,4 +1,4 @@
-//! Log-log plot axes for egui_plot: the plots carry `log10` of their values, and these
+//! Log-log plot axes for `egui_plot`: the plots carry `log10` of their values, and these
 //! helpers put the grid where a reader of log paper expects it (every `m·10^k`, `m = 1…9`)
 //! and label it with the values themselves (`0.2`, `0.5`, `1`, `1e-4`), never with
 //! fractional exponents such as `1e-0.30000000000000004`.
@@ -21,6 +21,7 @@ const MAX_DECADES_WITH_MINOR: f64 = 12.0;
 
 /// Grid marks at `log10(m·10^k)` over the visible `log10` bounds: decades, then `2` and `5`,
 /// then the other mantissas, each with its own `step_size` (line strength and labelling).
+#[allow(clippy::needless_pass_by_value)] // The signature egui_plot's grid spacers take.
 pub fn log_grid_marks(input: GridInput) -> Vec<GridMark> {
     let (lo, hi) = input.bounds;
     if !(lo.is_finite() && hi.is_finite()) || hi <= lo {
@@ -90,7 +91,7 @@ fn value_label(v: f64) -> String {
 }
 
 /// A plot whose two axes are `log10` values: the log grid and its labels on both.
-pub fn log_log_plot<'a>(plot: Plot<'a>) -> Plot<'a> {
+pub fn log_log_plot(plot: Plot<'_>) -> Plot<'_> {
     plot.x_grid_spacer(log_grid_marks)
         .y_grid_spacer(log_grid_marks)
         .x_axis_formatter(log_tick_label)
