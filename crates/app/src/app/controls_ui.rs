@@ -128,9 +128,9 @@ pub fn controls_ui(ui: &mut Ui, state: &mut AppState) {
     .on_hover_text("Tonemap exposure: irradiance is multiplied by this before display");
     ui.separator();
     ui.selectable_value(&mut s.budget, BudgetMode::EqualSamples, "equal samples")
-        .on_hover_text("Both schemes add the same samples per pixel per frame");
+        .on_hover_text("Every scheme adds the same samples per pixel per frame");
     ui.selectable_value(&mut s.budget, BudgetMode::EqualTime, "equal time")
-        .on_hover_text("Both schemes get the same compute time per frame");
+        .on_hover_text("Every scheme gets the same compute time per frame (about 12 ms), so a cheaper scheme adds more samples");
     ui.separator();
     ui.selectable_value(&mut s.device, Device::Gpu, "GPU")
         .on_hover_text(

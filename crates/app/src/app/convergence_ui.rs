@@ -14,12 +14,6 @@ use super::fractions;
 use super::log_axes;
 use super::state::AppState;
 
-/// A variance below this fraction of the uniform scheme's is the rounding of a zero-variance
-/// estimator (the exact spatial pick): `Σê² − (Σê)²/n` cancels to about `10^-16` relative in
-/// `f64`. Such a scheme is shown with an infinite efficiency and left off the plot, whose
-/// log axis it would otherwise stretch over sixteen decades.
-pub(crate) const ZERO_VARIANCE_RTOL: f64 = 1e-12;
-
 /// Which x axis the plot uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ConvergenceAxis {
@@ -51,7 +45,8 @@ pub fn convergence_ui(
     let u = &published.uniform;
     let a = &published.importance;
     let sp = &published.spatial;
-    figures_ui(ui, [u, a, sp], pixels);
+    let spatial_exact = published.spatial_is_exact();
+    figures_ui(ui, [u, a, sp], pixels, spatial_exact);
     if u.series.is_empty() && a.series.is_empty() && sp.series.is_empty() {
         ui.label(
             published
@@ -74,7 +69,6 @@ pub fn convergence_ui(
     };
     let uniform_points = log_points(&u.series);
     let importance_points = log_points(&a.series);
-    let spatial_exact = zero_variance(sp, u);
     let spatial_points = if spatial_exact {
         Vec::new()
     } else {
@@ -129,17 +123,6 @@ pub fn convergence_ui(
         });
 }
 
-/// Whether `image` has zero variance up to rounding (see [`ZERO_VARIANCE_RTOL`]).
-fn zero_variance(image: &SchemeImage, uniform: &SchemeImage) -> bool {
-    image.spp >= 2 && is_zero_variance(image.variance, uniform.variance)
-}
-
-/// Whether a variance per sample is the rounding of zero next to a `reference` variance
-/// (the uniform scheme's, or the largest measured): `v ≤` [`ZERO_VARIANCE_RTOL`]` · reference`.
-pub(crate) fn is_zero_variance(variance: f64, reference: f64) -> bool {
-    reference > 0.0 && variance <= ZERO_VARIANCE_RTOL * reference
-}
-
 /// The schemes of the panel, in display order, with their names.
 const SCHEMES: [(&str, Scheme); 3] = [
     ("uniform", Scheme::Uniform),
@@ -148,8 +131,10 @@ const SCHEMES: [(&str, Scheme); 3] = [
 ];
 
 /// One row per scheme: variance and time per sample, efficiency `1/(Var·T)`, and the
-/// efficiency and variance ratios over uniform selection.
-fn figures_ui(ui: &mut Ui, images: [&SchemeImage; 3], pixels: usize) {
+/// efficiency and variance ratios over uniform selection. With `spatial_exact` the spatial
+/// row is the exact pick: variance 0 by construction (the measured rounding on hover),
+/// efficiency ∞.
+fn figures_ui(ui: &mut Ui, images: [&SchemeImage; 3], pixels: usize, spatial_exact: bool) {
     let u = images[0];
     egui::Grid::new("convergence_figures")
         .striped(true)
@@ -177,38 +162,39 @@ fn figures_ui(ui: &mut Ui, images: [&SchemeImage; 3], pixels: usize) {
             ui.end_row();
             for ((name, scheme), image) in SCHEMES.into_iter().zip(images) {
                 ui.colored_label(colors::scheme(scheme), name);
-                ui.label(fractions::short(image.variance));
-                ui.label(format!(
-                    "{} s",
-                    fractions::short(image.seconds_per_sample(pixels))
-                ));
-                ui.label(efficiency_text(image, u, pixels));
-                if scheme == Scheme::Uniform {
-                    ui.label("1×");
+                let exact = spatial_exact && scheme == Scheme::Spatial && image.spp > 0;
+                let seconds = format!("{} s", fractions::short(image.seconds_per_sample(pixels)));
+                if exact {
+                    ui.label("0 (exact)").on_hover_text(format!(
+                        "Every sample is the exact irradiance; the measured {} is rounding \
+                         of the sums",
+                        fractions::short(image.variance)
+                    ));
+                    ui.label(seconds);
+                    ui.label("∞");
+                    ui.label("∞ (zero variance)");
                 } else {
-                    ui.label(speedup_text(u, image, pixels));
+                    ui.label(fractions::short(image.variance));
+                    ui.label(seconds);
+                    ui.label(
+                        image
+                            .efficiency(pixels)
+                            .map_or("–".to_owned(), fractions::short),
+                    );
+                    ui.label(if scheme == Scheme::Uniform {
+                        "1×".to_owned()
+                    } else {
+                        speedup_text(u, image, pixels)
+                    });
                 }
                 ui.end_row();
             }
         });
 }
 
-/// `1/(Var·T)` of one image: "∞" for zero variance (up to rounding), "–" before any sample.
-fn efficiency_text(image: &SchemeImage, uniform: &SchemeImage, pixels: usize) -> String {
-    if zero_variance(image, uniform) && uniform.variance > 0.0 {
-        return "∞".to_owned();
-    }
-    image
-        .efficiency(pixels)
-        .map_or("–".to_owned(), fractions::short)
-}
-
-/// "E× (variance V×)": the efficiency and variance ratios of `image` over uniform; "∞" for
-/// zero variance, "–" before any sample.
+/// "E× (variance V×)": the efficiency and variance ratios of `image` over uniform, "–"
+/// before any sample.
 fn speedup_text(u: &SchemeImage, image: &SchemeImage, pixels: usize) -> String {
-    if zero_variance(image, u) && u.variance > 0.0 {
-        return "∞ (zero variance)".to_owned();
-    }
     let speedup = u
         .efficiency(pixels)
         .zip(image.efficiency(pixels))

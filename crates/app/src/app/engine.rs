@@ -20,7 +20,7 @@ use super::colors;
 use super::state::BudgetMode;
 
 /// Compute time each scheme gets per frame in equal-time mode.
-const EQUAL_TIME_SLICE_S: f64 = 0.012;
+pub(crate) const EQUAL_TIME_SLICE_S: f64 = 0.012;
 
 /// Virtual seconds per pixel sample in inline mode (deterministic timings for tests).
 const VIRTUAL_SECONDS_PER_SAMPLE: f64 = 1.0e-8;
@@ -125,12 +125,22 @@ pub struct Published {
     pub importance: SchemeImage,
     /// Contribution-aware selection (exact for few lights, light tree for many).
     pub spatial: SchemeImage,
+    /// Lights in the scene rendered (whether the spatial lane is the exact pick).
+    pub light_count: usize,
     /// The tonemapped exact reference.
     pub reference_rgba: Option<Vec<u8>>,
     /// Why there is no reference, when there is none.
     pub reference_note: Option<String>,
     /// Where it was rendered ("CPU (rayon, 2 threads)").
     pub device_note: String,
+}
+
+impl Published {
+    /// Whether the spatial image is the exact contribution pick (few lights): zero variance
+    /// by construction, so its measured variance and RMSE are rounding only.
+    pub fn spatial_is_exact(&self) -> bool {
+        self.light_count > 0 && lightpick_core::spatial::uses_exact_pick(self.light_count)
+    }
 }
 
 /// One scheme's renderer and totals.
@@ -258,6 +268,7 @@ impl Job {
             frame: self.frame,
             width: self.scene.plane.width,
             height: self.scene.plane.height,
+            light_count: self.scene.light_count(),
             uniform: scheme_image(&self.uniform),
             importance: scheme_image(&self.importance),
             spatial: scheme_image(&self.spatial),

@@ -1,11 +1,12 @@
 //! Progressive images on the GPU: three `lightpick_core::gpu::GpuRenderer`s (uniform,
 //! importance and spatial) on eframe's own wgpu device, whose `Rgba8Unorm` outputs egui
-//! shows as native textures (no copy through the CPU). Every few frames the sums are read back for the
-//! RMSE, the error maps and the convergence curves, computed exactly as the CPU engine does.
+//! shows as native textures (no copy through the CPU). Every few frames the sums are read
+//! back for the RMSE, the error maps and the convergence curves, computed exactly as the CPU
+//! engine does.
 //!
 //! All of it runs on the UI thread, which waits for each lane's compute work (an honest time
-//! per frame); when a frame of it takes longer than a budget the next frames skip it, so a
-//! huge scene slows the images more than the window.
+//! per frame); when a frame of it takes more than the frame leaves, the next frames skip it
+//! ([`super::frame_budget`]), so a slow device slows the images, never the window.
 
 use std::sync::{Arc, mpsc};
 use std::time::Instant;
@@ -17,14 +18,11 @@ use lightpick_core::render::{Reference, mean_variance_per_sample};
 use lightpick_core::scene::Scene;
 
 use super::engine::{self, ConvergencePoint, EngineConfig, Published, SchemeImage};
+use super::frame_budget::FrameBudget;
 use super::state::{BudgetMode, SYNC_BUILD_LIMIT};
 
 /// Read the sums back (RMSE, error maps, curves) every this many frames.
 const READBACK_EVERY: u64 = 4;
-
-/// GPU seconds per UI frame before frames without GPU work are inserted (keeps ≥ 30 fps
-/// when a huge scene makes one sample per pixel slow on a software rasterizer).
-const GPU_BUDGET_S: f64 = 0.020;
 
 /// One scheme on the GPU.
 struct Lane {
@@ -47,6 +45,23 @@ struct Lanes {
     frame: u64,
     /// Frames to skip before the next GPU work.
     cooldown: u32,
+}
+
+/// Most samples per pixel one lane dispatches in a frame of equal-time mode.
+const MAX_EQUAL_TIME_SPP: u32 = 1 << 12;
+
+/// Samples per pixel for one lane's frame in equal-time mode: as many as fit in
+/// [`engine::EQUAL_TIME_SLICE_S`] at the lane's measured time per sample so far (one
+/// dispatch, one wait), and 1 before there is a measurement. Every lane thus gets about the
+/// same GPU time per frame, so the cheaper scheme accumulates more samples.
+fn equal_time_spp(image: &SchemeImage) -> u32 {
+    if image.spp == 0 || image.seconds <= 0.0 {
+        return 1;
+    }
+    let per_spp = image.seconds / f64::from(image.spp);
+    (engine::EQUAL_TIME_SLICE_S / per_spp)
+        .floor()
+        .clamp(1.0, f64::from(MAX_EQUAL_TIME_SPP)) as u32
 }
 
 impl Lanes {
@@ -88,6 +103,8 @@ pub struct GpuImages {
     pending: Option<PendingBuild>,
     /// The reference being computed, and for which scene generation.
     reference_job: Option<ReferenceJob>,
+    /// How much GPU work each UI frame may take.
+    budget: FrameBudget,
 }
 
 /// A reference computed on a worker thread, for one scene generation.
@@ -110,6 +127,7 @@ impl GpuImages {
             latest: None,
             pending: None,
             reference_job: None,
+            budget: FrameBudget::default(),
         }
     }
 
@@ -141,6 +159,7 @@ impl GpuImages {
         reset: bool,
         step: bool,
     ) -> Result<(), String> {
+        self.budget.begin_frame(Instant::now());
         let stale = self
             .lanes
             .as_ref()
@@ -210,9 +229,12 @@ impl GpuImages {
             advance = false;
         }
         if advance {
-            let spp = config.spp_per_frame.max(1);
             let mut total = 0.0;
             for lane in lanes.each_mut() {
+                let spp = match config.budget {
+                    BudgetMode::EqualSamples => config.spp_per_frame.max(1),
+                    BudgetMode::EqualTime => equal_time_spp(&lane.image),
+                };
                 let started = Instant::now();
                 lane.renderer.accumulate(spp).map_err(|e| e.to_string())?;
                 // Wait for this lane's work, so the time per frame is the lane's own.
@@ -223,9 +245,10 @@ impl GpuImages {
                 lane.image.spp = lane.renderer.samples_per_pixel();
                 total += spent;
             }
-            // Keep the window responsive: a frame of GPU work longer than the budget is
-            // followed by frames without any (the images then update every few frames).
-            lanes.cooldown = (total / GPU_BUDGET_S).floor() as u32;
+            // Keep the window at 30 frames per second or more: GPU work beyond what the
+            // frame leaves is followed by frames without any (see `frame_budget`).
+            self.budget.gpu_spent(total);
+            lanes.cooldown = self.budget.cooldown_after(total);
             lanes.frame += 1;
         }
         if advance || self.exposure != Some(config.exposure) {
@@ -269,15 +292,12 @@ impl GpuImages {
                 }
             }
         }
-        let budget_note = match config.budget {
-            BudgetMode::EqualSamples => "",
-            BudgetMode::EqualTime => " (equal time runs on the CPU only; GPU shows equal samples)",
-        };
         self.latest = Some(Arc::new(Published {
             generation: lanes.generation,
             frame: lanes.frame * 2 + u64::from(readback),
             width: lanes.scene.plane.width,
             height: lanes.scene.plane.height,
+            light_count: lanes.scene.light_count(),
             uniform: lanes.uniform.image.clone(),
             importance: lanes.importance.image.clone(),
             spatial: lanes.spatial.image.clone(),
@@ -287,7 +307,7 @@ impl GpuImages {
                 .and_then(Reference::image)
                 .map(|r| lightpick_core::render::tonemap_rgba8(r, config.exposure)),
             reference_note: lanes.reference_note.clone(),
-            device_note: format!("GPU: {}{budget_note}", self.ctx.description()),
+            device_note: format!("GPU: {}", self.ctx.description()),
         }));
         Ok(())
     }
@@ -416,5 +436,35 @@ impl GpuImages {
             frame: 0,
             cooldown: 0,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn image(spp: u32, seconds: f64) -> SchemeImage {
+        SchemeImage {
+            spp,
+            seconds,
+            ..SchemeImage::default()
+        }
+    }
+
+    #[test]
+    fn equal_time_gives_each_lane_the_samples_that_fit_its_slice() {
+        // Unmeasured: one sample per pixel.
+        assert_eq!(equal_time_spp(&image(0, 0.0)), 1);
+        // 1 ms per spp so far: 12 of them fit in the 12 ms slice.
+        let slice = engine::EQUAL_TIME_SLICE_S;
+        assert_eq!(equal_time_spp(&image(10, 0.010)), (slice / 0.001) as u32);
+        // A lane 4× cheaper gets 4× the samples (the point of equal-time mode).
+        assert_eq!(
+            equal_time_spp(&image(40, 0.010)),
+            4 * equal_time_spp(&image(10, 0.010))
+        );
+        // Slower than the slice: still one; very fast: capped.
+        assert_eq!(equal_time_spp(&image(1, 1.0)), 1);
+        assert_eq!(equal_time_spp(&image(1_000_000, 1e-3)), MAX_EQUAL_TIME_SPP);
     }
 }

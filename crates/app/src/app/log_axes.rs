@@ -132,7 +132,10 @@ mod tests {
             .collect();
         assert_eq!(labelled, ["0.5", "1"]);
         // Zoomed in to under 1.2 decades, every line is labelled.
-        let all: Vec<String> = m.iter().map(|&g| log_tick_label(g, &(-0.6..=0.05))).collect();
+        let all: Vec<String> = m
+            .iter()
+            .map(|&g| log_tick_label(g, &(-0.6..=0.05)))
+            .collect();
         assert_eq!(all, ["0.3", "0.4", "0.5", "0.6", "0.7", "0.8", "0.9", "1"]);
         // 0.3, 0.4, 0.6, 0.7, 0.8, 0.9 are faint unlabelled lines.
         assert_eq!(m.len(), 8);

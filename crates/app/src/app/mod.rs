@@ -18,6 +18,7 @@ pub mod convergence_ui;
 pub mod engine;
 pub mod file_dialog_ui;
 pub mod fractions;
+pub mod frame_budget;
 pub mod gpu_images;
 pub mod histogram_ui;
 pub mod inspector_ui;

@@ -33,9 +33,9 @@ pub enum Device {
 /// How the two images share the work.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum BudgetMode {
-    /// Both schemes take the same samples per pixel per frame.
+    /// Every scheme takes the same samples per pixel per frame.
     EqualSamples,
-    /// Both schemes get the same compute time per frame.
+    /// Every scheme gets the same compute time per frame.
     EqualTime,
 }
 

@@ -230,7 +230,14 @@ pub fn diagram_ui(ui: &mut Ui, state: &mut AppState, height: Option<f32>) {
     let muted = colors::muted(dark);
     // Plot area: leave room for the axis labels.
     let plot = Rect::from_min_max(outer.min + vec2(36.0, 8.0), outer.max - vec2(8.0, 22.0));
-    painter.rect_filled(plot, 0.0, colors::grid(dark).gamma_multiply(0.35));
+    // The plot area is outlined, not filled: on a software rasterizer (lavapipe) every
+    // filled pixel costs, and this one is redrawn every frame.
+    painter.rect_stroke(
+        plot,
+        0.0,
+        Stroke::new(1.0, colors::grid(dark)),
+        StrokeKind::Inside,
+    );
     let pmf = built.table.pmf_slice();
     let thresholds = built.table.thresholds();
     let aliases = built.table.aliases();

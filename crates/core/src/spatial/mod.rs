@@ -42,6 +42,14 @@ use crate::rng::Rng;
 /// contributions near `N = 16`. Below that the exact scan is no slower and has zero variance.
 pub const EXACT_MAX_LIGHTS: usize = 16;
 
+/// Whether [`SpatialSampler::build`] picks exactly for a scene of `light_count` lights
+/// (`N ≤` [`EXACT_MAX_LIGHTS`]): then every estimate is the exact irradiance and the
+/// scheme has zero variance; what a measurement shows is rounding (`~10^-16` relative in
+/// `f64` sums, `~10^-6` in the GPU's `f32` ones).
+pub fn uses_exact_pick(light_count: usize) -> bool {
+    light_count <= EXACT_MAX_LIGHTS
+}
+
 /// One contribution-aware pick at a shading point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpatialPick {
@@ -72,7 +80,7 @@ impl SpatialSampler {
     /// # Panics
     /// If `positions` and `powers` have different lengths.
     pub fn build(positions: &[[f64; 3]], powers: &LightPowers) -> Self {
-        if positions.len() <= EXACT_MAX_LIGHTS {
+        if uses_exact_pick(positions.len()) {
             SpatialSampler::Exact(ExactSampler::build(positions, powers))
         } else {
             SpatialSampler::Tree(LightTree::build(positions, powers))

@@ -1,0 +1,125 @@
+//! The app's GPU image path (`gpu_images.rs`): the three renderers on eframe's own wgpu device
+//! (kittest's, here: lavapipe without a GPU), shown as native textures and read back for the
+//! error figures. With the same seed they must give the CPU engine's numbers.
+//!
+//! Like every GPU test this fails, never skips, when no adapter exists, unless
+//! `LIGHTPICK_SKIP_GPU_TESTS=1` is set.
+
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use lightpick::app::LightpickApp;
+use lightpick::app::engine::Published;
+use lightpick_core::Scheme;
+use lightpick_core::render::{CpuRenderer, Reference, rmse};
+
+fn skip() -> bool {
+    let skip = std::env::var("LIGHTPICK_SKIP_GPU_TESTS").as_deref() == Ok("1");
+    if skip {
+        eprintln!("GPU test skipped: LIGHTPICK_SKIP_GPU_TESTS=1");
+    }
+    skip
+}
+
+/// The whole app on kittest's wgpu device, paused, on the seed scene.
+fn gpu_app() -> Harness<'static, LightpickApp> {
+    let mut harness = Harness::builder()
+        .with_size([1280.0, 800.0])
+        .wgpu()
+        .build_eframe(|_cc| LightpickApp::for_tests());
+    harness.run();
+    harness
+}
+
+/// Steps `frames` frames, then runs until the reference (a worker thread) has arrived and the
+/// latest frame carries every RMSE.
+fn step_until_measured(harness: &mut Harness<'static, LightpickApp>, frames: u32) -> Published {
+    for _ in 0..frames {
+        harness.state_mut().step();
+        harness.run();
+    }
+    let deadline = Instant::now() + Duration::from_mins(1);
+    loop {
+        harness.state_mut().step();
+        harness.run();
+        let latest = harness.state_mut().published().expect("a GPU frame");
+        if latest.uniform.rmse.is_some() && latest.spatial.rmse.is_some() {
+            return (*latest).clone();
+        }
+        assert!(Instant::now() < deadline, "the reference never arrived");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn the_gpu_renders_the_three_images_with_the_cpu_engines_numbers() {
+    if skip() {
+        return;
+    }
+    let mut harness = gpu_app();
+    let published = step_until_measured(&mut harness, 4);
+    assert!(
+        published.device_note.starts_with("GPU: "),
+        "the GPU renders the images: {}",
+        published.device_note
+    );
+    let spp = published.uniform.spp;
+    assert!(spp >= 5, "{spp} spp after at least 5 steps");
+    assert_eq!(published.importance.spp, spp);
+    assert_eq!(published.spatial.spp, spp);
+
+    // The CPU renderers with the app's seed and scene, at the same spp.
+    let app = harness.state();
+    let scene = app.state.built.scene.clone();
+    let seed = app.state.settings.seed;
+    let reference = Reference::compute(&scene);
+    let cpu_rmse = |scheme| {
+        let mut r = CpuRenderer::new(&scene, scheme, seed);
+        r.accumulate(spp);
+        rmse(r.accumulator(), &reference)
+    };
+    // Same picks (the RNG and the pick are bit for bit the CPU's); the per-pixel f32
+    // estimates and sums differ by ~1e-6 relative, so the RMSEs agree far within 1e-3.
+    for (scheme, image) in [
+        (Scheme::Uniform, &published.uniform),
+        (Scheme::Alias, &published.importance),
+    ] {
+        let (gpu, cpu) = (image.rmse.expect("rmse"), cpu_rmse(scheme));
+        assert!(
+            (gpu - cpu).abs() <= 1e-3 * cpu,
+            "{scheme:?}: GPU RMSE {gpu} vs CPU {cpu}"
+        );
+    }
+    // Three lights: the exact contribution pick, whose only error on the GPU is f32 rounding.
+    let uniform = published.uniform.rmse.expect("rmse");
+    let spatial = published.spatial.rmse.expect("rmse");
+    assert!(spatial <= 1e-4 * uniform, "spatial GPU RMSE {spatial}");
+    assert!(
+        published.importance.error_rgba.is_some(),
+        "error maps read back"
+    );
+}
+
+#[test]
+fn equal_time_mode_runs_on_the_gpu_too() {
+    if skip() {
+        return;
+    }
+    let mut harness = gpu_app();
+    harness.state_mut().state.settings.budget = lightpick::app::state::BudgetMode::EqualTime;
+    let published = step_until_measured(&mut harness, 6);
+    assert!(published.device_note.starts_with("GPU: "));
+    assert!(
+        !published.device_note.contains("CPU only"),
+        "{}",
+        published.device_note
+    );
+    for image in [
+        &published.uniform,
+        &published.importance,
+        &published.spatial,
+    ] {
+        assert!(image.spp >= 7, "every lane advances: {} spp", image.spp);
+        assert!(image.seconds > 0.0);
+    }
+}
