@@ -9,6 +9,7 @@ use lightpick::app::fractions::short;
 use lightpick::app::{LightpickApp, PanelKind};
 use lightpick_core::inspect::PointInspection;
 use lightpick_core::scene::pixel_center;
+use lightpick_core::spatial::SpatialSampler;
 
 fn whole_app() -> Harness<'static, LightpickApp> {
     let mut harness = Harness::builder()
@@ -158,5 +159,46 @@ fn inspector_snapshot() {
         "app_inspector",
         &SnapshotOptions::new()
             .output_path(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/snapshots")),
+    );
+}
+
+/// On `equal` (64 lights spread over the plane: a light tree) the inspector adds the spatial
+/// scheme: its pick probabilities and its variance, the core's, and lower than power
+/// sampling's at that point (most lights are far from it, and power sampling ignores that).
+#[test]
+fn the_inspector_shows_the_spatial_pick_and_its_variance() {
+    let mut app = LightpickApp::for_tests();
+    let scene = lightpick::app::scene_io::preset("equal").expect("preset");
+    app.state.load_scene(scene);
+    let mut harness = Harness::builder().with_size([520.0, 700.0]).build_ui_state(
+        |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Inspector),
+        app,
+    );
+    harness.state_mut().state.inspector.pixel = Some([100, 60]);
+    harness.run();
+    let state = &harness.state().state;
+    let scene = &state.built.scene;
+    let x = pixel_center(&scene.plane, 100, 60);
+    let sampler = SpatialSampler::build(&scene.positions, &scene.powers);
+    assert!(matches!(sampler, SpatialSampler::Tree(_)));
+    let inspection = PointInspection::at_with_spatial(scene, x, &sampler);
+    let spatial = inspection.spatial_relative_variance.expect("spatial");
+    assert!(
+        spatial < inspection.power_relative_variance,
+        "spatial {spatial} vs power {}",
+        inspection.power_relative_variance
+    );
+    assert!(
+        harness.query_all_by_label(&short(spatial)).next().is_some(),
+        "spatial variance {} missing",
+        short(spatial)
+    );
+    assert!(shows_containing(&harness, "spatial (q = P(i | x))"));
+    let top = inspection.lights[0];
+    let q = short(top.spatial.expect("spatial q"));
+    assert!(
+        harness.query_all_by_label(&q).next().is_some(),
+        "spatial q {q} of light {} missing",
+        top.index + 1
     );
 }

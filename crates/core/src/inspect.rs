@@ -13,11 +13,15 @@
 //! from the pick probabilities: zero exactly when `q = s` (picking in proportion to the
 //! contribution), and large where a light with a big share is rarely picked. Power sampling
 //! (`q_i = p_i = Φ_i/ΣΦ`) is ideal only where every light's geometry term is the same.
+//! The spatial scheme ([`crate::spatial`], [`PointInspection::at_with_spatial`]) picks with
+//! `q_i = P(i | x)`: exactly `s_i` for few lights (no variance), a light tree's
+//! approximation of it beyond.
 //!
 //! Everything is computed in normalized units (`p_i·G_i` instead of `Φ_i·G_i`), so powers
 //! near `f64::MAX` or 1e-300 neither overflow nor underflow where their shares matter.
 
 use crate::scene::{Scene, geometry_term};
+use crate::spatial::SpatialSampler;
 
 /// Lights listed individually per ranking (largest share, largest pmf) in an inspection.
 pub const LISTED_PER_RANKING: usize = 8;
@@ -33,6 +37,9 @@ pub struct LightShare {
     pub pmf: f64,
     /// Its share of the irradiance at the point, `s_i = Φ_i·G_i(x) / E(x)` (0 when `E = 0`).
     pub share: f64,
+    /// Its pick probability under the spatial scheme at the point, `P(i | x)`
+    /// ([`crate::spatial`]), when the inspection was given the spatial sampler.
+    pub spatial: Option<f64>,
 }
 
 /// The lights an inspection does not list one by one, summed.
@@ -44,6 +51,8 @@ pub struct OtherLights {
     pub pmf: f64,
     /// Their total share `Σ s_i`.
     pub share: f64,
+    /// Their total spatial pick probability `Σ P(i | x)`, when known.
+    pub spatial: Option<f64>,
 }
 
 /// Light picking at one point `x` of the receiver plane (see the module docs).
@@ -63,13 +72,34 @@ pub struct PointInspection {
     pub uniform_relative_variance: f64,
     /// `Var/E²` of power picking (`q_i = p_i`): `Σ_{p_i>0} s_i²/p_i − 1`.
     pub power_relative_variance: f64,
+    /// `Var/E²` of the spatial scheme (`q_i = P(i | x)`): `Σ_{q_i>0} s_i²/q_i − 1`, 0 for
+    /// the exact pick (`q = s`) up to rounding; when the inspection was given the sampler.
+    pub spatial_relative_variance: Option<f64>,
     /// `½·Σ |s_i − p_i|`: how far power sampling is from the ideal pmf here.
     pub total_variation: f64,
 }
 
 impl PointInspection {
-    /// Inspects `scene` at the point `x` in `O(N)`.
+    /// Inspects `scene` at the point `x` in `O(N)` (power and uniform picking).
     pub fn at(scene: &Scene, x: [f64; 2]) -> Self {
+        Self::compute(scene, x, None)
+    }
+
+    /// [`PointInspection::at`] with the spatial scheme too: `spatial` must be the sampler of
+    /// `scene` ([`SpatialSampler::build`] over its positions and powers); `O(N)`.
+    ///
+    /// # Panics
+    /// If `spatial` was built for a different number of lights.
+    pub fn at_with_spatial(scene: &Scene, x: [f64; 2], spatial: &SpatialSampler) -> Self {
+        assert_eq!(
+            spatial.light_count(),
+            scene.light_count(),
+            "sampler built for another scene"
+        );
+        Self::compute(scene, x, Some(&spatial.pdfs(x)))
+    }
+
+    fn compute(scene: &Scene, x: [f64; 2], spatial: Option<&[f64]>) -> Self {
         let pmf = scene.powers.pmf();
         let n = pmf.len();
         // Normalized contributions p_i·G_i(x): E(x)/ΣΦ.
@@ -88,11 +118,17 @@ impl PointInspection {
             }
         };
         let (mut uniform_second, mut power_second, mut variation) = (0.0, 0.0, 0.0);
+        let mut spatial_second = 0.0;
         for (i, &p) in pmf.iter().enumerate() {
             let s = share(i);
             uniform_second += s * s;
             if p > 0.0 {
                 power_second += s * s / p;
+            }
+            if let Some(q) = spatial.map(|q| q[i])
+                && q > 0.0
+            {
+                spatial_second += s * s / q;
             }
             variation += (s - p).abs();
         }
@@ -112,6 +148,7 @@ impl PointInspection {
             } else {
                 0.0
             },
+            spatial: spatial.map(|_| 1.0),
         };
         let lights: Vec<LightShare> = listed
             .into_iter()
@@ -121,9 +158,13 @@ impl PointInspection {
                     power: scene.powers.as_slice()[i],
                     pmf: pmf[i],
                     share: share(i),
+                    spatial: spatial.map(|q| q[i]),
                 };
                 others.pmf -= light.pmf;
                 others.share -= light.share;
+                if let (Some(rest), Some(q)) = (others.spatial.as_mut(), light.spatial) {
+                    *rest -= q;
+                }
                 light
             })
             .collect();
@@ -132,6 +173,7 @@ impl PointInspection {
         } else {
             others.pmf = others.pmf.max(0.0);
             others.share = others.share.max(0.0);
+            others.spatial = others.spatial.map(|q| q.max(0.0));
         }
         Self {
             x,
@@ -140,6 +182,7 @@ impl PointInspection {
             others,
             uniform_relative_variance: relative(n as f64 * uniform_second),
             power_relative_variance: relative(power_second),
+            spatial_relative_variance: spatial.map(|_| relative(spatial_second)),
             total_variation: 0.5 * variation,
         }
     }
@@ -152,6 +195,13 @@ impl PointInspection {
     /// Per-sample variance of power picking here, in irradiance units: `E²·(Σ s²/p − 1)`.
     pub fn power_variance(&self) -> f64 {
         self.irradiance * self.irradiance * self.power_relative_variance
+    }
+
+    /// Per-sample variance of the spatial scheme here, in irradiance units:
+    /// `E²·(Σ s²/q − 1)`, when the inspection was given the sampler.
+    pub fn spatial_variance(&self) -> Option<f64> {
+        self.spatial_relative_variance
+            .map(|r| self.irradiance * self.irradiance * r)
     }
 }
 

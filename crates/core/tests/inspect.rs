@@ -11,6 +11,7 @@
 use lightpick_core::inspect::PointInspection;
 use lightpick_core::render::CpuRenderer;
 use lightpick_core::scene::{ReceiverPlane, Scene, geometry_term, pixel_center};
+use lightpick_core::spatial::SpatialSampler;
 use lightpick_core::{LightPowers, Scheme};
 
 const K: f64 = 5.0;
@@ -43,18 +44,19 @@ fn moments(f: &[f64], q: &[f64]) -> (f64, f64, f64) {
     (mean, central(2), central(4))
 }
 
-fn check(scheme: Scheme, q_of: impl Fn(&Scene) -> Vec<f64>) {
-    let scene = scene();
-    let mut renderer = CpuRenderer::new(&scene, scheme, 77);
+/// `q_of(x)`: the scheme's pick pmf at the point `x`.
+fn check(scene: &Scene, scheme: Scheme, q_of: impl Fn([f64; 2]) -> Vec<f64>) {
+    let mut renderer = CpuRenderer::new(scene, scheme, 77);
     renderer.accumulate(SPP);
     let acc = renderer.accumulator();
-    let q = q_of(&scene);
+    let spatial = SpatialSampler::build(&scene.positions, &scene.powers);
     let n = f64::from(SPP);
     for py in 0..scene.plane.height {
         for px in 0..scene.plane.width {
             let x = pixel_center(&scene.plane, px, py);
             let p = (py * scene.plane.width + px) as usize;
-            let inspection = PointInspection::at(&scene, x);
+            let q = q_of(x);
+            let inspection = PointInspection::at_with_spatial(scene, x, &spatial);
             let f: Vec<f64> = scene
                 .positions
                 .iter()
@@ -64,6 +66,7 @@ fn check(scheme: Scheme, q_of: impl Fn(&Scene) -> Vec<f64>) {
             let (mean, variance, mu4) = moments(&f, &q);
             let inspected = match scheme {
                 Scheme::Uniform => inspection.uniform_variance(),
+                Scheme::Spatial => inspection.spatial_variance().unwrap(),
                 _ => inspection.power_variance(),
             };
             assert!(
@@ -89,12 +92,52 @@ fn check(scheme: Scheme, q_of: impl Fn(&Scene) -> Vec<f64>) {
 
 #[test]
 fn power_sampling_variance_at_each_pixel_is_the_inspected_one() {
-    check(Scheme::Alias, |s| s.powers.pmf());
+    let s = scene();
+    check(&s, Scheme::Alias, |_| s.powers.pmf());
 }
 
 #[test]
 fn uniform_sampling_variance_at_each_pixel_is_the_inspected_one() {
-    check(Scheme::Uniform, |s| {
-        vec![1.0 / s.light_count() as f64; s.light_count()]
-    });
+    let s = scene();
+    let n = s.light_count();
+    check(&s, Scheme::Uniform, |_| vec![1.0 / n as f64; n]);
+}
+
+/// 40 lights (a light tree): the spatial pmf depends on the point; the inspector's variance
+/// is still the one the renderer realizes at each pixel.
+#[test]
+fn spatial_sampling_variance_at_each_pixel_is_the_inspected_one() {
+    let mut s = scene();
+    s.positions = (0..40)
+        .map(|k| {
+            let t = f64::from(k);
+            [
+                (0.37 * t).sin() * 1.5,
+                (0.23 * t).cos() * 1.2,
+                0.2 + 0.02 * t,
+            ]
+        })
+        .collect();
+    s.powers = LightPowers::new((0..40).map(|k| 1.0 + f64::from(k % 7)).collect()).unwrap();
+    let sampler = SpatialSampler::build(&s.positions, &s.powers);
+    assert!(matches!(sampler, SpatialSampler::Tree(_)));
+    check(&s, Scheme::Spatial, |x| sampler.pdfs(x));
+}
+
+/// Few lights: the spatial scheme is the exact pick, `q = s` at every point, no variance.
+#[test]
+fn the_exact_spatial_pick_has_no_variance_at_any_pixel() {
+    let s = scene();
+    let spatial = SpatialSampler::build(&s.positions, &s.powers);
+    for (px, py) in [(0, 0), (2, 1), (1, 0)] {
+        let x = pixel_center(&s.plane, px, py);
+        let inspection = PointInspection::at_with_spatial(&s, x, &spatial);
+        for light in &inspection.lights {
+            let q = light.spatial.unwrap();
+            assert!((q - light.share).abs() <= 1e-15, "light {}", light.index);
+        }
+        assert!(inspection.spatial_relative_variance.unwrap() <= 1e-14);
+        // Without the sampler, no spatial figures.
+        assert_eq!(PointInspection::at(&s, x).spatial_relative_variance, None);
+    }
 }

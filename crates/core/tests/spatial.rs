@@ -368,3 +368,22 @@ fn renderer_uses_the_sampler_at_pixel_centres() {
         }
     }
 }
+
+/// `pdfs(x)` (one traversal) equals `pdf(x, i)` (one path per light) for every light, for
+/// the exact sampler and trees of several sizes, and sums to 1.
+#[test]
+fn all_pdfs_at_once_equal_the_pdf_of_each_light() {
+    for (n, seed) in [(12, 41), (17, 42), (300, 43)] {
+        let (positions, powers) = random_lights(n, seed, 4.0);
+        let sampler = SpatialSampler::build(&positions, &powers);
+        for x in POINTS {
+            let all = sampler.pdfs(x);
+            assert_eq!(all.len(), n);
+            for (i, &q) in all.iter().enumerate() {
+                assert_eq!(q, sampler.pdf(x, i), "n = {n}, light {i} at {x:?}");
+            }
+            let total: f64 = all.iter().sum();
+            assert!((total - 1.0).abs() < 1e-12, "n = {n}: Σ = {total}");
+        }
+    }
+}

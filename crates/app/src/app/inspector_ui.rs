@@ -1,14 +1,18 @@
-//! The per-pixel inspector: click a pixel of either image to see, at that point of the
-//! plane, each light's pick probability under power sampling beside its true share of the
-//! irradiance there, and the variance per sample that follows
-//! (`Var/E² = Σ s_i²/q_i − 1`, see [`lightpick_core::inspect`]).
+//! The per-pixel inspector: click a pixel of any image to see, at that point of the plane,
+//! each light's pick probability under power and under spatial sampling beside its true
+//! share of the irradiance there, and the variance per sample that follows
+//! (`Var/E² = Σ s_i²/q_i − 1`, see [`lightpick_core::inspect`]). The spatial sampler
+//! (`O(N log N)` for a light tree) is built once per scene, on a worker thread.
 
 use egui::{Color32, Rect, Response, Sense, Ui, vec2};
 use egui_plot::{Bar, BarChart, Legend, Plot};
 use lightpick_core::Scheme;
 use lightpick_core::inspect::PointInspection;
-use lightpick_core::scene::pixel_center;
+use lightpick_core::scene::{Scene, pixel_center};
+use lightpick_core::spatial::SpatialSampler;
+use std::sync::Arc;
 
+use super::background::Background;
 use super::colors;
 use super::fractions;
 use super::state::AppState;
@@ -18,6 +22,8 @@ use super::state::AppState;
 pub struct Inspector {
     /// The inspected pixel `(px, py)`, or `None` (the window is closed).
     pub pixel: Option<[u32; 2]>,
+    /// The spatial sampler of a scene generation, built on a worker thread (inline in tests).
+    pub spatial: Background<(u64, Arc<SpatialSampler>)>,
     cached: Option<Cached>,
 }
 
@@ -25,32 +31,48 @@ pub struct Inspector {
 struct Cached {
     generation: u64,
     pixel: [u32; 2],
+    with_spatial: bool,
     inspection: PointInspection,
 }
 
 impl Inspector {
-    /// The inspection of the selected pixel for the scene of `state.built`, computed
-    /// (`O(N)`) when the pixel or the scene changed. `None` when no pixel is selected or it
-    /// lies outside the scene's image.
-    fn inspection(
-        &mut self,
-        generation: u64,
-        scene: &lightpick_core::scene::Scene,
-    ) -> Option<&PointInspection> {
+    /// The inspection of the selected pixel for the scene of `generation`, computed (`O(N)`)
+    /// when the pixel or the scene changed, and again once the scene's spatial sampler is
+    /// ready. `None` when no pixel is selected or it lies outside the scene's image.
+    fn inspection(&mut self, generation: u64, scene: &Arc<Scene>) -> Option<&PointInspection> {
         let pixel = self.pixel?;
         if pixel[0] >= scene.plane.width || pixel[1] >= scene.plane.height {
             return None;
         }
-        let fresh = self
-            .cached
+        self.spatial.poll();
+        let spatial = self
+            .spatial
+            .result
             .as_ref()
-            .is_some_and(|c| c.generation == generation && c.pixel == pixel);
+            .filter(|(g, _)| *g == generation)
+            .map(|(_, sampler)| Arc::clone(sampler));
+        if spatial.is_none() {
+            let for_build = Arc::clone(scene);
+            self.spatial
+                .start(generation, "lightpick-inspector-spatial", move |_| {
+                    let sampler = SpatialSampler::build(&for_build.positions, &for_build.powers);
+                    (generation, Arc::new(sampler))
+                });
+        }
+        let fresh = self.cached.as_ref().is_some_and(|c| {
+            c.generation == generation && c.pixel == pixel && c.with_spatial == spatial.is_some()
+        });
         if !fresh {
             let x = pixel_center(&scene.plane, pixel[0], pixel[1]);
+            let inspection = match &spatial {
+                Some(sampler) => PointInspection::at_with_spatial(scene, x, sampler),
+                None => PointInspection::at(scene, x),
+            };
             self.cached = Some(Cached {
                 generation,
                 pixel,
-                inspection: PointInspection::at(scene, x),
+                with_spatial: spatial.is_some(),
+                inspection,
             });
         }
         self.cached.as_ref().map(|c| &c.inspection)
@@ -118,11 +140,11 @@ pub fn inspector_ui(ui: &mut Ui, state: &mut AppState) {
     let dark = state.dark();
     let built = std::sync::Arc::clone(&state.built);
     let Some(pixel) = state.inspector.pixel else {
-        ui.label("Click a pixel of either image to inspect it.");
+        ui.label("Click a pixel of any image to inspect it.");
         return;
     };
     let Some(inspection) = state.inspector.inspection(built.generation, &built.scene) else {
-        ui.label("The selected pixel is outside the image; click a pixel of either image.");
+        ui.label("The selected pixel is outside the image; click a pixel of any image.");
         return;
     };
     ui.label(format!(
@@ -145,7 +167,7 @@ pub fn inspector_ui(ui: &mut Ui, state: &mut AppState) {
     shares_table_ui(ui, inspection, dark);
 }
 
-/// The variance of uniform, power and ideal picking at the point.
+/// The variance of uniform, power, spatial and ideal picking at the point.
 fn variance_ui(ui: &mut Ui, inspection: &PointInspection) {
     ui.label("Variance of one sample here: Var/E² = Σ s_i²/q_i − 1 (zero when q = s)")
         .on_hover_text(
@@ -157,14 +179,19 @@ fn variance_ui(ui: &mut Ui, inspection: &PointInspection) {
         (
             "uniform (q = 1/N)",
             colors::scheme(Scheme::Uniform),
-            inspection.uniform_relative_variance,
+            Some(inspection.uniform_relative_variance),
         ),
         (
             "power (q = p, alias)",
             colors::scheme(Scheme::Alias),
-            inspection.power_relative_variance,
+            Some(inspection.power_relative_variance),
         ),
-        ("ideal (q = s)", colors::reference(), 0.0),
+        (
+            "spatial (q = P(i | x))",
+            colors::scheme(Scheme::Spatial),
+            inspection.spatial_relative_variance,
+        ),
+        ("ideal (q = s)", colors::reference(), Some(0.0)),
     ];
     egui::Grid::new("inspector_variance")
         .num_columns(4)
@@ -177,6 +204,14 @@ fn variance_ui(ui: &mut Ui, inspection: &PointInspection) {
             ui.end_row();
             for (name, color, relative) in rows {
                 ui.colored_label(color, name);
+                let Some(relative) = relative else {
+                    ui.label("computing…")
+                        .on_hover_text("The scene's spatial sampler is being built");
+                    ui.label("");
+                    ui.label("");
+                    ui.end_row();
+                    continue;
+                };
                 ui.label(fractions::short(relative));
                 ui.label(fractions::short(relative * e2));
                 let ratio = if name.starts_with("uniform") {
@@ -202,10 +237,11 @@ fn variance_ui(ui: &mut Ui, inspection: &PointInspection) {
     .on_hover_text("Total variation distance between the shares and the power pmf");
 }
 
-/// Bars: each listed light's power pmf beside its share.
+/// Bars: each listed light's power pmf and spatial pick probability beside its share.
 fn shares_plot_ui(ui: &mut Ui, inspection: &PointInspection) {
-    let width = 0.38;
+    let width = 0.27;
     let pmf_color = colors::scheme(Scheme::Alias);
+    let spatial_color = colors::scheme(Scheme::Spatial);
     let share_color = colors::reference();
     let bars = |side: f64, value: fn(&lightpick_core::inspect::LightShare) -> f64, color| {
         inspection
@@ -213,13 +249,14 @@ fn shares_plot_ui(ui: &mut Ui, inspection: &PointInspection) {
             .iter()
             .enumerate()
             .map(|(k, l)| {
-                Bar::new(k as f64 + 1.0 + side * width / 2.0, value(l))
+                Bar::new(k as f64 + 1.0 + side * width, value(l))
                     .width(width)
                     .fill(color)
                     .name(format!("light {}", l.index + 1))
             })
             .collect::<Vec<_>>()
     };
+    let has_spatial = inspection.spatial_relative_variance.is_some();
     let labels: Vec<String> = inspection
         .lights
         .iter()
@@ -247,6 +284,15 @@ fn shares_plot_ui(ui: &mut Ui, inspection: &PointInspection) {
             plot_ui.bar_chart(
                 BarChart::new("pmf p (power)", bars(-1.0, |l| l.pmf, pmf_color)).color(pmf_color),
             );
+            if has_spatial {
+                plot_ui.bar_chart(
+                    BarChart::new(
+                        "spatial P(i | x)",
+                        bars(0.0, |l| l.spatial.unwrap_or(0.0), spatial_color),
+                    )
+                    .color(spatial_color),
+                );
+            }
             plot_ui.bar_chart(
                 BarChart::new("share s of E(x)", bars(1.0, |l| l.share, share_color))
                     .color(share_color),
@@ -260,12 +306,15 @@ fn shares_table_ui(ui: &mut Ui, inspection: &PointInspection, dark: bool) {
         .max_height(ui.available_height().max(120.0))
         .show(ui, |ui| {
             egui::Grid::new("inspector_lights")
-                .num_columns(5)
+                .num_columns(6)
                 .striped(true)
                 .show(ui, |ui| {
                     ui.strong("light");
                     ui.strong("power Φ");
                     ui.strong("pmf p");
+                    ui.strong("spatial q").on_hover_text(
+                        "P(i | x): the spatial scheme's pick probability at this point",
+                    );
                     ui.strong("share s");
                     ui.strong("s / p").on_hover_text(
                         "Above 1: power sampling picks this light too rarely here \
@@ -282,6 +331,7 @@ fn shares_table_ui(ui: &mut Ui, inspection: &PointInspection, dark: bool) {
                         });
                         ui.label(fractions::short(l.power));
                         ui.label(fractions::short(l.pmf));
+                        ui.label(l.spatial.map_or("…".to_owned(), fractions::short));
                         ui.label(fractions::short(l.share));
                         ui.label(if l.pmf > 0.0 {
                             fractions::short(l.share / l.pmf)
@@ -295,6 +345,7 @@ fn shares_table_ui(ui: &mut Ui, inspection: &PointInspection, dark: bool) {
                         ui.colored_label(colors::muted(dark), format!("{} others", others.count));
                         ui.label("");
                         ui.label(fractions::short(others.pmf));
+                        ui.label(others.spatial.map_or("…".to_owned(), fractions::short));
                         ui.label(fractions::short(others.share));
                         ui.label("");
                         ui.end_row();

@@ -186,6 +186,7 @@ impl LightpickApp {
     pub fn with_state(mut state: AppState, threaded: bool) -> Self {
         state.trade.inline = !threaded;
         state.precision.inline = !threaded;
+        state.inspector.spatial.inline = !threaded;
         Self {
             state,
             engine: None,

@@ -87,6 +87,18 @@ impl ExactSampler {
             })
     }
 
+    /// `P(i | x) = c_i / S` of every light of the scene, indexed by scene index (`O(N)`).
+    pub fn pdfs(&self, x: [f64; 2]) -> Vec<f64> {
+        let mut out = vec![0.0; self.n];
+        let total: f64 = self.lights.iter().map(|(_, l)| contribution(l, x)).sum();
+        if total > 0.0 {
+            for (i, l) in &self.lights {
+                out[*i as usize] = contribution(l, x) / total;
+            }
+        }
+        out
+    }
+
     /// The contributing lights as `(scene index, [x, y, z, p_i])`.
     pub fn lights(&self) -> &[(u32, SpatialLight)] {
         &self.lights

@@ -111,6 +111,16 @@ impl SpatialSampler {
         }
     }
 
+    /// `P(i | x)` of every light of the scene at once (indexed by scene index, 0 for a light
+    /// that cannot contribute): `O(N)`, where calling [`SpatialSampler::pdf`] per light would
+    /// cost `O(N²)` for the tree.
+    pub fn pdfs(&self, x: [f64; 2]) -> Vec<f64> {
+        match self {
+            SpatialSampler::Exact(s) => s.pdfs(x),
+            SpatialSampler::Tree(t) => t.pdfs(x),
+        }
+    }
+
     /// Number of lights of the scene (contributing or not).
     pub fn light_count(&self) -> usize {
         match self {

@@ -178,6 +178,37 @@ impl LightTree {
         })
     }
 
+    /// `P(i | x)` of every light of the scene at once, indexed by scene index (0 for a light
+    /// outside the tree): one traversal with the branch probabilities of
+    /// [`LightTree::sample`], `O(N)` (two importances per internal node).
+    pub fn pdfs(&self, x: [f64; 2]) -> Vec<f64> {
+        let mut out = vec![0.0; self.n];
+        let m = self.order.len();
+        if m == 0 {
+            return out;
+        }
+        let root = Child {
+            lo: 0,
+            hi: m,
+            node: 0,
+        };
+        let mut stack = vec![(root, 1.0f64)];
+        while let Some((at, pdf)) = stack.pop() {
+            if at.hi - at.lo == 1 {
+                out[self.order[at.lo] as usize] = pdf;
+                continue;
+            }
+            let (left, right) = Self::children(at.node, at.lo, at.hi);
+            let (il, pl) = self.importance(left, x);
+            let (ir, pr) = self.importance(right, x);
+            let (p_left, p_right) = branch_probabilities(il, ir, pl, pr);
+            let (g_left, g_right) = grid_probabilities(branch_threshold(p_left, p_right));
+            stack.push((left, pdf * g_left));
+            stack.push((right, pdf * g_right));
+        }
+        out
+    }
+
     /// `P(i | x)`: the product of the branch probabilities on the path to light `i`'s leaf
     /// (0 for a light outside the tree). `O(N)` to find the leaf: meant for tests.
     pub fn pdf(&self, x: [f64; 2], light: usize) -> f64 {
