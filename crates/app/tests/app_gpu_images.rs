@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 use egui_kittest::Harness;
 use lightpick::app::LightpickApp;
 use lightpick::app::engine::Published;
+use lightpick::app::state::FileAction;
 use lightpick_core::Scheme;
 use lightpick_core::render::{CpuRenderer, Reference, rmse};
 
@@ -121,5 +122,32 @@ fn equal_time_mode_runs_on_the_gpu_too() {
     ] {
         assert!(image.spp >= 7, "every lane advances: {} spp", image.spp);
         assert!(image.seconds > 0.0);
+    }
+}
+
+/// Exporting the images while the GPU renders them reads the native textures' sums back
+/// (the images are not on the CPU otherwise) and writes the full sheet.
+#[test]
+fn exporting_reads_the_gpu_images_back() {
+    if skip() {
+        return;
+    }
+    let mut harness = gpu_app();
+    let published = step_until_measured(&mut harness, 2);
+    assert!(published.uniform.rgba.is_empty(), "native textures only");
+    let path =
+        std::env::temp_dir().join(format!("lightpick-gpu-export-{}.png", std::process::id()));
+    let path_text = path.to_str().expect("utf-8 path").to_owned();
+    harness
+        .state_mut()
+        .file_action(FileAction::ExportImages, &path_text, None);
+    let sheet = image::open(&path).expect("the PNG was written").to_rgba8();
+    let _ = std::fs::remove_file(&path);
+    let (w, h) = (published.width, published.height);
+    assert_eq!((sheet.width(), sheet.height()), (4 * w, 2 * h));
+    // The seed scene lights the middle of every image: not black.
+    for column in 0..3 {
+        let p = sheet.get_pixel(column * w + w / 2, h / 2);
+        assert!(p[0] > 0 || p[1] > 0 || p[2] > 0, "image {column} is black");
     }
 }

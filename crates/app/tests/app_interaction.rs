@@ -224,6 +224,13 @@ fn export_writes_png_files_through_the_file_menu() {
         assert_eq!(&bytes[1..4], b"PNG", "{file}");
         harness.get_by_label_contains("exported");
     }
+    // uniform | importance | spatial | reference over their three error maps.
+    let sheet = image::open(dir.join("images.png")).expect("a PNG");
+    let plane = &harness.state().state.built.scene.plane;
+    assert_eq!(
+        (sheet.width(), sheet.height()),
+        (4 * plane.width, 2 * plane.height)
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -143,6 +143,32 @@ impl GpuImages {
             .map(|l| [l.uniform.texture, l.importance.texture, l.spatial.texture])
     }
 
+    /// The latest frame with its images read back and tonemapped on the CPU (the same
+    /// tonemap as the GPU's), for exporting them.
+    pub fn frame_with_images(&self, exposure: f64) -> Result<Published, String> {
+        let lanes = self
+            .lanes
+            .as_ref()
+            .ok_or("no image has been rendered yet")?;
+        let mut frame = self
+            .latest
+            .as_deref()
+            .cloned()
+            .ok_or("no image has been rendered yet")?;
+        for (image, lane) in [
+            &mut frame.uniform,
+            &mut frame.importance,
+            &mut frame.spatial,
+        ]
+        .into_iter()
+        .zip([&lanes.uniform, &lanes.importance, &lanes.spatial])
+        {
+            let acc = lane.renderer.readback().map_err(|e| e.to_string())?;
+            image.rgba = lightpick_core::render::tonemap_rgba8(&acc.image(), exposure);
+        }
+        Ok(frame)
+    }
+
     /// The latest frame (its `rgba` fields are empty: the images are native textures).
     pub fn latest(&self) -> Option<Arc<Published>> {
         self.latest.clone()

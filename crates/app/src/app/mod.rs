@@ -553,7 +553,20 @@ impl LightpickApp {
             FileAction::SaveScene => scene_io::save(Path::new(path), &self.state.built.scene)
                 .map(|()| format!("saved {path}")),
             FileAction::ExportImages => {
-                export_images(Path::new(path), published).map(|()| format!("exported {path}"))
+                // GPU images are native textures: read them back first.
+                let from_gpu = match self.gpu.as_ref().filter(|_| self.uses_gpu()) {
+                    Some(gpu) => Some(gpu.frame_with_images(self.state.settings.exposure)),
+                    None => None,
+                };
+                match from_gpu {
+                    Some(Ok(frame)) => Ok(frame),
+                    Some(Err(e)) => Err(e),
+                    None => published
+                        .cloned()
+                        .ok_or_else(|| "no image has been rendered yet".to_owned()),
+                }
+                .and_then(|frame| export_images(Path::new(path), &frame))
+                .map(|()| format!("exported {path}"))
             }
             FileAction::ExportDiagram => {
                 export_diagram(Path::new(path), &self.state).map(|()| format!("exported {path}"))
@@ -598,28 +611,46 @@ fn install_fonts(ctx: &egui::Context) {
     ));
 }
 
-/// Writes uniform | importance | reference side by side as one PNG.
-fn export_images(path: &Path, published: Option<&Published>) -> Result<(), String> {
-    let p = published.ok_or("no image has been rendered yet")?;
-    let (w, h) = (p.width as usize, p.height as usize);
-    let mut parts: Vec<&[u8]> = vec![&p.uniform.rgba, &p.importance.rgba];
-    if let Some(r) = &p.reference_rgba {
-        parts.push(r);
+/// Writes uniform | importance | spatial | reference side by side as one PNG, with the
+/// three error maps in a second row when there is a reference image.
+fn export_images(path: &Path, p: &Published) -> Result<(), String> {
+    let pixels = p.width as usize * p.height as usize * 4;
+    if [&p.uniform, &p.importance, &p.spatial]
+        .iter()
+        .any(|s| s.rgba.len() != pixels)
+    {
+        return Err("the images are not ready yet".into());
     }
-    let total_w = w * parts.len();
-    let mut out = vec![0u8; total_w * h * 4];
-    for (k, part) in parts.iter().enumerate() {
+    let (w, h) = (p.width as usize, p.height as usize);
+    let schemes = [&p.uniform, &p.importance, &p.spatial];
+    let mut top: Vec<&[u8]> = schemes.iter().map(|s| s.rgba.as_slice()).collect();
+    if let Some(r) = &p.reference_rgba {
+        top.push(r);
+    }
+    let errors: Option<Vec<&[u8]>> = schemes.iter().map(|s| s.error_rgba.as_deref()).collect();
+    let columns = top.len();
+    let rows = if errors.is_some() { 2 } else { 1 };
+    let total_w = w * columns;
+    // Opaque black where a row has no image (under the reference).
+    let mut out: Vec<u8> = [0, 0, 0, 255].repeat(total_w * h * rows);
+    let mut place = |row: usize, column: usize, part: &[u8]| {
         for y in 0..h {
             let src = &part[y * w * 4..(y + 1) * w * 4];
-            let dst = (y * total_w + k * w) * 4;
+            let dst = ((row * h + y) * total_w + column * w) * 4;
             out[dst..dst + w * 4].copy_from_slice(src);
         }
+    };
+    for (k, part) in top.iter().enumerate() {
+        place(0, k, part);
+    }
+    for (k, part) in errors.iter().flatten().enumerate() {
+        place(1, k, part);
     }
     image::save_buffer(
         path,
         &out,
         total_w as u32,
-        h as u32,
+        (h * rows) as u32,
         image::ExtendedColorType::Rgba8,
     )
     .map_err(|e| format!("{}: {e}", path.display()))
