@@ -279,3 +279,20 @@ fn presets_feed_every_power_command() {
         "give the powers once",
     );
 }
+
+#[test]
+fn the_grid_preset_loads_everywhere_presets_do() {
+    let v = ok_json(&["table", "--preset", "grid", "--json"]);
+    assert_eq!(v["n"], 1024);
+    assert_eq!(v["total_power"], 1024.0);
+    let v = ok_json(&[
+        "render", "--preset", "grid", "--scheme", "spatial", "--spp", "4", "--width", "16",
+        "--height", "16", "--device", "cpu", "--json",
+    ]);
+    assert_eq!(v["scene"], "grid");
+    assert_eq!(v["lights"], 1024);
+    let v = ok_json(&[
+        "sample", "--preset", "grid", "--count", "1000", "--device", "cpu", "--json",
+    ]);
+    assert_eq!(v["counts"].as_array().unwrap().len(), 1024);
+}

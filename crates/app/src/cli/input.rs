@@ -27,7 +27,8 @@ pub struct SceneArgs {
     /// A JSON scene file.
     #[arg(long, value_name = "FILE", conflicts_with = "preset")]
     pub scene: Option<PathBuf>,
-    /// A built-in scene: seed, equal, dominant, zeros, heavy-tail, million, extreme-range.
+    /// A built-in scene: seed, equal, dominant, zeros, heavy-tail, million, extreme-range,
+    /// grid.
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
 }
