@@ -99,9 +99,21 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         bail!("no scene given: use --scene FILE or --preset NAME");
     };
     resize(&mut scene, args.width, args.height)?;
-    let ctx = choose(args.device, args.scheme != Scheme::Cdf)?;
-    if args.device.is_none() && args.scheme == Scheme::Cdf {
-        eprintln!("notice: the cdf scheme renders on the CPU");
+    // What keeps the GPU from rendering this, known before opening it: the default device
+    // then takes the CPU with a notice; an explicit `--device gpu` opens the GPU and gets
+    // the renderer's refusal as its error.
+    let gpu_refusal = if args.scheme == Scheme::Cdf {
+        Some("the cdf scheme renders on the CPU".to_owned())
+    } else {
+        GpuRenderer::check_scene(&scene)
+            .err()
+            .map(|e| format!("{e}; using the CPU"))
+    };
+    let ctx = choose(args.device, gpu_refusal.is_none())?;
+    if args.device.is_none()
+        && let Some(refusal) = &gpu_refusal
+    {
+        eprintln!("notice: {refusal}");
     }
 
     let started = Instant::now();
