@@ -53,6 +53,47 @@ impl SceneArgs {
     }
 }
 
+/// The scene of a command that needs light positions (`render`, `plot convergence`,
+/// `plot sheet`): `--scene FILE` or `--preset NAME`.
+///
+/// Bare powers (`--powers`, `--powers-file`) place no light anywhere, and no convention
+/// here invents positions for them, so those flags are accepted (hidden from the help) only
+/// to be refused with a message that says a scene or preset is needed, rather than clap's
+/// "unexpected argument".
+#[derive(Debug, Args, Clone, Default)]
+pub struct PositionedArgs {
+    /// The scene file or preset.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Refused: powers without positions (see the type's docs).
+    #[arg(long, value_name = "LIST", allow_hyphen_values = true, hide = true)]
+    pub powers: Option<String>,
+    /// Refused: powers without positions (see the type's docs).
+    #[arg(long, value_name = "FILE", hide = true)]
+    pub powers_file: Option<PathBuf>,
+}
+
+impl PositionedArgs {
+    /// The scene named, `None` when neither `--scene` nor `--preset` was given; refuses
+    /// `--powers`/`--powers-file`, naming `command` (e.g. `plot convergence`).
+    pub fn load(&self, command: &str) -> anyhow::Result<Option<Scene>> {
+        let flag = if self.powers.is_some() {
+            Some("--powers")
+        } else if self.powers_file.is_some() {
+            Some("--powers-file")
+        } else {
+            None
+        };
+        if let Some(flag) = flag {
+            bail!(
+                "{flag}: {command} needs light positions, which bare powers do not have; \
+                 use --scene FILE or --preset NAME"
+            );
+        }
+        self.scene.load()
+    }
+}
+
 impl PowersArgs {
     /// Reads and validates the powers from whichever source was given.
     pub fn load(&self) -> anyhow::Result<LightPowers> {
