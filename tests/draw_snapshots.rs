@@ -144,12 +144,27 @@ fn synthetic_series(scheme: Scheme, c: f64, cost: f64) -> ConvergenceSeries {
     ConvergenceSeries::for_scheme(scheme, points)
 }
 
+/// Uniform, alias and cdf curves, and a zero-variance spatial series (the exact pick: RMSE
+/// at the rounding level, ~1e-16), which must stay off the axes and be named in the legend.
 fn synthetic_convergence() -> Vec<ConvergenceSeries> {
+    let mut exact = synthetic_series(Scheme::Spatial, 3e-16, 1.2e-3);
+    for p in &mut exact.points {
+        p.rmse = 3e-16 * (1.0 + 0.3 * (p.spp as f64).sin());
+    }
     vec![
         synthetic_series(Scheme::Uniform, 0.9, 1.0e-3),
         synthetic_series(Scheme::Alias, 0.14, 1.1e-3),
         synthetic_series(Scheme::Cdf, 0.15, 1.9e-3),
+        exact,
     ]
+}
+
+#[test]
+fn the_zero_variance_series_is_recognized() {
+    assert_eq!(
+        draw::zero_variance_series(&synthetic_convergence()),
+        [false, false, false, true]
+    );
 }
 
 #[test]
@@ -174,9 +189,21 @@ fn convergence_vs_seconds() {
     snapshot("convergence_seconds", &pixmap);
 }
 
+/// The images of [`small_renders`]: uniform, alias, spatial (exact pick), reference.
+struct SmallRenders {
+    width: usize,
+    height: usize,
+    uniform: Vec<f64>,
+    importance: Vec<f64>,
+    spatial: Vec<f64>,
+    reference: Vec<f64>,
+}
+
 /// A small receiver plane lit by the seed lights, rendered for real: the exact sum and
-/// `spp`-sample Monte Carlo estimates `Φᵢ·Gᵢ / p(i)` with each scheme's picks.
-fn small_renders(spp: u64) -> (usize, usize, Vec<f64>, Vec<f64>, Vec<f64>) {
+/// `spp`-sample Monte Carlo estimates `Φᵢ·Gᵢ / p(i)` with each scheme's picks, the spatial
+/// one picking `i` with `P(i | x) = Φᵢ·Gᵢ(x) / Σⱼ Φⱼ·Gⱼ(x)` (the exact pick of three lights,
+/// so its estimate is the exact sum up to rounding).
+fn small_renders(spp: u64) -> SmallRenders {
     let (w, h) = (80usize, 50usize);
     let powers = SeedExample::powers();
     let lights = [(0.35, 0.30, 0.10), (1.20, 0.68, 0.12), (0.80, 0.45, 0.30)];
@@ -207,25 +234,54 @@ fn small_renders(spp: u64) -> (usize, usize, Vec<f64>, Vec<f64>, Vec<f64>) {
             })
             .collect()
     };
-    (
-        w,
-        h,
-        estimate(Scheme::Uniform),
-        estimate(Scheme::Alias),
+    let spatial: Vec<f64> = (0..n)
+        .map(|p| {
+            let c: Vec<f64> = (0..3)
+                .map(|i| powers.as_slice()[i] * geometry(i, p))
+                .collect();
+            let total: f64 = c.iter().sum();
+            let sum: f64 = (0..spp)
+                .map(|k| {
+                    let mut rng = Rng::new(5, (k << 32) | p as u64);
+                    let u = rng.next_unit() * total;
+                    let mut below = 0.0;
+                    let i = (0..3)
+                        .find(|&i| {
+                            below += c[i];
+                            u < below
+                        })
+                        .unwrap_or(2);
+                    c[i] / (c[i] / total)
+                })
+                .sum();
+            sum / spp as f64
+        })
+        .collect();
+    SmallRenders {
+        width: w,
+        height: h,
+        uniform: estimate(Scheme::Uniform),
+        importance: estimate(Scheme::Alias),
+        spatial,
         reference,
-    )
+    }
 }
 
 #[test]
 fn image_sheet_of_small_renders() {
     let spp = 4;
-    let (width, height, uniform, importance, reference) = small_renders(spp);
+    let r = small_renders(spp);
+    // The exact pick's estimate is the exact sum up to rounding.
+    for (s, e) in r.spatial.iter().zip(&r.reference) {
+        assert!((s - e).abs() <= 1e-14 * e, "{s} vs {e}");
+    }
     let sheet = SheetImages {
-        width,
-        height,
-        uniform: &uniform,
-        importance: &importance,
-        reference: &reference,
+        width: r.width,
+        height: r.height,
+        uniform: &r.uniform,
+        importance: &r.importance,
+        spatial: &r.spatial,
+        reference: &r.reference,
         spp,
         exposure: None,
     };

@@ -180,6 +180,12 @@ fn bench_writes_the_plot_and_reports_the_gpu() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("GPU: "), "{text}");
     assert!(text.contains("rand_distr::WeightedAliasIndex"), "{text}");
+    // The seed's three lights: the exact spatial pick has zero variance, so its series (RMSE
+    // ~1e-16, rounding) stays off the plot's axes, and the text says so.
+    assert!(
+        text.contains("preset seed; spatial: zero variance, left off the axes)"),
+        "{text}"
+    );
     let bytes = std::fs::read(&png).unwrap();
     assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
     std::fs::remove_dir_all(&dir).ok();

@@ -154,3 +154,69 @@ fn no_subcommand_without_a_display_exits_2_pointing_to_the_subcommands() {
         "{stderr}"
     );
 }
+
+#[test]
+fn clap_errors_name_what_is_wrong_on_one_line() {
+    // A missing required argument is named (clap puts it on a second line).
+    assert_error(
+        &["estimate", "--powers", "2,5,20", "--count", "10"],
+        "error: missing required argument --contrib <LIST>",
+    );
+    // An unknown argument keeps clap's suggestion on the same line.
+    assert_error(
+        &["table", "--power", "2,5,20"],
+        "unexpected argument '--power' found (tip: a similar argument exists: '--powers')",
+    );
+    // An invalid value names the value, the flag and the accepted values.
+    assert_error(
+        &["plot", "convergence", "--axis", "spx", "--out", "x.png"],
+        "invalid value 'spx' for '--axis <AXIS>' [possible values: spp, seconds]",
+    );
+    assert_error(
+        &["sample", "--powers", "1,2", "--count", "ten"],
+        "invalid value 'ten' for '--count <COUNT>'",
+    );
+}
+
+#[test]
+fn powers_files_refuse_empty_items_like_powers_lists() {
+    let dir = std::env::temp_dir().join(format!("lightpick-e2e-empty-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("powers.txt");
+    std::fs::write(&file, "2,,20\n").unwrap();
+    let path = file.to_str().unwrap();
+    assert_error(
+        &["table", "--powers-file", path],
+        &format!("{path}: item 1 is empty"),
+    );
+    assert_error(&["table", "--powers", "2,,20"], "--powers: item 1 is empty");
+    // White space alone still separates items, and a comma next to it is no empty item.
+    std::fs::write(&file, "2 5,\n20\n").unwrap();
+    let v = json(&["table", "--powers-file", path, "--json"]);
+    assert_eq!(v["n"], 3);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_total_power_beyond_f64_is_reported_honestly() {
+    let max = "1.7976931348623157e308,1.7976931348623157e308";
+    let v = json(&["table", "--powers", max, "--json"]);
+    assert_eq!(as_f64s(&v["pmf"]), vec![0.5, 0.5]);
+    // JSON has no infinity: the total is null, its log10 (2·f64::MAX ≈ 10^308.5557) a number.
+    assert!(v["total_power"].is_null(), "{v}");
+    let log10 = v["total_power_log10"].as_f64().unwrap();
+    assert!(
+        (log10 - (f64::MAX.log10() + 2f64.log10())).abs() < 1e-12,
+        "{log10}"
+    );
+    let out = lightpick(&["table", "--powers", max]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    assert!(
+        text.contains("total power 3.595e308 (exceeds f64)"),
+        "{text}"
+    );
+    assert!(!text.contains("inf"), "{text}");
+    let v = json(&["table", "--powers", "2,5,20", "--json"]);
+    assert!((v["total_power_log10"].as_f64().unwrap() - 27f64.log10()).abs() < 1e-15);
+}

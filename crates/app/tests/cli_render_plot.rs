@@ -279,3 +279,117 @@ fn presets_feed_every_power_command() {
         "give the powers once",
     );
 }
+
+#[test]
+fn convergence_plots_the_chosen_schemes_and_the_sheet_has_a_spatial_column() {
+    let dir = scratch("schemes");
+    let png = dir.join("c.png");
+    let out = png.to_str().unwrap();
+    // The default list includes spatial, exact (zero variance) on the seed's three lights:
+    // the plot is still drawn, that series off the axes.
+    for extra in [
+        &[][..],
+        &["--schemes", "uniform,spatial"][..],
+        &["--schemes", "power,alias-one-random"][..],
+        &["--preset", "grid", "--schemes", "alias,spatial"][..],
+    ] {
+        let mut args = vec!["plot", "convergence", "--spp", "4", "--out", out];
+        args.extend_from_slice(extra);
+        let run = lightpick(&args);
+        assert!(
+            run.status.success(),
+            "{extra:?}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        assert_eq!(png_size(&png), (800, 500), "{extra:?}");
+    }
+    assert_error(
+        &[
+            "plot",
+            "convergence",
+            "--schemes",
+            "uniform,magic",
+            "--out",
+            out,
+        ],
+        "unknown scheme 'magic'",
+    );
+    assert_error(
+        &[
+            "plot",
+            "convergence",
+            "--schemes",
+            "alias,power",
+            "--out",
+            out,
+        ],
+        "--schemes: item 1 ('alias') is already in the list",
+    );
+    let sheet = dir.join("s.png");
+    let run = lightpick(&[
+        "plot",
+        "sheet",
+        "--preset",
+        "equal",
+        "--spp",
+        "2",
+        "--image-width",
+        "32",
+        "--out",
+        sheet.to_str().unwrap(),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert_eq!(png_size(&sheet), (800, 500));
+}
+
+#[test]
+fn commands_that_need_positions_refuse_bare_powers_clearly() {
+    let dir = scratch("bare");
+    let file = dir.join("p.txt");
+    std::fs::write(&file, "2 5 20").unwrap();
+    let file = file.to_str().unwrap();
+    let png = dir.join("x.png");
+    let png = png.to_str().unwrap();
+    for (command, args) in [
+        (
+            "plot convergence",
+            vec!["plot", "convergence", "--out", png],
+        ),
+        ("plot sheet", vec!["plot", "sheet", "--out", png]),
+        ("render", vec!["render", "--device", "cpu"]),
+    ] {
+        let mut with_list = args.clone();
+        with_list.extend_from_slice(&["--powers", "2,5,20"]);
+        assert_error(
+            &with_list,
+            &format!(
+                "--powers: {command} needs light positions, which bare powers do not have; \
+                 use --scene FILE or --preset NAME"
+            ),
+        );
+        let mut with_file = args;
+        with_file.extend_from_slice(&["--powers-file", file]);
+        assert_error(&with_file, "--powers-file: ");
+    }
+}
+
+#[test]
+fn the_grid_preset_loads_everywhere_presets_do() {
+    let v = ok_json(&["table", "--preset", "grid", "--json"]);
+    assert_eq!(v["n"], 1024);
+    assert_eq!(v["total_power"], 1024.0);
+    let v = ok_json(&[
+        "render", "--preset", "grid", "--scheme", "spatial", "--spp", "4", "--width", "16",
+        "--height", "16", "--device", "cpu", "--json",
+    ]);
+    assert_eq!(v["scene"], "grid");
+    assert_eq!(v["lights"], 1024);
+    let v = ok_json(&[
+        "sample", "--preset", "grid", "--count", "1000", "--device", "cpu", "--json",
+    ]);
+    assert_eq!(v["counts"].as_array().unwrap().len(), 1024);
+}

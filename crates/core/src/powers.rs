@@ -103,6 +103,26 @@ impl LightPowers {
         (scaled, sum)
     }
 
+    /// The total power without overflow, as `(S, e)` with `Σ Φ_i = S · 2^e` up to the
+    /// rounding of one sum: `S = Σ w_i` is the sum of [`LightPowers::normalized`]
+    /// (`1 ≤ S ≤ 2N`) and `2^-e` the exact scale that maps the largest power into `[1, 2)`
+    /// (`e` is the largest power's binary exponent, `-1074 ≤ e ≤ 1023`). Unlike
+    /// [`LightPowers::total`], this stays finite when the total exceeds `f64::MAX`
+    /// (two powers of `f64::MAX` give `S = 4 − 2^-51`, `e = 1023`).
+    pub fn total_parts(&self) -> (f64, i32) {
+        let (_, sum) = self.normalized();
+        (sum, unit_exponent(self.max()))
+    }
+
+    /// `log10 Σ Φ_i = log10 S + e · log10 2` from [`LightPowers::total_parts`]: finite for
+    /// every valid list, so a total beyond `f64::MAX` (about `10^308.25`) can still be
+    /// reported. Its absolute error is below `10^-13` (`|e| ≤ 1074` times the rounding of
+    /// `log10 2`, plus that of `log10 S`).
+    pub fn total_log10(&self) -> f64 {
+        let (sum, exponent) = self.total_parts();
+        sum.log10() + f64::from(exponent) * std::f64::consts::LOG10_2
+    }
+
     /// The largest power (positive, since not all are zero).
     pub fn max(&self) -> f64 {
         self.powers.iter().copied().fold(0.0, f64::max)
@@ -144,19 +164,24 @@ impl Pow2Scale {
     }
 }
 
-/// The exact power-of-two scaling that maps `max > 0` into `[1, 2)`.
-pub(crate) fn pow2_scale_to_unit(max: f64) -> Pow2Scale {
+/// The binary exponent `e` of `max > 0`: `2^e ≤ max < 2^(e+1)`, subnormals included.
+pub(crate) fn unit_exponent(max: f64) -> i32 {
     debug_assert!(max > 0.0 && max.is_finite());
     let bits = max.to_bits();
     let biased = ((bits >> 52) & 0x7ff) as i32;
-    let exponent = if biased == 0 {
+    if biased == 0 {
         // Subnormal: 2^-1074 · mantissa, exponent of the leading bit.
         let mantissa = bits & ((1 << 52) - 1);
         -1074 + (63 - mantissa.leading_zeros() as i32)
     } else {
         biased - 1023
-    };
-    let k = -exponent;
+    }
+}
+
+/// The exact power-of-two scaling that maps `max > 0` into `[1, 2)`: `2^-e` with `e` its
+/// [`unit_exponent`].
+pub(crate) fn pow2_scale_to_unit(max: f64) -> Pow2Scale {
+    let k = -unit_exponent(max);
     let half = k / 2;
     Pow2Scale {
         first: pow2(half),
@@ -233,6 +258,21 @@ mod tests {
         let err = check_count(u32::MAX as usize + 1).unwrap_err();
         assert!(matches!(err, PowersError::TooMany { .. }));
         assert!(err.to_string().contains("4294967296 lights"), "{err}");
+    }
+
+    #[test]
+    fn total_parts_do_not_overflow() {
+        let p = LightPowers::new(vec![f64::MAX, f64::MAX]).unwrap();
+        assert_eq!(p.total(), f64::INFINITY);
+        assert_eq!(p.total_parts(), (4.0 - 2.0 * f64::EPSILON, 1023));
+        // log10(2·f64::MAX) = log10(f64::MAX) + log10 2 ≈ 308.5557.
+        let expected = f64::MAX.log10() + std::f64::consts::LOG10_2;
+        assert!((p.total_log10() - expected).abs() < 1e-13);
+        let seed = LightPowers::new(vec![2.0, 5.0, 20.0]).unwrap();
+        assert_eq!(seed.total_parts(), (27.0 / 16.0, 4));
+        assert!((seed.total_log10() - 27f64.log10()).abs() < 1e-15);
+        let tiny = LightPowers::new(vec![f64::from_bits(1)]).unwrap();
+        assert_eq!(tiny.total_parts(), (1.0, -1074));
     }
 
     #[test]

@@ -308,6 +308,56 @@ fn refusals_name_the_problem() {
 }
 
 #[test]
+fn coordinates_beyond_f32_are_refused_by_name() {
+    // Finite f64 values that become ±inf as f32 (f32::MAX ≈ 3.4028235e38).
+    let base = scene(3, 1, 1.0, vec![2.0, 5.0, 20.0]);
+    let mut light = base.clone();
+    light.positions[2][1] = -1e39;
+    let mut corner = base.clone();
+    corner.plane.max[0] = 4e38;
+    // Both corners fit, their difference (the extent the shader uses) does not.
+    let mut extent = base.clone();
+    extent.plane.min[1] = -3e38;
+    extent.plane.max[1] = 3e38;
+    let cases = [
+        (&light, "lights[2].position[1]", "-1e39"),
+        (&corner, "plane.max[0]", "4e38"),
+        (&extent, "plane.max[1] − plane.min[1]", "6e38"),
+    ];
+    for (scene, field, value) in cases {
+        let expected = GpuError::BeyondF32 {
+            field: field.to_owned(),
+            value: value.to_owned(),
+        };
+        assert_eq!(GpuRenderer::check_scene(scene), Err(expected.clone()));
+        assert!(
+            expected
+                .to_string()
+                .starts_with(&format!("{field} = {value} is beyond the f32 range")),
+            "{expected}"
+        );
+    }
+    // Just inside the range is accepted: f32::MAX itself, as an f64.
+    let mut edge = base.clone();
+    edge.positions[0][2] = f64::from(f32::MAX);
+    assert_eq!(GpuRenderer::check_scene(&edge), Ok(()));
+    assert_eq!(GpuRenderer::check_scene(&base), Ok(()));
+
+    let Some(ctx) = gpu_common::context() else {
+        return;
+    };
+    for (scene, field, _) in cases {
+        for scheme in [Scheme::Alias, Scheme::Spatial] {
+            let err = GpuRenderer::new(ctx, scene, scheme, 1).expect_err("beyond f32");
+            assert!(
+                matches!(&err, GpuError::BeyondF32 { field: f, .. } if f == field),
+                "{scheme}: {err}"
+            );
+        }
+    }
+}
+
+#[test]
 fn gpu_tonemap_matches_the_cpu_tonemap() {
     let Some(ctx) = gpu_common::context() else {
         return;

@@ -179,7 +179,7 @@ fn unknown_preset_lists_the_known_ones() {
     assert!(matches!(e, SceneError::UnknownPreset { .. }));
     assert_eq!(
         e.to_string(),
-        "unknown preset 'nope' (expected one of: seed, equal, dominant, zeros, heavy-tail, million, extreme-range)"
+        "unknown preset 'nope' (expected one of: seed, equal, dominant, zeros, heavy-tail, million, extreme-range, grid)"
     );
 }
 
@@ -462,6 +462,42 @@ fn extreme_range_preset_spans_1e_minus_30_to_1e30() {
     assert!(min < 1e-29, "{min}");
     assert!(max > 1e29, "{max}");
     assert!(scene.powers.total().is_finite());
+}
+
+#[test]
+fn grid_preset_is_1024_unit_lights_low_over_a_16_by_16_plane() {
+    let scene = Scene::preset("grid").unwrap();
+    assert_eq!(scene.name, "grid");
+    assert_eq!(scene.light_count(), 1024);
+    assert_eq!(
+        (scene.plane.min, scene.plane.max),
+        ([-8.0, -8.0], [8.0, 8.0])
+    );
+    assert_eq!((scene.plane.width, scene.plane.height), (256, 256));
+    assert!(scene.powers.as_slice().iter().all(|&p| p == 1.0));
+    for (i, p) in scene.positions.iter().enumerate() {
+        assert!(
+            (-8.0..=8.0).contains(&p[0]) && (-8.0..=8.0).contains(&p[1]),
+            "light {i}: {p:?}"
+        );
+        assert!((0.2..=0.4).contains(&p[2]), "light {i}: {p:?}");
+    }
+    // The lights fill the plane: every 4 × 4 quarter-block of it holds some. 1024 uniform
+    // points in 16 cells of 1/16 each: a given cell is empty with probability
+    // (15/16)^1024 ≈ 1e-29.
+    for cell in 0..16 {
+        let (cx, cy) = (
+            f64::from(cell % 4) * 4.0 - 8.0,
+            f64::from(cell / 4) * 4.0 - 8.0,
+        );
+        assert!(
+            scene
+                .positions
+                .iter()
+                .any(|p| (cx..cx + 4.0).contains(&p[0]) && (cy..cy + 4.0).contains(&p[1])),
+            "cell {cell} is empty"
+        );
+    }
 }
 
 // ---------------------------------------------------------------- generator

@@ -163,9 +163,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         .iter()
         .map(|p| render_preset(p, side, spp, args.seed, args.quick))
         .collect::<anyhow::Result<_>>()?;
-    if let Some(path) = &args.plot {
-        write_plot(path, &renders)?;
-    }
+    let plot = match &args.plot {
+        Some(path) => Some(write_plot(path, &renders)?),
+        None => None,
+    };
     let ratios = ratios(&cases);
     if args.json {
         super::print_json(&json!({
@@ -175,9 +176,13 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             "ratios": ratios,
             "gpu": gpu,
             "renders": renders,
+            "plot": plot,
         }))
     } else {
-        print!("{}", text(&cases, &ratios, &gpu, &renders, args));
+        print!(
+            "{}",
+            text(&cases, &ratios, &gpu, &renders, plot.as_ref(), args.quick)
+        );
         Ok(())
     }
 }
@@ -572,7 +577,22 @@ fn rmse_at(series: &[SeriesPoint], seconds: f64) -> f64 {
     series.last().map_or(f64::NAN, |p| p.rmse)
 }
 
-fn write_plot(path: &Path, renders: &[PresetRender]) -> anyhow::Result<()> {
+/// What `--plot` drew (`"plot"` in the JSON, `null` without `--plot`).
+#[derive(Clone, Debug, Serialize)]
+pub struct PlotInfo {
+    /// The PNG written.
+    pub file: PathBuf,
+    /// The preset whose render series it shows.
+    pub preset: String,
+    /// Schemes left off the axes as zero-variance series
+    /// ([`draw::zero_variance_series`]: the exact spatial pick on ≤ 16 lights, whose RMSE
+    /// is rounding); the legend names them.
+    pub zero_variance: Vec<&'static str>,
+}
+
+/// Draws RMSE against seconds per scheme of the heavy-tail render (or the first one), a
+/// zero-variance series left off the axes by [`draw::convergence`].
+fn write_plot(path: &Path, renders: &[PresetRender]) -> anyhow::Result<PlotInfo> {
     let Some(render) = renders
         .iter()
         .find(|r| r.preset == "heavy-tail")
@@ -600,7 +620,18 @@ fn write_plot(path: &Path, renders: &[PresetRender]) -> anyhow::Result<()> {
     let pixmap = draw::convergence(&series, ConvergenceAxis::Seconds, &draw::Style::default())
         .with_context(|| format!("--plot: drawing {}", render.preset))?;
     draw::write_png(&pixmap, path).with_context(|| format!("--plot {}", path.display()))?;
-    Ok(())
+    let zero_variance = render
+        .schemes
+        .iter()
+        .zip(draw::zero_variance_series(&series))
+        .filter(|(_, zero)| *zero)
+        .map(|(s, _)| s.scheme.name())
+        .collect();
+    Ok(PlotInfo {
+        file: path.to_owned(),
+        preset: render.preset.clone(),
+        zero_variance,
+    })
 }
 
 fn text(
@@ -608,14 +639,15 @@ fn text(
     ratios: &[serde_json::Value],
     gpu: &serde_json::Value,
     renders: &[PresetRender],
-    args: &BenchArgs,
+    plot: Option<&PlotInfo>,
+    quick: bool,
 ) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
         "lightpick bench{} — {} threads; medians of repeated batches; build and per-sample \
          times in ns",
-        if args.quick { " --quick" } else { "" },
+        if quick { " --quick" } else { "" },
         rayon::current_num_threads()
     );
     let _ = writeln!(
@@ -681,8 +713,21 @@ fn text(
             );
         }
     }
-    if let Some(path) = &args.plot {
-        let _ = writeln!(out, "\nwrote {}", path.display());
+    if let Some(plot) = plot {
+        let _ = write!(
+            out,
+            "\nwrote {} (RMSE against seconds, preset {}",
+            plot.file.display(),
+            plot.preset
+        );
+        if !plot.zero_variance.is_empty() {
+            let _ = write!(
+                out,
+                "; {}: zero variance, left off the axes",
+                plot.zero_variance.join(", ")
+            );
+        }
+        let _ = writeln!(out, ")");
     }
     out
 }

@@ -36,7 +36,7 @@ pub struct EstimateArgs {
 pub fn run(args: &EstimateArgs) -> anyhow::Result<()> {
     check_count(args.count)?;
     let powers = args.powers.load()?;
-    let contrib = parse_numbers(&args.contrib, &[','], "--contrib")?;
+    let contrib = parse_numbers(&args.contrib, false, "--contrib")?;
     if contrib.len() != powers.len() {
         bail!(
             "--contrib has {} values but there are {} lights",

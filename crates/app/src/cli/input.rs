@@ -27,7 +27,8 @@ pub struct SceneArgs {
     /// A JSON scene file.
     #[arg(long, value_name = "FILE", conflicts_with = "preset")]
     pub scene: Option<PathBuf>,
-    /// A built-in scene: seed, equal, dominant, zeros, heavy-tail, million, extreme-range.
+    /// A built-in scene: seed, equal, dominant, zeros, heavy-tail, million, extreme-range,
+    /// grid.
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
 }
@@ -52,6 +53,47 @@ impl SceneArgs {
     }
 }
 
+/// The scene of a command that needs light positions (`render`, `plot convergence`,
+/// `plot sheet`): `--scene FILE` or `--preset NAME`.
+///
+/// Bare powers (`--powers`, `--powers-file`) place no light anywhere, and no convention
+/// here invents positions for them, so those flags are accepted (hidden from the help) only
+/// to be refused with a message that says a scene or preset is needed, rather than clap's
+/// "unexpected argument".
+#[derive(Debug, Args, Clone, Default)]
+pub struct PositionedArgs {
+    /// The scene file or preset.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Refused: powers without positions (see the type's docs).
+    #[arg(long, value_name = "LIST", allow_hyphen_values = true, hide = true)]
+    pub powers: Option<String>,
+    /// Refused: powers without positions (see the type's docs).
+    #[arg(long, value_name = "FILE", hide = true)]
+    pub powers_file: Option<PathBuf>,
+}
+
+impl PositionedArgs {
+    /// The scene named, `None` when neither `--scene` nor `--preset` was given; refuses
+    /// `--powers`/`--powers-file`, naming `command` (e.g. `plot convergence`).
+    pub fn load(&self, command: &str) -> anyhow::Result<Option<Scene>> {
+        let flag = if self.powers.is_some() {
+            Some("--powers")
+        } else if self.powers_file.is_some() {
+            Some("--powers-file")
+        } else {
+            None
+        };
+        if let Some(flag) = flag {
+            bail!(
+                "{flag}: {command} needs light positions, which bare powers do not have; \
+                 use --scene FILE or --preset NAME"
+            );
+        }
+        self.scene.load()
+    }
+}
+
 impl PowersArgs {
     /// Reads and validates the powers from whichever source was given.
     pub fn load(&self) -> anyhow::Result<LightPowers> {
@@ -64,15 +106,11 @@ impl PowersArgs {
             bail!("give the powers once: --powers, --powers-file, or --scene/--preset");
         }
         let values = if let Some(list) = &self.powers {
-            parse_numbers(list, &[','], "--powers")?
+            parse_numbers(list, false, "--powers")?
         } else if let Some(path) = &self.powers_file {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("--powers-file {}", path.display()))?;
-            parse_numbers(
-                &text,
-                &[',', ' ', '\t', '\n', '\r'],
-                &path.display().to_string(),
-            )?
+            parse_numbers(&text, true, &path.display().to_string())?
         } else if let Some(scene) = self.scene.load()? {
             return Ok(scene.powers);
         } else {
@@ -85,31 +123,35 @@ impl PowersArgs {
     }
 }
 
-/// Parses numbers separated by any of `separators`; the error names the item (0-based,
-/// matching light indices) and the text found.
+/// Parses a list of numbers. Items are separated by commas and, when `whitespace` is set
+/// (files), also by runs of white space. An item between two commas (or before a leading or
+/// after a trailing comma) that holds nothing but white space is refused as empty, in
+/// `--powers 2,,20` and in a file alike; the error names the item (0-based, matching light
+/// indices) and the text found. A text with no item at all gives an empty list.
 pub(crate) fn parse_numbers(
     text: &str,
-    separators: &[char],
+    whitespace: bool,
     source: &str,
 ) -> anyhow::Result<Vec<f64>> {
-    let items: Vec<&str> = if separators.len() == 1 {
-        text.split(separators[0]).map(str::trim).collect()
-    } else {
-        text.split(|c| separators.contains(&c))
-            .filter(|s| !s.trim().is_empty())
-            .map(str::trim)
-            .collect()
-    };
-    if items.len() == 1 && items[0].is_empty() {
+    if text.trim().is_empty() {
         return Ok(Vec::new());
+    }
+    let mut items: Vec<&str> = Vec::new();
+    for piece in text.split(',') {
+        let before = items.len();
+        if whitespace {
+            items.extend(piece.split_whitespace());
+        } else if !piece.trim().is_empty() {
+            items.push(piece.trim());
+        }
+        if items.len() == before {
+            bail!("{source}: item {before} is empty");
+        }
     }
     items
         .iter()
         .enumerate()
         .map(|(i, item)| {
-            if item.is_empty() {
-                bail!("{source}: item {i} is empty");
-            }
             item.parse::<f64>()
                 .map_err(|_| anyhow::anyhow!("{source}: item {i} ('{item}') is not a number"))
         })
@@ -123,24 +165,45 @@ mod tests {
     #[test]
     fn parses_comma_lists_with_spaces() {
         assert_eq!(
-            parse_numbers("2, 5,20", &[','], "--powers").unwrap(),
+            parse_numbers("2, 5,20", false, "--powers").unwrap(),
             vec![2.0, 5.0, 20.0]
         );
+        assert!(parse_numbers(" ", false, "--powers").unwrap().is_empty());
     }
 
     #[test]
     fn names_the_bad_item() {
-        let err = parse_numbers("2,x,20", &[','], "--powers").unwrap_err();
+        let err = parse_numbers("2,x,20", false, "--powers").unwrap_err();
         assert_eq!(err.to_string(), "--powers: item 1 ('x') is not a number");
-        let err = parse_numbers("2,,20", &[','], "--powers").unwrap_err();
+        let err = parse_numbers("2,,20", false, "--powers").unwrap_err();
         assert_eq!(err.to_string(), "--powers: item 1 is empty");
+        let err = parse_numbers("2 5", false, "--powers").unwrap_err();
+        assert_eq!(err.to_string(), "--powers: item 0 ('2 5') is not a number");
     }
 
     #[test]
     fn files_accept_any_white_space() {
         assert_eq!(
-            parse_numbers("1 2\n3,\t4\n", &[',', ' ', '\t', '\n'], "f").unwrap(),
+            parse_numbers("1 2\n3,\t4\n", true, "f").unwrap(),
             vec![1.0, 2.0, 3.0, 4.0]
         );
+        assert_eq!(
+            parse_numbers("1\r\n2 ,3\n\n", true, "f").unwrap(),
+            vec![1.0, 2.0, 3.0]
+        );
+    }
+
+    #[test]
+    fn files_refuse_empty_items_as_lists_do() {
+        for (text, index) in [("2,,20", 1), ("1 2, ,3", 2), (",1", 0), ("1,2,\n", 2)] {
+            let err = parse_numbers(text, true, "f").unwrap_err();
+            assert_eq!(
+                err.to_string(),
+                format!("f: item {index} is empty"),
+                "{text:?}"
+            );
+            let list = parse_numbers(text, false, "--powers").unwrap_err();
+            assert!(list.to_string().ends_with("is empty"), "{text:?}: {list}");
+        }
     }
 }

@@ -92,14 +92,64 @@ fn clap_exit(err: &clap::Error) -> ExitCode {
             ExitCode::SUCCESS
         }
         _ => {
-            let rendered = err.render().to_string();
-            let first = rendered
-                .lines()
-                .find(|l| !l.trim().is_empty())
-                .unwrap_or("error: invalid command line");
-            eprintln!("{first}");
+            eprintln!("{}", clap_error_line(err));
             ExitCode::from(2)
         }
+    }
+}
+
+/// A clap usage error as one `error: …` line that keeps what clap says on several lines:
+///
+/// * a missing required argument is named: `error: missing required argument --contrib
+///   <CONTRIB>` (several: `arguments --a <A>, --b <B>`);
+/// * every other kind keeps clap's message lines before its usage block, joined by spaces,
+///   with `tip:` lines in parentheses: `error: unexpected argument '--foo' found (tip: a
+///   similar argument exists: '--powers')`, `error: invalid value 'x' for '--axis <AXIS>'
+///   [possible values: spp, seconds]`.
+fn clap_error_line(err: &clap::Error) -> String {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    if err.kind() == ErrorKind::MissingRequiredArgument
+        && let Some(ContextValue::Strings(missing)) = err.get(ContextKind::InvalidArg)
+        && !missing.is_empty()
+    {
+        let noun = if missing.len() == 1 {
+            "argument"
+        } else {
+            "arguments"
+        };
+        return format!("error: missing required {noun} {}", missing.join(", "));
+    }
+    one_clap_line(&err.render().to_string())
+}
+
+/// Joins the message lines of rendered clap output (those before `Usage:` or `For more
+/// information`) into one line starting with `error:`.
+fn one_clap_line(rendered: &str) -> String {
+    let mut line = String::new();
+    for part in rendered
+        .lines()
+        .map(str::trim)
+        .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
+        .filter(|l| !l.is_empty())
+    {
+        if line.is_empty() {
+            line.push_str(part);
+        } else if part.starts_with("tip:") {
+            line.push_str(" (");
+            line.push_str(part);
+            line.push(')');
+        } else {
+            line.push(' ');
+            line.push_str(part);
+        }
+    }
+    if line.is_empty() {
+        return "error: invalid command line".to_owned();
+    }
+    if line.starts_with("error:") {
+        line
+    } else {
+        format!("error: {line}")
     }
 }
 
@@ -116,4 +166,32 @@ fn one_line(err: &anyhow::Error) -> String {
 pub(crate) fn print_json(value: &serde_json::Value) -> anyhow::Result<()> {
     println!("{}", serde_json::to_string(value)?);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clap_messages_become_one_line() {
+        let rendered = "error: unexpected argument '--foo' found\n\n  tip: a similar argument \
+                        exists: '--powers'\n\nUsage: lightpick table --powers <LIST>\n\n\
+                        For more information, try '--help'.\n";
+        assert_eq!(
+            one_clap_line(rendered),
+            "error: unexpected argument '--foo' found (tip: a similar argument exists: '--powers')"
+        );
+        assert_eq!(one_clap_line(""), "error: invalid command line");
+        assert_eq!(one_clap_line("bad\n"), "error: bad");
+    }
+
+    #[test]
+    fn a_missing_argument_is_named() {
+        let err = Cli::try_parse_from(["lightpick", "estimate", "--powers", "2,5,20"])
+            .expect_err("--contrib is required");
+        assert_eq!(
+            clap_error_line(&err),
+            "error: missing required argument --contrib <LIST>"
+        );
+    }
 }

@@ -14,7 +14,7 @@ use lightpick_core::render::{CpuRenderer, Reference, cpu_convergence};
 use lightpick_core::scene::Scene;
 use lightpick_core::{AliasTable, LightSampler as _, Sampler, Scheme};
 
-use super::input::{PowersArgs, SceneArgs};
+use super::input::{PositionedArgs, PowersArgs};
 use super::sample::{check_count, count_cpu};
 
 /// Arguments of `lightpick plot`.
@@ -52,11 +52,24 @@ pub enum PlotKind {
         #[command(flatten)]
         output: OutputArgs,
     },
-    /// Log-log RMSE against samples per pixel (or seconds), uniform vs alias vs cdf.
+    /// Log-log RMSE against samples per pixel (or seconds) per scheme.
+    ///
+    /// The schemes default to uniform, alias, cdf and spatial. A zero-variance series (the
+    /// exact spatial pick on ≤ 16 lights, whose RMSE is rounding) is left off the axes and
+    /// named in the legend.
     Convergence {
         /// The scene (default: the seed preset).
         #[command(flatten)]
-        scene: SceneArgs,
+        scene: PositionedArgs,
+        /// The schemes plotted, comma separated: uniform, alias (or power),
+        /// alias-one-random, cdf, spatial.
+        #[arg(
+            long,
+            value_name = "LIST",
+            value_delimiter = ',',
+            default_values_t = [Scheme::Uniform, Scheme::Alias, Scheme::Cdf, Scheme::Spatial]
+        )]
+        schemes: Vec<Scheme>,
         /// Largest samples per pixel of the series.
         #[arg(long, default_value_t = 256)]
         spp: u32,
@@ -70,12 +83,12 @@ pub enum PlotKind {
         #[command(flatten)]
         output: OutputArgs,
     },
-    /// Uniform | importance | reference | error maps, at equal samples per pixel.
+    /// Uniform | power | spatial | reference, with error maps, at equal samples per pixel.
     Sheet {
         /// The scene (default: the seed preset).
         #[command(flatten)]
-        scene: SceneArgs,
-        /// Samples per pixel of both images.
+        scene: PositionedArgs,
+        /// Samples per pixel of the three estimates.
         #[arg(long, default_value_t = 4)]
         spp: u32,
         /// Random seed.
@@ -174,6 +187,7 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
         }
         PlotKind::Convergence {
             scene,
+            schemes,
             spp,
             seed,
             axis,
@@ -181,11 +195,11 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
         } => {
             let style = output.style()?;
             check_spp(*spp)?;
-            let scene = scene_or_seed(scene)?;
+            check_schemes(schemes)?;
+            let scene = scene_or_seed(scene, "plot convergence")?;
             let reference = Reference::compute(&scene);
-            let schemes = [Scheme::Uniform, Scheme::Alias, Scheme::Cdf];
             let series: Vec<ConvergenceSeries> =
-                cpu_convergence(&scene, &reference, &schemes, *seed, *spp)
+                cpu_convergence(&scene, &reference, schemes, *seed, *spp)
                     .into_iter()
                     .map(|s| {
                         let points = s
@@ -215,7 +229,7 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
         } => {
             let style = output.style()?;
             check_spp(*spp)?;
-            let mut scene = scene_or_seed(scene)?;
+            let mut scene = scene_or_seed(scene, "plot sheet")?;
             let width = image_width.unwrap_or(scene.plane.width.min(160));
             if !(8..=1024).contains(&width) {
                 bail!("--image-width must be between 8 and 1024 (got {width})");
@@ -239,11 +253,13 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
             };
             let uniform = render(Scheme::Uniform);
             let importance = render(Scheme::Alias);
+            let spatial = render(Scheme::Spatial);
             let images = SheetImages {
                 width: scene.plane.width as usize,
                 height: scene.plane.height as usize,
                 uniform: &uniform,
                 importance: &importance,
+                spatial: &spatial,
                 reference: exact,
                 spp: u64::from(*spp),
                 exposure: None,
@@ -260,8 +276,21 @@ fn check_spp(spp: u32) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn scene_or_seed(args: &SceneArgs) -> anyhow::Result<Scene> {
-    match args.load()? {
+/// Refuses an empty `--schemes` list and a scheme named twice (`alias` and `power` are one).
+fn check_schemes(schemes: &[Scheme]) -> anyhow::Result<()> {
+    if schemes.is_empty() {
+        bail!("--schemes: give at least one scheme");
+    }
+    for (i, s) in schemes.iter().enumerate() {
+        if schemes[..i].contains(s) {
+            bail!("--schemes: item {i} ('{s}') is already in the list");
+        }
+    }
+    Ok(())
+}
+
+fn scene_or_seed(args: &PositionedArgs, command: &str) -> anyhow::Result<Scene> {
+    match args.load(command)? {
         Some(scene) => Ok(scene),
         None => Ok(Scene::preset("seed")?),
     }

@@ -26,7 +26,7 @@ use lightpick_core::scene::{MAX_PIXELS, MAX_PLANE_SIDE, Scene};
 use serde_json::json;
 
 use super::device::{Device, choose};
-use super::input::SceneArgs;
+use super::input::PositionedArgs;
 
 /// The largest `--spp` accepted.
 const MAX_SPP: u32 = 1 << 20;
@@ -45,7 +45,7 @@ pub enum Mapping {
 pub struct RenderArgs {
     /// The scene to render.
     #[command(flatten)]
-    pub scene: SceneArgs,
+    pub scene: PositionedArgs,
     /// uniform, power (alias), alias-one-random, cdf (CPU only), spatial (by contribution
     /// at each pixel: exact for ≤ 16 lights, a light tree beyond).
     #[arg(long, default_value = "power")]
@@ -95,13 +95,25 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     {
         bail!("--exposure must be a positive finite number (got {e})");
     }
-    let Some(mut scene) = args.scene.load()? else {
+    let Some(mut scene) = args.scene.load("render")? else {
         bail!("no scene given: use --scene FILE or --preset NAME");
     };
     resize(&mut scene, args.width, args.height)?;
-    let ctx = choose(args.device, args.scheme != Scheme::Cdf)?;
-    if args.device.is_none() && args.scheme == Scheme::Cdf {
-        eprintln!("notice: the cdf scheme renders on the CPU");
+    // What keeps the GPU from rendering this, known before opening it: the default device
+    // then takes the CPU with a notice; an explicit `--device gpu` opens the GPU and gets
+    // the renderer's refusal as its error.
+    let gpu_refusal = if args.scheme == Scheme::Cdf {
+        Some("the cdf scheme renders on the CPU".to_owned())
+    } else {
+        GpuRenderer::check_scene(&scene)
+            .err()
+            .map(|e| format!("{e}; using the CPU"))
+    };
+    let ctx = choose(args.device, gpu_refusal.is_none())?;
+    if args.device.is_none()
+        && let Some(refusal) = &gpu_refusal
+    {
+        eprintln!("notice: {refusal}");
     }
 
     let started = Instant::now();

@@ -35,12 +35,19 @@ pub fn run(args: &TableArgs) -> anyhow::Result<()> {
     }
 }
 
-/// The JSON form: `n`, `total_power`, `pmf[]`, `threshold[]`, `alias[]`, and the packed GPU
-/// thresholds `threshold_u32[]`.
+/// The JSON form: `n`, `total_power`, `total_power_log10`, `pmf[]`, `threshold[]`,
+/// `alias[]`, and the packed GPU thresholds `threshold_u32[]`.
+///
+/// Every power is a finite `f64` but their sum need not be (two powers of `f64::MAX`):
+/// `total_power` is then `null` (JSON has no infinity), and `total_power_log10`, computed
+/// without overflow ([`LightPowers::total_log10`]), is always a finite number. The pmf is
+/// computed without overflow in every case.
 pub(crate) fn table_json(powers: &LightPowers, table: &AliasTable) -> serde_json::Value {
+    let total = powers.total();
     json!({
         "n": table.len(),
-        "total_power": powers.total(),
+        "total_power": total.is_finite().then_some(total),
+        "total_power_log10": powers.total_log10(),
         "pmf": table.pmf_slice(),
         "threshold": table.thresholds(),
         "alias": table.aliases(),
@@ -57,7 +64,7 @@ pub(crate) fn table_text(powers: &LightPowers, table: &AliasTable) -> String {
         out,
         "{} lights, total power {}  (lights numbered from 0: the seed's light №1 is light 0)",
         table.len(),
-        powers.total()
+        total_text(powers)
     );
     let _ = writeln!(
         out,
@@ -85,6 +92,31 @@ pub(crate) fn table_text(powers: &LightPowers, table: &AliasTable) -> String {
     out
 }
 
+/// The total power for people: `Σ Φ_i` as Rust prints an `f64` (`27`), or, when the sum
+/// exceeds `f64::MAX`, its value from `log10 Σ Φ_i` ([`LightPowers::total_log10`]) with four
+/// significant digits: `3.595e308 (exceeds f64)`.
+fn total_text(powers: &LightPowers) -> String {
+    let total = powers.total();
+    if total.is_finite() {
+        total.to_string()
+    } else {
+        format!("{} (exceeds f64)", decimal_from_log10(powers.total_log10()))
+    }
+}
+
+/// `10^l` written as `m.mmme±d` (four significant digits) without forming `10^l`, which may
+/// exceed `f64`: `d = ⌊l⌋`, `m = 10^(l − d) ∈ [1, 10)`.
+fn decimal_from_log10(l: f64) -> String {
+    let mut d = l.floor();
+    let mut m = 10f64.powf(l - d);
+    // Rounding to four digits may carry into the next decade (9.9996 → 10.000).
+    if (m * 1000.0).round() >= 10_000.0 {
+        m /= 10.0;
+        d += 1.0;
+    }
+    format!("{m:.3}e{d}")
+}
+
 /// `6/27 (0.222222)` where the fraction is exact, else the decimal alone.
 fn labelled(value: f64, den: Option<u64>) -> String {
     match format_fraction(value, den) {
@@ -105,5 +137,36 @@ mod tests {
         assert!(text.contains("6/27 (0.222222)"), "{text}");
         assert!(text.contains("15/27 (0.555556)"), "{text}");
         assert!(text.contains("20/27 (0.740741)"), "{text}");
+        assert!(text.starts_with("3 lights, total power 27 "), "{text}");
+    }
+
+    #[test]
+    fn an_overflowing_total_is_reported_honestly() {
+        let powers = LightPowers::new(vec![f64::MAX, f64::MAX]).unwrap();
+        let table = AliasTable::build(&powers);
+        // Σ = 2·f64::MAX = 3.5953862697246314e308.
+        let text = table_text(&powers, &table);
+        assert!(
+            text.starts_with("2 lights, total power 3.595e308 (exceeds f64) "),
+            "{text}"
+        );
+        let v = table_json(&powers, &table);
+        assert_eq!(v["total_power"], serde_json::Value::Null);
+        let log10 = v["total_power_log10"].as_f64().unwrap();
+        assert!(
+            (log10 - (f64::MAX.log10() + 2f64.log10())).abs() < 1e-12,
+            "{log10}"
+        );
+        assert_eq!(v["pmf"], json!([0.5, 0.5]));
+        let seed = LightPowers::new(vec![2.0, 5.0, 20.0]).unwrap();
+        let v = table_json(&seed, &AliasTable::build(&seed));
+        assert_eq!(v["total_power"], json!(27.0));
+    }
+
+    #[test]
+    fn decimals_from_log10_carry_into_the_next_decade() {
+        assert_eq!(decimal_from_log10(2f64.log10() + 300.0), "2.000e300");
+        assert_eq!(decimal_from_log10(9.99996f64.log10() + 400.0), "1.000e401");
+        assert_eq!(decimal_from_log10(0.0), "1.000e0");
     }
 }

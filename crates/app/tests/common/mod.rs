@@ -16,6 +16,12 @@ pub fn scratch(name: &str) -> PathBuf {
 /// driver (through libwayland) prints a warning on stderr when a GPU is opened, which would
 /// hide whether lightpick itself kept to one error line.
 pub fn lightpick(args: &[&str]) -> Output {
+    lightpick_with_env(args, &[])
+}
+
+/// [`lightpick`] with extra environment variables, e.g. `WGPU_ADAPTER_NAME` to make the GPU
+/// context find no adapter.
+pub fn lightpick_with_env(args: &[&str], env: &[(&str, &str)]) -> Output {
     let runtime = scratch("runtime");
     #[cfg(unix)]
     {
@@ -25,6 +31,7 @@ pub fn lightpick(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_lightpick"))
         .args(args)
         .env("XDG_RUNTIME_DIR", &runtime)
+        .envs(env.iter().copied())
         .output()
         .expect("run lightpick")
 }
@@ -43,7 +50,12 @@ pub fn json(args: &[&str]) -> serde_json::Value {
 /// Asserts exit code 2 and exactly one stderr line, starting with `error:` and containing
 /// `needle`, and no panic.
 pub fn assert_error(args: &[&str], needle: &str) {
-    let out = lightpick(args);
+    assert_error_with_env(args, &[], needle);
+}
+
+/// [`assert_error`] with extra environment variables.
+pub fn assert_error_with_env(args: &[&str], env: &[(&str, &str)], needle: &str) {
+    let out = lightpick_with_env(args, env);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
     let lines: Vec<&str> = stderr.lines().collect();

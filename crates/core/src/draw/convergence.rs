@@ -4,6 +4,11 @@
 //! Both axes span whole decades around the data, with labelled decade ticks and unlabelled
 //! ticks at 2…9. Points that cannot sit on a log axis (zero, negative, non-finite) are
 //! skipped. The reference line passes through the geometric mean of the series' first points.
+//!
+//! A zero-variance series ([`zero_variance_series`]: the exact spatial pick on few lights,
+//! whose RMSE is the rounding of the reference, about `10^-16` of the signal) is left off
+//! the axes, which it would stretch by a dozen decades, and named in the legend instead
+//! (`spatial: zero variance, off the plot` with its largest RMSE).
 
 use tiny_skia::Pixmap;
 
@@ -11,6 +16,7 @@ use super::axes::{self, Frame, Scale};
 use super::canvas::{self, LegendEntry, Mark};
 use super::palette::{self, Rgba8};
 use super::{DrawError, Style};
+use crate::render::is_zero_variance;
 use crate::sampler::Scheme;
 
 /// One measurement of a progressive render.
@@ -75,6 +81,30 @@ fn plottable(series: &ConvergenceSeries, axis: ConvergenceAxis) -> Vec<(f64, f64
         .collect()
 }
 
+/// The largest finite, non-negative RMSE of a series (`None` when it has none).
+fn largest_rmse(series: &ConvergenceSeries) -> Option<f64> {
+    series
+        .points
+        .iter()
+        .map(|p| p.rmse)
+        .filter(|r| r.is_finite() && *r >= 0.0)
+        .reduce(f64::max)
+}
+
+/// Which series have zero variance up to rounding: those whose largest squared RMSE is a
+/// zero variance next to the largest squared RMSE of all the series
+/// ([`is_zero_variance`]: `max_k RMSE_s² ≤ 10^-12 · max_{s', k} RMSE_{s'}²`). An unbiased
+/// series has `MSE = V/spp`, so at equal samples per pixel this compares variances. A
+/// lone series, or one with no finite RMSE, is never judged zero-variance.
+pub fn zero_variance_series(series: &[ConvergenceSeries]) -> Vec<bool> {
+    let largest: Vec<Option<f64>> = series.iter().map(largest_rmse).collect();
+    let overall = largest.iter().flatten().copied().fold(0.0, f64::max);
+    largest
+        .iter()
+        .map(|m| m.is_some_and(|m| is_zero_variance(m * m, overall * overall)))
+        .collect()
+}
+
 /// The part of the line through `(u0, v0)` with slope `k` (unit coordinates) that lies
 /// in the unit square, as two endpoints; `None` when it misses the square.
 pub(crate) fn clip_line(u0: f64, v0: f64, k: f64) -> Option<((f64, f64), (f64, f64))> {
@@ -103,7 +133,13 @@ pub fn convergence(
     if series.is_empty() {
         return Err(DrawError::Empty("no series"));
     }
-    let data: Vec<Vec<(f64, f64)>> = series.iter().map(|s| plottable(s, axis)).collect();
+    let zero = zero_variance_series(series);
+    // Zero-variance series stay off the axes (their RMSE is rounding); the legend names them.
+    let data: Vec<Vec<(f64, f64)>> = series
+        .iter()
+        .zip(&zero)
+        .map(|(s, &z)| if z { Vec::new() } else { plottable(s, axis) })
+        .collect();
     let all = data.iter().flatten();
     let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) = (f64::MAX, 0.0_f64, f64::MAX, 0.0_f64);
     for &(x, y) in all {
@@ -172,6 +208,7 @@ pub fn convergence(
         }
     }
 
+    let mut lines: Vec<Vec<(f32, f32)>> = Vec::new();
     for (s, points) in series.iter().zip(&data) {
         let px: Vec<(f32, f32)> = points
             .iter()
@@ -181,14 +218,29 @@ pub fn convergence(
         for &p in &px {
             canvas::disc(&mut pixmap, p, 3.5, s.color);
         }
+        lines.push(px);
     }
 
     let mut entries: Vec<LegendEntry> = series
         .iter()
-        .map(|s| LegendEntry {
-            mark: Mark::LineDot(s.color),
-            label: s.label.clone(),
-            detail: None,
+        .zip(&zero)
+        .map(|(s, &z)| {
+            if z {
+                LegendEntry {
+                    mark: Mark::Swatch(s.color),
+                    label: format!("{}: zero variance, off the plot", s.label),
+                    detail: Some(format!(
+                        "RMSE ≤ {}: rounding only",
+                        axes::format_sci(largest_rmse(s).unwrap_or(0.0), 2)
+                    )),
+                }
+            } else {
+                LegendEntry {
+                    mark: Mark::LineDot(s.color),
+                    label: s.label.clone(),
+                    detail: None,
+                }
+            }
         })
         .collect();
     entries.push(LegendEntry {
@@ -196,14 +248,49 @@ pub fn convergence(
         label: format!("slope −1/2 (∝ 1/√{per})"),
         detail: None,
     });
-    let (lw, _) = canvas::legend_size(&entries)?;
+    let size = canvas::legend_size(&entries)?;
     canvas::legend(
         &mut pixmap,
-        (frame.right() - lw - 10.0, frame.top + 10.0),
+        legend_corner(&frame, size, &lines),
         &entries,
         &colors,
     )?;
     Ok(pixmap)
+}
+
+/// Where the legend box of `size` goes: the first of the frame's top-right, bottom-left,
+/// top-left and bottom-right corners (10 px in) that covers the fewest points of the
+/// plotted `lines` (each segment sampled every 2 px, the box grown by 4 px), so it hides
+/// as little of the data as it can; top-right when nothing is in the way.
+fn legend_corner(frame: &Frame, (w, h): (f32, f32), lines: &[Vec<(f32, f32)>]) -> (f32, f32) {
+    let (left, right) = (frame.left + 10.0, frame.right() - w - 10.0);
+    let (top, bottom) = (frame.top + 10.0, frame.bottom() - h - 10.0);
+    let candidates = [(right, top), (left, bottom), (left, top), (right, bottom)];
+    let covered = |(x, y): (f32, f32)| -> usize {
+        let inside = |(px, py): (f32, f32)| {
+            px >= x - 4.0 && px <= x + w + 4.0 && py >= y - 4.0 && py <= y + h + 4.0
+        };
+        lines
+            .iter()
+            .flat_map(|line| {
+                line.windows(2).flat_map(|seg| {
+                    let ((ax, ay), (bx, by)) = (seg[0], seg[1]);
+                    let steps = ((bx - ax).hypot(by - ay) / 2.0).ceil().max(1.0) as usize;
+                    (0..=steps).map(move |k| {
+                        let t = k as f32 / steps as f32;
+                        (ax + t * (bx - ax), ay + t * (by - ay))
+                    })
+                })
+            })
+            .chain(lines.iter().filter(|l| l.len() == 1).map(|l| l[0]))
+            .filter(|&p| inside(p))
+            .count()
+    };
+    candidates
+        .iter()
+        .copied()
+        .min_by_key(|&c| covered(c))
+        .unwrap_or((right, top))
 }
 
 #[cfg(test)]
@@ -222,6 +309,76 @@ mod tests {
         // A line above the square misses it.
         assert!(clip_line(0.0, 3.0, -0.5).is_none());
         assert!(clip_line(0.5, 2.0, 0.0).is_none());
+    }
+
+    fn series(scheme: Scheme, rmse: &[f64]) -> ConvergenceSeries {
+        let points = rmse
+            .iter()
+            .enumerate()
+            .map(|(k, &rmse)| ConvergencePoint {
+                spp: 1 << k,
+                rmse,
+                seconds: 0.1 * f64::from(1u32 << k),
+            })
+            .collect();
+        ConvergenceSeries::for_scheme(scheme, points)
+    }
+
+    #[test]
+    fn rounding_level_series_are_zero_variance() {
+        let uniform = series(Scheme::Uniform, &[0.9, 0.64, 0.45]);
+        // A million times lower variance (the dominant preset's scale): still a real curve.
+        let alias = series(Scheme::Alias, &[0.9e-3, 0.64e-3, 0.45e-3]);
+        // The exact pick: rounding, about 1e-16 of the signal.
+        let exact = series(Scheme::Spatial, &[3e-16, 2e-16, 4e-16]);
+        let zeros = series(Scheme::Cdf, &[0.0, 0.0, f64::NAN]);
+        assert_eq!(
+            zero_variance_series(&[uniform.clone(), alias.clone(), exact.clone(), zeros]),
+            [false, false, true, true]
+        );
+        // Alone, nothing judges it.
+        assert_eq!(zero_variance_series(std::slice::from_ref(&exact)), [false]);
+        assert_eq!(
+            zero_variance_series(&[series(Scheme::Cdf, &[f64::NAN]), uniform.clone()]),
+            [false, false]
+        );
+        // Drawn without it, the plot is the plot of the others (the axes ignore it) …
+        let style = Style::default();
+        let with = convergence(
+            &[uniform.clone(), alias.clone(), exact],
+            ConvergenceAxis::Spp,
+            &style,
+        )
+        .expect("valid test input");
+        let without =
+            convergence(&[uniform, alias], ConvergenceAxis::Spp, &style).expect("valid test input");
+        // … except for its legend entry, drawn in the legend box at the top right.
+        let differing_rows: Vec<u32> = (0..style.height)
+            .filter(|&y| (0..style.width).any(|x| with.pixel(x, y) != without.pixel(x, y)))
+            .collect();
+        assert!(!differing_rows.is_empty());
+        assert!(
+            differing_rows.iter().all(|&y| y < style.height / 2),
+            "{differing_rows:?}"
+        );
+    }
+
+    #[test]
+    fn the_legend_avoids_the_data() {
+        let frame = Frame {
+            left: 0.0,
+            top: 0.0,
+            width: 400.0,
+            height: 300.0,
+        };
+        let size = (100.0, 60.0);
+        // Falling lines leave the top right empty: the legend goes there.
+        let falling = vec![vec![(0.0, 0.0), (400.0, 300.0)]];
+        assert_eq!(legend_corner(&frame, size, &falling), (290.0, 10.0));
+        // A flat line along the top: the bottom left is free.
+        let flat = vec![vec![(0.0, 20.0), (400.0, 20.0)]];
+        assert_eq!(legend_corner(&frame, size, &flat), (10.0, 230.0));
+        assert_eq!(legend_corner(&frame, size, &[]), (290.0, 10.0));
     }
 
     #[test]

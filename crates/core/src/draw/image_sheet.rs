@@ -1,9 +1,10 @@
-//! A comparison sheet: uniform | importance | reference renders at equal spp (top row) and
-//! the per-pixel relative error of each estimate (bottom row), with a colour bar.
+//! A comparison sheet: uniform | importance (power) | spatial | reference renders at equal
+//! spp (top row) and the per-pixel relative error of each estimate (bottom row), with a
+//! colour bar under the reference.
 //!
 //! # Images
 //! Irradiance goes through the one tonemap, [`crate::render::tonemap_rgba8`], at the given
-//! exposure or, by default, [`auto_exposure`] of the reference (all three images share it).
+//! exposure or, by default, [`auto_exposure`] of the reference (all four images share it).
 //! Images are scaled to fit their cells: by a whole factor with nearest-neighbour sampling
 //! when they are smaller than the cell (every rendered pixel stays a crisp square),
 //! bilinearly when larger.
@@ -37,7 +38,7 @@ const VIRIDIS: [u32; 11] = [
 /// The colour of non-finite error values.
 const INVALID: Rgba8 = Rgba8::hex(0xFF_00_FF);
 
-/// The images of a sheet: three renders of the same scene, row-major, `width × height`.
+/// The images of a sheet: four renders of the same scene, row-major, `width × height`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SheetImages<'a> {
     /// Image width in pixels.
@@ -48,9 +49,13 @@ pub struct SheetImages<'a> {
     pub uniform: &'a [f64],
     /// Irradiance estimated with importance (power-proportional) selection.
     pub importance: &'a [f64],
+    /// Irradiance estimated with contribution-aware (spatial) selection,
+    /// `P(i | x) ∝ p_i·G_i(x)` exactly for few lights or by a light tree
+    /// ([`crate::spatial`]).
+    pub spatial: &'a [f64],
     /// The exact irradiance.
     pub reference: &'a [f64],
-    /// Samples per pixel of both estimates.
+    /// Samples per pixel of the three estimates.
     pub spp: u64,
     /// Tonemap exposure; `None` uses [`auto_exposure`] of the reference.
     pub exposure: Option<f64>,
@@ -123,6 +128,19 @@ pub(crate) fn fit_scale(iw: usize, ih: usize, cw: f32, ch: f32) -> f32 {
     if s >= 1.0 { s.floor() } else { s }
 }
 
+/// Columns of the sheet: uniform, importance, spatial, reference (the colour bar below).
+const COLUMNS: usize = 4;
+
+/// The colour bar's explanation, under it: (text, bold).
+const BAR_NOTES: [(&str, bool); 4] = [
+    ("relative error, log scale", true),
+    ("|estimate − ref| / ref", false),
+    ("darkest: ≤ 0.1 % or exact", false),
+    ("magenta: not finite", false),
+];
+/// Line spacing of [`BAR_NOTES`], pixels.
+const NOTE_LINE: f32 = 16.0;
+
 /// Draws the comparison sheet of `images`.
 pub fn image_sheet(images: &SheetImages<'_>, style: &Style) -> Result<Pixmap, DrawError> {
     let (iw, ih) = (images.width, images.height);
@@ -133,6 +151,7 @@ pub fn image_sheet(images: &SheetImages<'_>, style: &Style) -> Result<Pixmap, Dr
     for (what, img) in [
         ("uniform image", images.uniform),
         ("importance image", images.importance),
+        ("spatial image", images.spatial),
         ("reference image", images.reference),
     ] {
         if img.len() != expected {
@@ -151,7 +170,7 @@ pub fn image_sheet(images: &SheetImages<'_>, style: &Style) -> Result<Pixmap, Dr
     let (w, h) = (style.width as f32, style.height as f32);
     canvas::title(
         &mut pixmap,
-        &format!("Uniform vs importance sampling at {} spp", images.spp),
+        &format!("Uniform, power and spatial sampling at {} spp", images.spp),
         Some(&format!(
             "{iw}×{ih} px · Reinhard tonemap, exposure {} · bottom: relative error of each estimate",
             short(exposure)
@@ -160,7 +179,8 @@ pub fn image_sheet(images: &SheetImages<'_>, style: &Style) -> Result<Pixmap, Dr
     )?;
 
     let (margin, gap, top, caption, row_gap) = (20.0, 16.0, 64.0, 20.0, 12.0);
-    let cell_w = (w - 2.0 * margin - 2.0 * gap) / 3.0;
+    let columns = COLUMNS as f32;
+    let cell_w = (w - 2.0 * margin - (columns - 1.0) * gap) / columns;
     let cell_h = (h - top - 10.0 - row_gap) / 2.0 - caption;
     let scale = fit_scale(iw, ih, cell_w, cell_h);
     let (dw, dh) = (iw as f32 * scale, ih as f32 * scale);
@@ -187,25 +207,23 @@ pub fn image_sheet(images: &SheetImages<'_>, style: &Style) -> Result<Pixmap, Dr
             (0, 0),
         ),
         (
-            format!("importance (power) · {spp} spp"),
+            format!("power · {spp} spp"),
             tonemap_rgba8(images.importance, exposure),
             (1, 0),
         ),
         (
-            "reference (exact)".to_owned(),
-            tonemap_rgba8(images.reference, exposure),
+            format!("spatial · {spp} spp"),
+            tonemap_rgba8(images.spatial, exposure),
             (2, 0),
         ),
         (
-            "relative error, uniform".to_owned(),
-            error(images.uniform),
-            (0, 1),
+            "reference (exact)".to_owned(),
+            tonemap_rgba8(images.reference, exposure),
+            (3, 0),
         ),
-        (
-            "relative error, importance".to_owned(),
-            error(images.importance),
-            (1, 1),
-        ),
+        ("error, uniform".to_owned(), error(images.uniform), (0, 1)),
+        ("error, power".to_owned(), error(images.importance), (1, 1)),
+        ("error, spatial".to_owned(), error(images.spatial), (2, 1)),
     ];
     let paint = PixmapPaint {
         quality: if scale >= 1.0 {
@@ -242,12 +260,16 @@ pub fn image_sheet(images: &SheetImages<'_>, style: &Style) -> Result<Pixmap, Dr
             &TextStyle::new(LABEL_SIZE, colors.foreground),
         )?;
     }
-    let (cx, cy) = cell(2, 1);
-    color_bar(&mut pixmap, (cx, cy.round()), dh.round().max(80.0), &colors)?;
+    // The colour bar under the reference: as tall as the error maps, less the room its
+    // notes take below it before the bottom margin (the cell reaches `cell_h` below its top).
+    let (cx, cy) = cell(COLUMNS - 1, 1);
+    let notes = BAR_NOTES.len() as f32 * NOTE_LINE + 8.0;
+    let bar_h = dh.min(cell_h - notes).round().max(1.0);
+    color_bar(&mut pixmap, (cx, cy.round()), bar_h, &colors)?;
     Ok(pixmap)
 }
 
-/// The error map's colour bar with decade labels and a short legend to its right.
+/// The error map's colour bar with decade labels to its right and its notes below it.
 fn color_bar(
     pixmap: &mut Pixmap,
     (x, y): (f32, f32),
@@ -292,15 +314,7 @@ fn color_bar(
             &tick,
         )?;
     }
-    let note_x = bar_x + bar_w + 70.0;
-    let lines: [(&str, bool); 5] = [
-        ("relative error", true),
-        ("|estimate − ref| / ref", false),
-        ("log scale; darkest", false),
-        ("means ≤ 0.1 % or exact", false),
-        ("magenta: not finite", false),
-    ];
-    for (k, (line, bold)) in lines.iter().enumerate() {
+    for (k, (line, bold)) in BAR_NOTES.iter().enumerate() {
         let style = TextStyle::new(
             TICK_SIZE,
             if *bold {
@@ -313,7 +327,7 @@ fn color_bar(
         text::draw_text(
             pixmap,
             line,
-            (note_x, y + 8.0 + 18.0 * k as f32),
+            (bar_x, y + height + 8.0 + NOTE_LINE * (k as f32 + 0.5)),
             (HAlign::Left, VAlign::Middle),
             &style,
         )?;
@@ -385,6 +399,7 @@ mod tests {
             height: 2,
             uniform: &img,
             importance: &img[..5],
+            spatial: &img,
             reference: &img,
             spp: 1,
             exposure: None,
@@ -402,5 +417,44 @@ mod tests {
             ..sheet
         };
         assert!(image_sheet(&ok, &Style::default()).is_ok());
+        let short_spatial = SheetImages {
+            spatial: &img[..4],
+            ..ok
+        };
+        assert!(matches!(
+            image_sheet(&short_spatial, &Style::default()),
+            Err(DrawError::Length {
+                what: "spatial image",
+                expected: 6,
+                got: 4
+            })
+        ));
+    }
+
+    #[test]
+    fn captions_and_notes_fit_their_cells_at_the_default_size() {
+        // At 800 px, four columns of (800 − 2·20 − 3·16)/4 = 178 px.
+        let cell_w = (800.0 - 2.0 * 20.0 - 3.0 * 16.0) / 4.0;
+        for label in [
+            "uniform · 65536 spp",
+            "power · 65536 spp",
+            "spatial · 65536 spp",
+            "reference (exact)",
+            "error, uniform",
+            "error, spatial",
+        ] {
+            let m = text::measure(label, LABEL_SIZE, text::Weight::Regular).expect("font");
+            assert!(m.width < cell_w - 8.0, "{label}: {} px", m.width);
+        }
+        // Notes start 12 px into the colour bar's cell.
+        for (line, bold) in BAR_NOTES {
+            let weight = if bold {
+                text::Weight::Bold
+            } else {
+                text::Weight::Regular
+            };
+            let m = text::measure(line, TICK_SIZE, weight).expect("font");
+            assert!(m.width < cell_w - 12.0, "{line}: {} px", m.width);
+        }
     }
 }

@@ -7,7 +7,7 @@
 //! * [`table_diagram`]: the alias table as unit-height columns split at their thresholds;
 //! * [`histogram`]: expected pmf beside empirical frequencies per scheme, with χ² fits;
 //! * [`convergence`]: log-log RMSE against samples per pixel or seconds;
-//! * [`image_sheet`]: uniform | importance | reference and their error maps.
+//! * [`image_sheet`]: uniform | importance | spatial | reference and their error maps.
 //!
 //! Colours come from [`palette`], text from [`text`] (a bundled `DejaVu Sans` subset).
 //! [`encode_png`] and [`write_png`] turn any of them into a PNG.
@@ -26,7 +26,9 @@ use std::path::{Path, PathBuf};
 /// The canvas every drawing returns (re-exported so callers need no tiny-skia dependency).
 pub use tiny_skia::Pixmap;
 
-pub use convergence::{ConvergenceAxis, ConvergencePoint, ConvergenceSeries, convergence};
+pub use convergence::{
+    ConvergenceAxis, ConvergencePoint, ConvergenceSeries, convergence, zero_variance_series,
+};
 pub use histogram::{HISTOGRAM_TOP_K, HistogramData, SchemeCounts, histogram};
 pub use image_sheet::{
     ERROR_LOG10_RANGE, SheetImages, auto_exposure, error_color, image_sheet, viridis,
@@ -182,6 +184,7 @@ mod tests {
                 height: 2,
                 uniform: &img,
                 importance: &img,
+                spatial: &img,
                 reference: &img,
                 spp: 1,
                 exposure: Some(1.0),

@@ -78,6 +78,21 @@ pub enum GpuError {
         /// Powers given.
         got: usize,
     },
+    /// A scene coordinate (a light position or the receiver plane) is a finite `f64` but
+    /// rounds to infinity as the `f32` the GPU stores: `|v|` beyond `f32::MAX ≈ 3.4·10^38`
+    /// would turn the image into NaN.
+    #[error(
+        "{field} = {value} is beyond the f32 range of the GPU (|v| ≤ {max:e}); render on the \
+         CPU, which works in f64, or scale the scene down",
+        max = f32::MAX
+    )]
+    BeyondF32 {
+        /// The scene field, as the scene file names it: `lights[3].position[2]`,
+        /// `plane.max[0]`, or the plane's extent `plane.max[0] − plane.min[0]`.
+        field: String,
+        /// The value found, in scientific notation.
+        value: String,
+    },
     /// Waiting for the device or mapping a buffer for reading failed.
     #[error("GPU readback of {what} failed: {reason}")]
     Readback {
@@ -160,6 +175,14 @@ mod tests {
                     got: 2,
                 },
                 "2 powers given for a scene of 3 lights",
+            ),
+            (
+                GpuError::BeyondF32 {
+                    field: "lights[3].position[2]".into(),
+                    value: "1e39".into(),
+                },
+                "lights[3].position[2] = 1e39 is beyond the f32 range of the GPU \
+                 (|v| ≤ 3.4028235e38); render on the CPU",
             ),
             (
                 GpuError::Readback {

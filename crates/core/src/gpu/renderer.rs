@@ -99,8 +99,9 @@ impl GpuRenderer {
     /// accumulation with `scheme` and `seed`.
     ///
     /// Refuses [`Scheme::Cdf`] ([`GpuError::UnsupportedScheme`]), an empty image or one
-    /// beyond the device's texture size ([`GpuError::ImageSize`]), and buffers beyond its
-    /// limits ([`GpuError::BufferTooLarge`]).
+    /// beyond the device's texture size ([`GpuError::ImageSize`]), a scene the `f32` upload
+    /// cannot hold ([`GpuRenderer::check_scene`], [`GpuError::BeyondF32`]), and buffers
+    /// beyond its limits ([`GpuError::BufferTooLarge`]).
     pub fn new(
         ctx: &GpuContext,
         scene: &Scene,
@@ -125,6 +126,7 @@ impl GpuRenderer {
                 got: scene.powers.len(),
             });
         }
+        Self::check_scene(scene)?;
         let n = scene.positions.len() as u64;
         let plane = &scene.plane;
         let plane = [
@@ -256,6 +258,41 @@ impl GpuRenderer {
         };
         renderer.set_powers(&scene.powers)?;
         Ok(renderer)
+    }
+
+    /// Whether the GPU can hold `scene`'s coordinates: the upload converts every light
+    /// position `(x, y, z)`, the plane's corners `plane.min[0]`, `plane.max[1]` and its
+    /// extents `plane.max[k] − plane.min[k]` to `f32`, and a finite `f64` beyond
+    /// `f32::MAX ≈ 3.4·10^38` in magnitude becomes `±inf` there (the image would be NaN).
+    /// The first such value is refused with [`GpuError::BeyondF32`], naming its field
+    /// (`lights[i].position[k]`, `plane.min[k]`, …). Needs no device (the app and the CLI
+    /// ask before choosing one). The light tree's bounds are taken from the positions, so
+    /// they are covered, and normalized powers lie in `[0, 1]`.
+    pub fn check_scene(scene: &Scene) -> Result<(), GpuError> {
+        let fits = |v: f64| (v as f32).is_finite();
+        let refuse = |field: String, v: f64| GpuError::BeyondF32 {
+            field,
+            value: format!("{v:e}"),
+        };
+        let plane = &scene.plane;
+        for k in 0..2 {
+            let extent = plane.max[k] - plane.min[k];
+            if !fits(plane.min[k]) {
+                return Err(refuse(format!("plane.min[{k}]"), plane.min[k]));
+            }
+            if !fits(plane.max[k]) {
+                return Err(refuse(format!("plane.max[{k}]"), plane.max[k]));
+            }
+            if !fits(extent) {
+                return Err(refuse(format!("plane.max[{k}] − plane.min[{k}]"), extent));
+            }
+        }
+        for (i, p) in scene.positions.iter().enumerate() {
+            if let Some(k) = p.iter().position(|&v| !fits(v)) {
+                return Err(refuse(format!("lights[{i}].position[{k}]"), p[k]));
+            }
+        }
+        Ok(())
     }
 
     /// Replaces the light powers (same number of lights): rebuilds the alias table

@@ -29,6 +29,24 @@ use crate::scene::Scene;
 /// The `ε` factor of relMSE: `ε = REL_MSE_EPSILON · Ē²` (see the module docs).
 pub const REL_MSE_EPSILON: f64 = 1e-4;
 
+/// A variance at most this fraction of a reference variance (the uniform scheme's, or the
+/// largest measured) is the rounding of zero: [`is_zero_variance`].
+pub const ZERO_VARIANCE_RTOL: f64 = 1e-12;
+
+/// Whether `variance` is a zero variance up to rounding next to `reference`:
+/// `0 < reference` and `variance ≤` [`ZERO_VARIANCE_RTOL`]` · reference`.
+///
+/// The exact spatial pick on few lights (`P(i | x) ∝ p_i·G_i(x)`) has variance 0, but its
+/// estimates differ from the `f64` reference by a few ulps: a relative error near `10^-16`,
+/// so a variance (and an MSE) near `10^-32` of the squared signal. A real estimator's
+/// variance is many orders of magnitude above `10^-12` of the uniform scheme's even when it
+/// is a million times better (the `dominant` preset), so the two cannot be confused. The
+/// same test applies to mean squared errors at equal samples per pixel
+/// (`MSE = V/spp` for an unbiased estimator).
+pub fn is_zero_variance(variance: f64, reference: f64) -> bool {
+    reference > 0.0 && variance <= ZERO_VARIANCE_RTOL * reference
+}
+
 /// RMSE and relMSE of an image against a reference (see the module docs for the formulas).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct ErrorMetrics {

@@ -38,8 +38,8 @@ pub use accumulator::Accumulator;
 pub use cpu::CpuRenderer;
 pub use metrics::{
     Efficiency, ErrorMetrics, ProgressiveRenderer, REL_MSE_EPSILON, SchemeSeries, SeriesPoint,
-    convergence_series, cpu_convergence, efficiency, error_metrics, mean_variance_per_sample, rmse,
-    series_spp,
+    ZERO_VARIANCE_RTOL, convergence_series, cpu_convergence, efficiency, error_metrics,
+    is_zero_variance, mean_variance_per_sample, rmse, series_spp,
 };
 pub use reference::{
     DEFAULT_REFERENCE_BUDGET, LIGHT_CHUNK, MIN_REFERENCE_PIXELS, PIXEL_BLOCK, Reference,
