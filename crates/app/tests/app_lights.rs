@@ -12,12 +12,10 @@ use lightpick::app::state::{SYNC_BUILD_LIMIT, SliderScale};
 use lightpick::app::{LightpickApp, PanelKind};
 
 fn lights_panel() -> Harness<'static, LightpickApp> {
-    let mut harness = Harness::builder()
-        .with_size([460.0, 600.0])
-        .build_ui_state(
-            |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Lights),
-            LightpickApp::for_tests(),
-        );
+    let mut harness = Harness::builder().with_size([460.0, 600.0]).build_ui_state(
+        |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Lights),
+        LightpickApp::for_tests(),
+    );
     harness.run();
     harness
 }
@@ -30,7 +28,10 @@ fn powers(harness: &Harness<'static, LightpickApp>) -> Vec<f64> {
 fn run_until_built(harness: &mut Harness<'static, LightpickApp>, n: usize) {
     let deadline = Instant::now() + Duration::from_mins(1);
     while harness.state().state.built.len() != n {
-        assert!(Instant::now() < deadline, "the {n}-light table never arrived");
+        assert!(
+            Instant::now() < deadline,
+            "the {n}-light table never arrived"
+        );
         std::thread::sleep(Duration::from_millis(20));
         harness.run();
     }
@@ -79,7 +80,11 @@ fn generate_makes_count_lights_and_shows_only_the_visible_rows() {
         .count();
     assert!((1..100).contains(&rows), "{rows} rows built");
     assert!(harness.query_by_label("power slider of light 1").is_some());
-    assert!(harness.query_by_label("power slider of light 5000").is_none());
+    assert!(
+        harness
+            .query_by_label("power slider of light 5000")
+            .is_none()
+    );
 }
 
 #[test]
@@ -176,9 +181,6 @@ fn a_corrupt_stored_scene_gives_the_seed_scene_and_says_so() {
     storage.0.insert(key, "{ not json".to_owned());
     let app = restored(&storage);
     assert_eq!(app.state.built.scene.powers.as_slice(), [2.0, 5.0, 20.0]);
-    let messages: Vec<&str> = app.state.messages().map(|m| m.text.as_str()).collect();
-    assert!(
-        messages.iter().any(|m| m.contains("last scene not restored")),
-        "{messages:?}"
-    );
+    let (message, _) = app.state.status.as_ref().expect("a status message");
+    assert!(message.contains("last scene not restored"), "{message}");
 }

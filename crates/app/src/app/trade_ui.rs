@@ -32,13 +32,6 @@ const TRADE_REPEATS: u32 = 3;
 const TRADE_REFERENCE_BUDGET: u64 = 1 << 24;
 /// Virtual seconds per pixel sample in inline (test) mode, the engine's figure.
 const VIRTUAL_SECONDS_PER_SAMPLE: f64 = 1.0e-8;
-/// A variance below this fraction of the uniform scheme's is the rounding of a zero-variance
-/// estimator (the exact spatial pick): `Σê² − (Σê)²/n` cancels to about `10^-16` relative in
-/// the `f64` sums of the CPU renderers measured here. Such a scheme is shown with an
-/// infinite efficiency and left off the plot, whose log axis it would otherwise stretch over
-/// sixteen decades.
-const ZERO_VARIANCE_RTOL: f64 = 1e-12;
-
 /// The schemes measured, in display order.
 pub const TRADE_SCHEMES: [Scheme; 5] = [
     Scheme::Uniform,
@@ -225,7 +218,7 @@ fn largest_variance(m: &TradeMeasurement) -> f64 {
 
 /// Whether a row is a zero-variance estimator up to rounding (the exact spatial pick).
 fn is_exact(row: &TradeRow, largest: f64) -> bool {
-    is_zero_variance(row.efficiency.variance_per_sample, largest)
+    lightpick_core::render::is_zero_variance(row.efficiency.variance_per_sample, largest)
 }
 
 /// The table of `T`, `V`, `1/(V·T)` and the final RMSE per scheme. A zero-variance row (the
@@ -340,10 +333,4 @@ fn plot_ui(ui: &mut Ui, m: &TradeMeasurement, spp_per_frame: u32, dark: bool) {
                 .radius(7.0),
             );
         });
-}
-
-/// Whether a variance per sample is the rounding of zero next to a `reference` variance
-/// (the uniform scheme's, or the largest measured): `v ≤` [`ZERO_VARIANCE_RTOL`]` · reference`.
-fn is_zero_variance(variance: f64, reference: f64) -> bool {
-    reference > 0.0 && variance <= ZERO_VARIANCE_RTOL * reference
 }
