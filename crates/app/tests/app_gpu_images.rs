@@ -151,3 +151,65 @@ fn exporting_reads_the_gpu_images_back() {
         assert!(p[0] > 0 || p[1] > 0 || p[2] > 0, "image {column} is black");
     }
 }
+
+/// Running (not stepping), each frame gets the GPU work its budget allows: whole passes or a
+/// band of rows of one. Either way every lane stays at equal samples per pixel and draws
+/// exactly the samples of whole passes, so the figures read back at pass boundaries are the
+/// CPU renderer's at that spp. `heavy-tail` at 512×512: 10^4 lights, the spatial lane a
+/// 14-level tree whose pass costs more than a frame allows on lavapipe, so bands are used.
+#[test]
+fn running_frames_within_the_budget_give_the_cpu_numbers() {
+    if skip() {
+        return;
+    }
+    let mut harness = gpu_app();
+    let mut scene = lightpick::app::scene_io::preset("heavy-tail").expect("preset");
+    scene.plane.width = 512;
+    scene.plane.height = 512;
+    harness.state_mut().state.load_scene(scene);
+    harness.state_mut().state.settings.paused = false;
+    let deadline = Instant::now() + Duration::from_mins(2);
+    let mut banded = false;
+    let published = loop {
+        harness.step();
+        let latest = harness.state_mut().published();
+        banded |= latest.as_ref().is_some_and(|p| {
+            let progress = [&p.uniform, &p.importance, &p.spatial].map(|i| i.pass_progress);
+            // Equal samples: every lane is at the same row of the same pass.
+            assert!(progress.iter().all(|&f| f == progress[0]), "{progress:?}");
+            progress[0] > 0.0
+        });
+        if let Some(p) = latest.filter(|p| {
+            p.generation == harness.state().state.built.generation
+                && p.uniform.spp >= 3
+                && [&p.uniform, &p.importance, &p.spatial]
+                    .iter()
+                    .all(|i| i.rmse.is_some() && i.series.last().is_some_and(|s| s.spp == i.spp))
+        }) {
+            break (*p).clone();
+        }
+        assert!(Instant::now() < deadline, "the images never reached 3 spp");
+    };
+    eprintln!("row bands used: {banded}");
+    let spp = published.uniform.spp;
+    assert_eq!(published.importance.spp, spp);
+    assert_eq!(published.spatial.spp, spp);
+    let app = harness.state();
+    let scene = app.state.built.scene.clone();
+    let seed = app.state.settings.seed;
+    let reference = Reference::compute(&scene);
+    for (scheme, image) in [
+        (Scheme::Uniform, &published.uniform),
+        (Scheme::Alias, &published.importance),
+        (Scheme::Spatial, &published.spatial),
+    ] {
+        let mut r = CpuRenderer::new(&scene, scheme, seed);
+        r.accumulate(spp);
+        let cpu = rmse(r.accumulator(), &reference);
+        let gpu = image.rmse.expect("rmse");
+        assert!(
+            (gpu - cpu).abs() <= 1e-3 * cpu,
+            "{scheme:?} at {spp} spp: GPU RMSE {gpu} vs CPU {cpu}"
+        );
+    }
+}

@@ -449,3 +449,124 @@ fn a_context_wrapping_a_shared_device_renders_the_same_image() {
     assert!(image.sum.iter().any(|&x| x > 0.0));
     assert_eq!(image, b.readback().expect("b"));
 }
+
+/// A sample pass split into row bands (`accumulate_rows`, for the app's frame budget) draws
+/// exactly the samples of whole passes: the sums are bit for bit those of `accumulate`, for
+/// every scheme the GPU runs; the tonemap divides each row by its own sample count while a
+/// pass is in progress, and reading the sums back then is refused.
+#[test]
+fn passes_split_into_row_bands_equal_whole_passes() {
+    let Some(ctx) = gpu_common::context() else {
+        return;
+    };
+    let s = scene(300, 61, 1.0, random_powers(300, 62, 3.0));
+    let height = s.plane.height;
+    for scheme in [Scheme::Uniform, Scheme::Alias, Scheme::Spatial] {
+        let mut whole = GpuRenderer::new(ctx, &s, scheme, 5).expect("renderer");
+        whole.accumulate(3).expect("accumulate");
+        let mut banded = GpuRenderer::new(ctx, &s, scheme, 5).expect("renderer");
+        let mut passes = 0;
+        while passes < 3 {
+            if banded.accumulate_rows(7).expect("band") {
+                passes += 1;
+                assert_eq!(banded.pass_rows_done(), 0);
+            } else {
+                assert!(
+                    banded.pass_rows_done().is_multiple_of(7) && banded.pass_rows_done() < height
+                );
+            }
+        }
+        assert_eq!(banded.samples_per_pixel(), 3);
+        assert_eq!(
+            banded.readback().expect("readback"),
+            whole.readback().expect("readback"),
+            "{scheme:?}"
+        );
+
+        // A pass in progress: the sums are refused; accumulate() completes it first.
+        assert!(!banded.accumulate_rows(10).expect("band"));
+        assert!(matches!(
+            banded.readback(),
+            Err(GpuError::PassInProgress { rows_done: 10, height: h }) if h == height
+        ));
+        banded.accumulate(2).expect("accumulate");
+        whole.accumulate(2).expect("accumulate");
+        assert_eq!(banded.samples_per_pixel(), 5);
+        assert_eq!(
+            banded.readback().expect("readback"),
+            whole.readback().expect("readback"),
+            "{scheme:?} after completing a partial pass"
+        );
+    }
+}
+
+/// While a pass is in progress its rows hold one sample more, and the tonemap divides by
+/// that count: the first pass's top rows are lit, the rest still black; once the pass is
+/// finished the output equals a whole pass's.
+#[test]
+fn the_tonemap_of_a_partial_pass_uses_each_rows_sample_count() {
+    let Some(ctx) = gpu_common::context() else {
+        return;
+    };
+    let s = scene(3, 63, 1.0, vec![2.0, 5.0, 20.0]);
+    let width = s.plane.width as usize;
+    let mut r = GpuRenderer::new(ctx, &s, Scheme::Alias, 9).expect("renderer");
+    assert!(!r.accumulate_rows(12).expect("band"));
+    r.tonemap(1.0).expect("tonemap");
+    let rgba = r.read_output_rgba8().expect("output");
+    let row_lit = |row: usize| {
+        rgba[row * width * 4..(row + 1) * width * 4]
+            .chunks_exact(4)
+            .any(|px| px[0] > 0)
+    };
+    assert!((0..12).all(row_lit), "rows with their first sample are lit");
+    assert!(
+        !(12..s.plane.height as usize).any(row_lit),
+        "rows without are black"
+    );
+    r.finish_pass().expect("finish");
+    r.tonemap(1.0).expect("tonemap");
+    let mut whole = GpuRenderer::new(ctx, &s, Scheme::Alias, 9).expect("renderer");
+    whole.accumulate(1).expect("accumulate");
+    whole.tonemap(1.0).expect("tonemap");
+    assert_eq!(
+        r.read_output_rgba8().expect("output"),
+        whole.read_output_rgba8().expect("output")
+    );
+    // Two passes in, a third partial: rows already at 3 samples are tonemapped with 1/3,
+    // exactly as the whole three-pass image's rows.
+    r.accumulate(1).expect("accumulate");
+    assert!(!r.accumulate_rows(12).expect("band"));
+    r.tonemap(1.0).expect("tonemap");
+    let partial = r.read_output_rgba8().expect("output");
+    whole.accumulate(2).expect("accumulate");
+    whole.tonemap(1.0).expect("tonemap");
+    let three = whole.read_output_rgba8().expect("output");
+    assert_eq!(partial[..12 * width * 4], three[..12 * width * 4]);
+}
+
+/// After a band, tonemapping only its rows gives the output a full tonemap gives (the other
+/// rows' sample counts did not change).
+#[test]
+fn tonemapping_the_band_alone_equals_a_full_tonemap() {
+    let Some(ctx) = gpu_common::context() else {
+        return;
+    };
+    let s = scene(40, 64, 1.0, random_powers(40, 65, 2.0));
+    let mut banded = GpuRenderer::new(ctx, &s, Scheme::Alias, 3).expect("renderer");
+    let mut full = GpuRenderer::new(ctx, &s, Scheme::Alias, 3).expect("renderer");
+    for r in [&mut banded, &mut full] {
+        r.accumulate(2).expect("accumulate");
+        r.tonemap(0.7).expect("tonemap");
+    }
+    for band in [0..9, 9..20] {
+        assert!(!banded.accumulate_rows(band.end - band.start).expect("band"));
+        banded.tonemap_rows(0.7, band).expect("tonemap rows");
+    }
+    full.accumulate_rows(20).expect("band");
+    full.tonemap(0.7).expect("tonemap");
+    assert_eq!(
+        banded.read_output_rgba8().expect("output"),
+        full.read_output_rgba8().expect("output")
+    );
+}

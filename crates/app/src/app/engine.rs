@@ -76,8 +76,11 @@ pub struct SchemeImage {
     pub rgba: Vec<u8>,
     /// Error map RGBA8 (|estimate − reference|), when a reference exists.
     pub error_rgba: Option<Vec<u8>>,
-    /// Samples per pixel so far.
+    /// Samples per pixel so far (complete passes).
     pub spp: u32,
+    /// Rows of the next pass already rendered, as a fraction of the image, while a costly
+    /// pass is split over frames (GPU images); 0 otherwise.
+    pub pass_progress: f32,
     /// Render seconds so far.
     pub seconds: f64,
     /// Seconds of the last frame.
@@ -256,6 +259,7 @@ impl Job {
                     .zip(error_scale)
                     .map(|(r, scale)| error_map(&image, r, scale)),
                 spp: acc.samples_per_pixel,
+                pass_progress: 0.0,
                 seconds: lane.seconds,
                 last_frame_seconds: lane.last_frame_seconds,
                 rmse: Some(lightpick_core::render::rmse(acc, reference)),

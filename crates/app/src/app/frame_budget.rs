@@ -4,19 +4,20 @@
 //!
 //! The UI's own cost `u` is measured as the interval between frames minus the GPU work done
 //! in the previous one (an exponential moving average). The GPU work may take what the
-//! target frame time `T` leaves, `b = max(T − u, b_min)`; a frame whose GPU work took `g`
-//! is followed by `⌈g/b⌉ − 1` frames without any, so the GPU's average share per frame stays
-//! within `b`. On a real GPU `g ≪ b` and the images advance every frame.
+//! target frame time `T` leaves, `b = max(T − u, b_min)`, and [`plan`] turns `b` into work:
+//! whole sample passes when they fit, else a band of rows of one pass (a costly scheme on a
+//! large image then advances a few rows per frame instead of stalling the window for one long
+//! frame). On a real GPU `b` holds many passes and the images advance every frame.
 
 use std::time::Instant;
 
-/// The frame time aimed at: 30 ms, a little under the 33 ms of 30 frames per second.
-pub const TARGET_FRAME_S: f64 = 0.030;
-/// The least GPU time per frame, on average, even when the UI alone exceeds the target (so
-/// the images never stop).
-pub const MIN_GPU_SHARE_S: f64 = 0.002;
-/// The most frames skipped in a row (the images update at least this often).
-pub const MAX_COOLDOWN: u32 = 15;
+use super::state::BudgetMode;
+
+/// The frame time aimed at: 31 ms, a little under the 33 ms of 30 frames per second.
+pub const TARGET_FRAME_S: f64 = 0.031;
+/// The least GPU time per frame even when the UI alone nearly fills the target (so the
+/// images keep advancing: on a software rasterizer a heavy scene's UI takes ~26 ms).
+pub const MIN_GPU_SHARE_S: f64 = 0.004;
 /// An interval longer than this (the window was idle or paused) counts as this.
 const MAX_INTERVAL_S: f64 = 0.1;
 /// Weight of the newest interval in the moving average.
@@ -59,16 +60,75 @@ impl FrameBudget {
         (TARGET_FRAME_S - self.ui_seconds.unwrap_or(0.0)).max(MIN_GPU_SHARE_S)
     }
 
-    /// Frames to skip after a frame whose GPU work took `gpu_seconds`: `⌈g/b⌉ − 1`, at most
-    /// [`MAX_COOLDOWN`].
-    pub fn cooldown_after(&self, gpu_seconds: f64) -> u32 {
-        let frames = (gpu_seconds / self.gpu_budget()).ceil();
-        (frames - 1.0).clamp(0.0, f64::from(MAX_COOLDOWN)) as u32
-    }
-
     /// The measured UI seconds per frame, once known.
     pub fn ui_seconds(&self) -> Option<f64> {
         self.ui_seconds
+    }
+}
+
+/// The GPU work of one lane (one scheme's image) in one frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LaneWork {
+    /// This many whole sample passes (every pixel gets this many samples).
+    Passes(u32),
+    /// The next this many rows of the sample pass in progress.
+    Rows(u32),
+}
+
+/// Rows a lane renders in its first frame, before its cost per row is known.
+pub const FIRST_ROWS: u32 = 8;
+/// Most passes one lane runs in a frame of equal-time mode.
+pub const MAX_PASSES: u32 = 1 << 12;
+
+/// The frame's work for each lane, within `budget` GPU seconds: `row_seconds[l]` is lane
+/// `l`'s measured time per row of one sample pass (`None` before it is measured), `height`
+/// the image's rows.
+///
+/// * Any cost unknown: [`FIRST_ROWS`] rows each (a cheap first measurement).
+/// * Equal samples: every lane does the same work, so they stay at the same samples per
+///   pixel. `spp_per_frame` passes each if they fit in the budget, else as many passes as
+///   fit, else the rows that fit, `⌊b / Σ_l t_l⌋` (at least one).
+/// * Equal time: each lane gets `b/3`: the passes of its own cost that fit (at least one),
+///   or the rows that fit (at least one), so a cheaper scheme gets more samples.
+pub fn plan(
+    budget: f64,
+    row_seconds: [Option<f64>; 3],
+    height: u32,
+    mode: BudgetMode,
+    spp_per_frame: u32,
+) -> [LaneWork; 3] {
+    let Some(rows) = row_seconds
+        .iter()
+        .map(|t| t.filter(|t| *t > 0.0))
+        .collect::<Option<Vec<f64>>>()
+    else {
+        return [LaneWork::Rows(FIRST_ROWS); 3];
+    };
+    let height_f = f64::from(height.max(1));
+    let fit = |seconds: f64, unit: f64, max: f64| (seconds / unit).floor().clamp(1.0, max) as u32;
+    match mode {
+        BudgetMode::EqualSamples => {
+            let row_all: f64 = rows.iter().sum();
+            let pass_all = row_all * height_f;
+            let work = if pass_all <= budget {
+                LaneWork::Passes(fit(budget, pass_all, f64::from(spp_per_frame.max(1))))
+            } else {
+                LaneWork::Rows(fit(budget, row_all, height_f))
+            };
+            [work; 3]
+        }
+        BudgetMode::EqualTime => {
+            let slice = budget / 3.0;
+            let work = |row: f64| {
+                let pass = row * height_f;
+                if pass <= slice {
+                    LaneWork::Passes(fit(slice, pass, f64::from(MAX_PASSES)))
+                } else {
+                    LaneWork::Rows(fit(slice, row, height_f))
+                }
+            };
+            [work(rows[0]), work(rows[1]), work(rows[2])]
+        }
     }
 }
 
@@ -90,33 +150,84 @@ mod tests {
     }
 
     #[test]
-    fn a_fast_ui_leaves_the_gpu_every_frame() {
+    fn a_fast_ui_leaves_the_gpu_most_of_the_frame() {
         // A real GPU: 16 ms frames (the repaint cap), 1 ms of compute.
         let b = settle(0.016, 0.001);
         let ui = b.ui_seconds().expect("measured");
         assert!((ui - 0.015).abs() < 1e-9, "{ui}");
-        assert_eq!(b.cooldown_after(0.001), 0);
+        assert!((b.gpu_budget() - (TARGET_FRAME_S - 0.015)).abs() < 1e-9);
     }
 
     #[test]
-    fn a_slow_ui_spreads_the_gpu_work_over_frames() {
-        // lavapipe: 33 ms frames of which 5.5 ms compute: the UI alone takes 27.5 ms, the
-        // GPU may take 2.5 ms per frame, so 5.5 ms of work runs every third frame.
-        let b = settle(0.033, 0.0055);
-        assert!((b.gpu_budget() - 0.0025).abs() < 1e-9);
-        assert_eq!(b.cooldown_after(0.0055), 2);
+    fn a_slow_ui_leaves_what_the_target_allows() {
+        // lavapipe: 30 ms frames of which 5 ms compute: the UI alone takes 25 ms.
+        let b = settle(0.030, 0.005);
+        assert!((b.gpu_budget() - (TARGET_FRAME_S - 0.025)).abs() < 1e-9);
+        // A heavier UI leaves the minimum share.
+        let b = settle(0.033, 0.005);
+        assert_eq!(b.gpu_budget(), MIN_GPU_SHARE_S);
     }
 
     #[test]
     fn a_ui_over_the_target_still_gets_images_and_idle_gaps_are_capped() {
         let b = settle(0.050, 0.0);
         assert_eq!(b.gpu_budget(), MIN_GPU_SHARE_S);
-        assert_eq!(b.cooldown_after(0.005), 2);
-        assert_eq!(b.cooldown_after(10.0), MAX_COOLDOWN);
         // A paused window (seconds between frames) counts as 0.1 s, not as its idle time.
         let b = settle(5.0, 0.0);
         assert!((b.ui_seconds().expect("measured") - MAX_INTERVAL_S).abs() < 1e-12);
         // Before two frames nothing is known: the whole target is the GPU's.
         assert_eq!(FrameBudget::default().gpu_budget(), TARGET_FRAME_S);
+    }
+
+    const H: u32 = 512;
+
+    #[test]
+    fn unknown_costs_start_with_a_few_rows() {
+        let work = plan(
+            0.01,
+            [Some(1e-6), None, Some(1e-6)],
+            H,
+            BudgetMode::EqualSamples,
+            4,
+        );
+        assert_eq!(work, [LaneWork::Rows(FIRST_ROWS); 3]);
+    }
+
+    #[test]
+    fn equal_samples_runs_whole_passes_when_they_fit() {
+        // 1 µs per row and lane: a pass of the three lanes is 1.5 ms.
+        let rows = [Some(1e-6); 3];
+        let work = plan(0.010, rows, H, BudgetMode::EqualSamples, 4);
+        assert_eq!(work, [LaneWork::Passes(4); 3]);
+        // A budget for two passes only: two, not the four asked for.
+        let work = plan(0.0035, rows, H, BudgetMode::EqualSamples, 4);
+        assert_eq!(work, [LaneWork::Passes(2); 3]);
+    }
+
+    #[test]
+    fn equal_samples_splits_a_costly_pass_into_rows_alike_for_every_lane() {
+        // The million-light case: the tree lane costs 0.18 ms per row, a pass 94 ms.
+        let rows = [Some(18e-6), Some(21e-6), Some(180e-6)];
+        let work = plan(0.005, rows, H, BudgetMode::EqualSamples, 1);
+        // ⌊5 ms / 219 µs⌋ = 22 rows of every lane: they stay at equal samples.
+        assert_eq!(work, [LaneWork::Rows(22); 3]);
+        // Even a tiny budget advances by a row.
+        let work = plan(1e-6, rows, H, BudgetMode::EqualSamples, 1);
+        assert_eq!(work, [LaneWork::Rows(1); 3]);
+    }
+
+    #[test]
+    fn equal_time_gives_each_lane_a_third_of_the_budget() {
+        // 12 ms budget, 4 ms per lane. Lane 0: 1 µs per row, a 0.512 ms pass: 7 passes;
+        // lane 1 four times as costly: 1 pass; lane 2: 50 µs per row: 80 rows.
+        let rows = [Some(1e-6), Some(4e-6), Some(50e-6)];
+        let work = plan(0.012, rows, H, BudgetMode::EqualTime, 1);
+        assert_eq!(
+            work,
+            [LaneWork::Passes(7), LaneWork::Passes(1), LaneWork::Rows(80)]
+        );
+        // Very cheap lanes are capped.
+        let work = plan(1.0, [Some(1e-12); 3], H, BudgetMode::EqualTime, 1);
+        assert_eq!(work, [LaneWork::Passes(MAX_PASSES); 3]);
     }
 }

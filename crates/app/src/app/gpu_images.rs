@@ -5,8 +5,10 @@
 //! engine does.
 //!
 //! All of it runs on the UI thread, which waits for each lane's compute work (an honest time
-//! per frame); when a frame of it takes more than the frame leaves, the next frames skip it
-//! ([`super::frame_budget`]), so a slow device slows the images, never the window.
+//! per frame). Each frame gets the GPU work that fits in what the frame leaves
+//! ([`super::frame_budget`]): whole sample passes, or a band of rows of one when a pass is
+//! costlier than that, so a slow device slows the images, never the window. The sums are
+//! read back at pass boundaries only.
 
 use std::sync::{Arc, mpsc};
 use std::time::Instant;
@@ -18,8 +20,8 @@ use lightpick_core::render::{Reference, mean_variance_per_sample};
 use lightpick_core::scene::Scene;
 
 use super::engine::{self, ConvergencePoint, EngineConfig, Published, SchemeImage};
-use super::frame_budget::FrameBudget;
-use super::state::{BudgetMode, SYNC_BUILD_LIMIT};
+use super::frame_budget::{self, FrameBudget, LaneWork};
+use super::state::SYNC_BUILD_LIMIT;
 
 /// Read the sums back (RMSE, error maps, curves) every this many frames.
 const READBACK_EVERY: u64 = 4;
@@ -29,6 +31,10 @@ struct Lane {
     renderer: GpuRenderer,
     texture: egui::TextureId,
     image: SchemeImage,
+    /// Measured seconds per row of one sample pass (a moving average), once known.
+    row_seconds: Option<f64>,
+    /// The sums should be read back as soon as no pass is in progress.
+    readback_due: bool,
 }
 
 /// The GPU images of one scene.
@@ -43,26 +49,10 @@ struct Lanes {
     importance: Lane,
     spatial: Lane,
     frame: u64,
-    /// Frames to skip before the next GPU work.
-    cooldown: u32,
 }
 
-/// Most samples per pixel one lane dispatches in a frame of equal-time mode.
-const MAX_EQUAL_TIME_SPP: u32 = 1 << 12;
-
-/// Samples per pixel for one lane's frame in equal-time mode: as many as fit in
-/// [`engine::EQUAL_TIME_SLICE_S`] at the lane's measured time per sample so far (one
-/// dispatch, one wait), and 1 before there is a measurement. Every lane thus gets about the
-/// same GPU time per frame, so the cheaper scheme accumulates more samples.
-fn equal_time_spp(image: &SchemeImage) -> u32 {
-    if image.spp == 0 || image.seconds <= 0.0 {
-        return 1;
-    }
-    let per_spp = image.seconds / f64::from(image.spp);
-    (engine::EQUAL_TIME_SLICE_S / per_spp)
-        .floor()
-        .clamp(1.0, f64::from(MAX_EQUAL_TIME_SPP)) as u32
-}
+/// Weight of the newest measurement in a lane's moving average of its cost per row.
+const ROW_COST_SMOOTHING: f64 = 0.3;
 
 impl Lanes {
     /// The uniform, importance and spatial lanes, in display order.
@@ -249,35 +239,66 @@ impl GpuImages {
                 Err(e) => lanes.reference_note = Some(format!("no reference: {e}")),
             }
         }
-        let mut advance = config.running || step;
-        if config.running && !step && lanes.cooldown > 0 {
-            lanes.cooldown -= 1;
-            advance = false;
-        }
+        let advance = config.running || step;
         if advance {
+            // A step (paused) renders whole passes, however long; while running, the frame
+            // budget decides: whole passes when they fit, else a band of rows, so the window
+            // keeps 30 frames per second (see `frame_budget`).
+            let height = lanes.scene.plane.height;
+            let work = if step {
+                [LaneWork::Passes(config.spp_per_frame.max(1)); 3]
+            } else {
+                frame_budget::plan(
+                    self.budget.gpu_budget(),
+                    lanes.each_mut().map(|l| l.row_seconds),
+                    height,
+                    config.budget,
+                    config.spp_per_frame,
+                )
+            };
             let mut total = 0.0;
-            for lane in lanes.each_mut() {
-                let spp = match config.budget {
-                    BudgetMode::EqualSamples => config.spp_per_frame.max(1),
-                    BudgetMode::EqualTime => equal_time_spp(&lane.image),
-                };
+            for (lane, work) in lanes.each_mut().into_iter().zip(work) {
+                let before = lane.renderer.pass_rows_done();
+                let spp_before = lane.renderer.samples_per_pixel();
                 let started = Instant::now();
-                lane.renderer.accumulate(spp).map_err(|e| e.to_string())?;
+                let rows = match work {
+                    LaneWork::Passes(n) => {
+                        lane.renderer.accumulate(n).map_err(|e| e.to_string())?;
+                        n * height - before
+                    }
+                    LaneWork::Rows(n) => {
+                        lane.renderer
+                            .accumulate_rows(n)
+                            .map_err(|e| e.to_string())?;
+                        n.min(height - before)
+                    }
+                };
                 // Wait for this lane's work, so the time per frame is the lane's own.
                 let _ = self.ctx.device().poll(wgpu::PollType::wait_indefinitely());
                 let spent = started.elapsed().as_secs_f64();
+                let per_row = spent / f64::from(rows.max(1));
+                lane.row_seconds = Some(lane.row_seconds.map_or(per_row, |t| {
+                    (1.0 - ROW_COST_SMOOTHING) * t + ROW_COST_SMOOTHING * per_row
+                }));
                 lane.image.seconds += spent;
                 lane.image.last_frame_seconds = spent;
                 lane.image.spp = lane.renderer.samples_per_pixel();
+                lane.image.pass_progress =
+                    lane.renderer.pass_rows_done() as f32 / height.max(1) as f32;
+                // A band changes only its rows; a completed pass changes every row's count.
+                let after = lane.renderer.pass_rows_done();
+                let tonemap = if lane.renderer.samples_per_pixel() == spp_before {
+                    lane.renderer.tonemap_rows(config.exposure, before..after)
+                } else {
+                    lane.renderer.tonemap(config.exposure)
+                };
+                tonemap.map_err(|e| e.to_string())?;
                 total += spent;
             }
-            // Keep the window at 30 frames per second or more: GPU work beyond what the
-            // frame leaves is followed by frames without any (see `frame_budget`).
             self.budget.gpu_spent(total);
-            lanes.cooldown = self.budget.cooldown_after(total);
             lanes.frame += 1;
         }
-        if advance || self.exposure != Some(config.exposure) {
+        if self.exposure != Some(config.exposure) {
             for lane in lanes.each_mut() {
                 lane.renderer
                     .tonemap(config.exposure)
@@ -291,6 +312,11 @@ impl GpuImages {
             || reference_arrived
             || (advance && lanes.frame % READBACK_EVERY == 1);
         if readback {
+            for lane in lanes.each_mut() {
+                lane.readback_due = true;
+            }
+        }
+        {
             let Lanes {
                 reference,
                 uniform,
@@ -298,7 +324,13 @@ impl GpuImages {
                 spatial,
                 ..
             } = lanes;
+            // The sums are read at pass boundaries only (a pass in progress has rows with
+            // one sample more).
             for lane in [uniform, importance, spatial] {
+                if !lane.readback_due || lane.renderer.pass_rows_done() > 0 {
+                    continue;
+                }
+                lane.readback_due = false;
                 let acc = lane.renderer.readback().map_err(|e| e.to_string())?;
                 lane.image.variance = mean_variance_per_sample(&acc);
                 if let Some(r) = reference.as_ref() {
@@ -448,49 +480,24 @@ impl GpuImages {
                 renderer: uniform,
                 texture: ids[0],
                 image: SchemeImage::default(),
+                row_seconds: None,
+                readback_due: true,
             },
             importance: Lane {
                 renderer: importance,
                 texture: ids[1],
                 image: SchemeImage::default(),
+                row_seconds: None,
+                readback_due: true,
             },
             spatial: Lane {
                 renderer: spatial,
                 texture: ids[2],
                 image: SchemeImage::default(),
+                row_seconds: None,
+                readback_due: true,
             },
             frame: 0,
-            cooldown: 0,
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn image(spp: u32, seconds: f64) -> SchemeImage {
-        SchemeImage {
-            spp,
-            seconds,
-            ..SchemeImage::default()
-        }
-    }
-
-    #[test]
-    fn equal_time_gives_each_lane_the_samples_that_fit_its_slice() {
-        // Unmeasured: one sample per pixel.
-        assert_eq!(equal_time_spp(&image(0, 0.0)), 1);
-        // 1 ms per spp so far: 12 of them fit in the 12 ms slice.
-        let slice = engine::EQUAL_TIME_SLICE_S;
-        assert_eq!(equal_time_spp(&image(10, 0.010)), (slice / 0.001) as u32);
-        // A lane 4× cheaper gets 4× the samples (the point of equal-time mode).
-        assert_eq!(
-            equal_time_spp(&image(40, 0.010)),
-            4 * equal_time_spp(&image(10, 0.010))
-        );
-        // Slower than the slice: still one; very fast: capped.
-        assert_eq!(equal_time_spp(&image(1, 1.0)), 1);
-        assert_eq!(equal_time_spp(&image(1_000_000, 1e-3)), MAX_EQUAL_TIME_SPP);
     }
 }

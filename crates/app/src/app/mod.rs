@@ -46,6 +46,9 @@ use engine::{Engine, EngineConfig, Published};
 use render_ui::ImageTextures;
 use state::{FileAction, MessageKind};
 
+/// The least height of the Convergence panel under the images (figures and a readable plot).
+const MIN_CONVERGENCE_HEIGHT: f32 = 260.0;
+
 /// The shortest time between frames while running (about 60 frames per second).
 const FRAME_PERIOD: std::time::Duration = std::time::Duration::from_millis(16);
 
@@ -276,22 +279,23 @@ impl LightpickApp {
             .resizable(true)
             .default_size((0.42 * width).clamp(420.0, 900.0))
             .show(ui, |ui| {
-                let height = ui.available_height();
-                egui::Panel::bottom("lightpick_convergence")
-                    .frame(frame)
-                    .resizable(true)
-                    .default_size((0.42 * height).clamp(240.0, 480.0))
-                    .show(ui, |ui| {
-                        convergence_ui::convergence_ui(
-                            ui,
-                            &self.state,
-                            published.as_deref(),
-                            &mut self.axis,
-                        );
-                    });
-                egui::CentralPanel::no_frame().show(ui, |ui| {
+                // The images take the height their width allows (every frame, so a resized
+                // window keeps them as large as it can), leaving Convergence at least
+                // MIN_CONVERGENCE_HEIGHT; Convergence fills the rest.
+                let width = ui.available_width();
+                let images_height = render_ui::wanted_height(ui, width)
+                    .min(ui.available_height() - MIN_CONVERGENCE_HEIGHT)
+                    .max(0.0);
+                ui.allocate_ui(egui::vec2(width, images_height), |ui| {
                     render_ui::images_ui(ui, &mut self.state, published.as_deref(), &self.textures);
                 });
+                ui.separator();
+                convergence_ui::convergence_ui(
+                    ui,
+                    &self.state,
+                    published.as_deref(),
+                    &mut self.axis,
+                );
             });
         egui::CentralPanel::default().frame(frame).show(ui, |ui| {
             egui::Panel::bottom("lightpick_sampling")
@@ -554,9 +558,11 @@ impl LightpickApp {
                 .map(|()| format!("saved {path}")),
             FileAction::ExportImages => {
                 // GPU images are native textures: read them back first.
-                let from_gpu = match self.gpu.as_ref().filter(|_| self.uses_gpu()) {
-                    Some(gpu) => Some(gpu.frame_with_images(self.state.settings.exposure)),
-                    None => None,
+                let exposure = self.state.settings.exposure;
+                let from_gpu = if self.uses_gpu() {
+                    self.gpu.as_mut().map(|gpu| gpu.frame_with_images(exposure))
+                } else {
+                    None
                 };
                 match from_gpu {
                     Some(Ok(frame)) => Ok(frame),

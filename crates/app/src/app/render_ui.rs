@@ -248,13 +248,36 @@ const TEXT_ROWS_PER_IMAGE: f32 = 5.0;
 fn image_size(ui: &Ui, columns: usize, show_error: bool, [width, height]: [u32; 2]) -> egui::Vec2 {
     let spacing = ui.spacing().item_spacing;
     let aspect = height as f32 / width.max(1) as f32;
-    let by_width = (ui.available_width() - spacing.x * (columns as f32 - 1.0)) / columns as f32;
-    let row = ui.text_style_height(&egui::TextStyle::Body) + spacing.y;
+    let by_width = side_by_width(ui, ui.available_width(), columns);
     let images = if show_error { 2.0 } else { 1.0 };
-    let by_height = (ui.available_height() - TEXT_ROWS_PER_IMAGE * row - images * spacing.y)
-        / (images * aspect);
+    let by_height =
+        (ui.available_height() - text_rows(ui, TEXT_ROWS_PER_IMAGE) - images * spacing.y)
+            / (images * aspect);
     let side = by_width.min(by_height).max(48.0);
     egui::vec2(side, side * aspect)
+}
+
+/// The side of a square image when `columns` of them share `width`.
+fn side_by_width(ui: &Ui, width: f32, columns: usize) -> f32 {
+    (width - ui.spacing().item_spacing.x * (columns as f32 - 1.0)) / columns as f32
+}
+
+/// The height of `rows` rows of body text.
+fn text_rows(ui: &Ui, rows: f32) -> f32 {
+    rows * (ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y)
+}
+
+/// The panel's header row (a heading: taller than body text), in body rows.
+const HEADER_ROWS: f32 = 1.6;
+
+/// The height the Images panel needs in `width` to show square images (four columns, each
+/// with its error map) as large as the width allows: what the window's layout leaves it
+/// before giving the rest to the Convergence panel.
+pub fn wanted_height(ui: &Ui, width: f32) -> f32 {
+    let side = side_by_width(ui, width, 4);
+    2.0 * side
+        + text_rows(ui, TEXT_ROWS_PER_IMAGE + HEADER_ROWS)
+        + 2.0 * ui.spacing().item_spacing.y
 }
 
 fn image_column(
@@ -278,8 +301,20 @@ fn image_column(
                     image.spp
                 ))
         });
-        ui.label(format!("spp {}", image.spp))
-            .on_hover_text("Samples per pixel accumulated");
+        if image.pass_progress > 0.0 {
+            ui.label(format!(
+                "spp {} (+{:.0} %)",
+                image.spp,
+                100.0 * image.pass_progress
+            ))
+            .on_hover_text(
+                "Samples per pixel accumulated; the next sample pass is this far down the \
+                 image (a costly pass is spread over frames to keep the window responsive)",
+            );
+        } else {
+            ui.label(format!("spp {}", image.spp))
+                .on_hover_text("Samples per pixel accumulated");
+        }
         if let Some(rmse) = image.rmse {
             ui.label(format!("RMSE {}", fractions::short(rmse)))
                 .on_hover_text("Root-mean-square error against the reference");

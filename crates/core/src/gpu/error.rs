@@ -70,6 +70,17 @@ pub enum GpuError {
         /// The largest total, `u32::MAX`.
         max: u32,
     },
+    /// The sums were asked for while a sample pass was only partly done.
+    #[error(
+        "the sample pass in progress has reached {rows_done} of {height} rows; finish it \
+         (finish_pass) before reading the sums back"
+    )]
+    PassInProgress {
+        /// Rows of the pass done.
+        rows_done: u32,
+        /// Rows of the image.
+        height: u32,
+    },
     /// New powers do not match the renderer's light positions.
     #[error("{got} powers given for a scene of {expected} lights")]
     LightCountMismatch {
@@ -144,6 +155,14 @@ mod tests {
                     reason: "why",
                 },
                 "scheme 'cdf' is not supported on the GPU: why",
+            ),
+            (
+                GpuError::PassInProgress {
+                    rows_done: 3,
+                    height: 8,
+                },
+                "the sample pass in progress has reached 3 of 8 rows; finish it (finish_pass) \
+                 before reading the sums back",
             ),
             (
                 GpuError::BufferTooLarge {

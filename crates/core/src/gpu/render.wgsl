@@ -23,8 +23,9 @@ struct RenderParams {
     n_f32: f32,
     // Leaves of the spatial light tree (spatial.wgsl), 0 for the other schemes.
     tree_leaves: u32,
-    _pad1: u32,
-    _pad2: u32,
+    // The rows of this dispatch, [row_begin, row_end): the grid covers them from row_begin.
+    row_begin: u32,
+    row_end: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: RenderParams;
@@ -90,11 +91,12 @@ fn pixel_center(px: u32, py: u32) -> vec2<f32> {
 
 @compute @workgroup_size(16, 16)
 fn accumulate(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= params.width || gid.y >= params.height {
+    let py = params.row_begin + gid.y;
+    if gid.x >= params.width || py >= params.row_end {
         return;
     }
-    let p = gid.y * params.width + gid.x;
-    let x = pixel_center(gid.x, gid.y);
+    let p = py * params.width + gid.x;
+    let x = pixel_center(gid.x, py);
     // A running sum, sample after sample, in the order k = k_base, k_base + 1, ...
     var acc = sums[p];
     for (var j = 0u; j < params.k_count; j++) {

@@ -1,5 +1,7 @@
 //! The progressive renderer on the GPU, the twin of the CPU estimator contract.
 
+use std::ops::Range;
+
 use super::spatial::SpatialGpu;
 use super::{GpuContext, GpuError, PICK_WGSL};
 use crate::render::Accumulator;
@@ -35,7 +37,8 @@ struct RenderParams {
     plane_extent_y: f32,
     n_f32: f32,
     tree_leaves: u32,
-    pad: [u32; 2],
+    row_begin: u32,
+    row_end: u32,
 }
 
 #[repr(C)]
@@ -44,7 +47,10 @@ struct TonemapParams {
     factor: f32,
     width: u32,
     height: u32,
-    pad: u32,
+    band_row: u32,
+    factor_band: f32,
+    row_begin: u32,
+    pad: [u32; 2],
 }
 
 /// Progressive rendering of a [`Scene`] on the GPU, following the estimator contract of
@@ -81,6 +87,9 @@ pub struct GpuRenderer {
     spatial: Option<SpatialGpu>,
     total_power: f64,
     samples_per_pixel: u32,
+    /// Rows `0..band_row` already hold sample `k = samples_per_pixel` (a pass in progress,
+    /// [`GpuRenderer::accumulate_rows`]); 0 when none is.
+    band_row: u32,
     plane: [f32; 4],
     params: wgpu::Buffer,
     lights: wgpu::Buffer,
@@ -244,6 +253,7 @@ impl GpuRenderer {
             spatial: None,
             total_power: 0.0,
             samples_per_pixel: 0,
+            band_row: 0,
             plane,
             params,
             lights,
@@ -373,6 +383,7 @@ impl GpuRenderer {
     /// Forgets every sample: the sums return to zero and the next sample index is `k = 0`.
     pub fn reset(&mut self) {
         self.samples_per_pixel = 0;
+        self.band_row = 0;
         let mut encoder =
             self.ctx
                 .device()
@@ -384,9 +395,11 @@ impl GpuRenderer {
     }
 
     /// Adds `samples_per_pixel` samples to every pixel: sample indices
-    /// `k = spp, …, spp + samples_per_pixel − 1` continue the previous calls. The work is
-    /// queued, not waited for ([`GpuRenderer::readback`] waits). The total per pixel may not
-    /// pass `u32::MAX` (the stream's high word), else [`GpuError::TooManySamples`].
+    /// `k = spp, …, spp + samples_per_pixel − 1` continue the previous calls. A pass in
+    /// progress ([`GpuRenderer::accumulate_rows`]) is completed first and counts as the
+    /// first of them. The work is queued, not waited for ([`GpuRenderer::readback`] waits).
+    /// The total per pixel may not pass `u32::MAX` (the stream's high word), else
+    /// [`GpuError::TooManySamples`].
     pub fn accumulate(&mut self, samples_per_pixel: u32) -> Result<(), GpuError> {
         let total = self
             .samples_per_pixel
@@ -396,8 +409,74 @@ impl GpuRenderer {
                 requested: samples_per_pixel,
                 max: u32::MAX,
             })?;
+        if samples_per_pixel == 0 {
+            return Ok(());
+        }
         let pixels = u64::from(self.width) * u64::from(self.height);
         let per_dispatch = (SAMPLES_PER_DISPATCH / pixels).clamp(1, u64::from(u32::MAX)) as u32;
+        let mut k = self.samples_per_pixel;
+        if self.band_row > 0 {
+            self.dispatch(k, 1, self.band_row..self.height)?;
+            self.band_row = 0;
+            k += 1;
+        }
+        while k < total {
+            let k_count = per_dispatch.min(total - k);
+            self.dispatch(k, k_count, 0..self.height)?;
+            k += k_count;
+        }
+        self.samples_per_pixel = total;
+        Ok(())
+    }
+
+    /// Adds sample `k = spp` to at most `max_rows` (at least 1) more rows of the image,
+    /// continuing the pass in progress from where it stopped (from the top row). When the
+    /// pass reaches the bottom row every pixel holds `spp + 1` samples: the pass is complete,
+    /// [`GpuRenderer::samples_per_pixel`] grows by one and `Ok(true)` is returned.
+    ///
+    /// This splits one sample pass of a costly scheme (the light tree on a million lights)
+    /// over several UI frames. While a pass is in progress, [`GpuRenderer::tonemap`] divides
+    /// each row by its own sample count and [`GpuRenderer::readback`] is refused
+    /// ([`GpuError::PassInProgress`]); [`GpuRenderer::finish_pass`] completes it. The same
+    /// samples as [`GpuRenderer::accumulate`] are drawn, so the sums are identical.
+    pub fn accumulate_rows(&mut self, max_rows: u32) -> Result<bool, GpuError> {
+        if self.samples_per_pixel == u32::MAX {
+            return Err(GpuError::TooManySamples {
+                accumulated: self.samples_per_pixel,
+                requested: 1,
+                max: u32::MAX,
+            });
+        }
+        let end = self
+            .band_row
+            .saturating_add(max_rows.max(1))
+            .min(self.height);
+        self.dispatch(self.samples_per_pixel, 1, self.band_row..end)?;
+        if end == self.height {
+            self.band_row = 0;
+            self.samples_per_pixel += 1;
+            Ok(true)
+        } else {
+            self.band_row = end;
+            Ok(false)
+        }
+    }
+
+    /// Completes the pass in progress, if any ([`GpuRenderer::accumulate_rows`]).
+    pub fn finish_pass(&mut self) -> Result<(), GpuError> {
+        if self.band_row > 0 {
+            self.accumulate_rows(self.height)?;
+        }
+        Ok(())
+    }
+
+    /// Rows of the pass in progress done so far (0 when no pass is in progress).
+    pub fn pass_rows_done(&self) -> u32 {
+        self.band_row
+    }
+
+    /// Queues `k_count` samples `k_base, …` for the pixels of `rows`.
+    fn dispatch(&mut self, k_base: u32, k_count: u32, rows: Range<u32>) -> Result<(), GpuError> {
         if self.scheme == Scheme::Spatial {
             self.ensure_spatial()?;
         }
@@ -412,56 +491,50 @@ impl GpuRenderer {
                 super::scheme_code(self.scheme)?,
             ),
         };
-        let mut k = self.samples_per_pixel;
-        while k < total {
-            let k_count = per_dispatch.min(total - k);
-            let params = RenderParams {
-                seed_lo: self.seed as u32,
-                seed_hi: (self.seed >> 32) as u32,
-                k_base: k,
-                k_count,
-                width: self.width,
-                height: self.height,
-                n_lights: self.positions.len() as u32,
-                scheme,
-                plane_min_x: self.plane[0],
-                plane_max_y: self.plane[1],
-                plane_extent_x: self.plane[2],
-                plane_extent_y: self.plane[3],
-                n_f32: self.positions.len() as f32,
-                tree_leaves,
-                pad: [0; 2],
-            };
-            super::scoped(&self.ctx, "dispatching render samples", || {
+        let params = RenderParams {
+            seed_lo: self.seed as u32,
+            seed_hi: (self.seed >> 32) as u32,
+            k_base,
+            k_count,
+            width: self.width,
+            height: self.height,
+            n_lights: self.positions.len() as u32,
+            scheme,
+            plane_min_x: self.plane[0],
+            plane_max_y: self.plane[1],
+            plane_extent_x: self.plane[2],
+            plane_extent_y: self.plane[3],
+            n_f32: self.positions.len() as f32,
+            tree_leaves,
+            row_begin: rows.start,
+            row_end: rows.end,
+        };
+        super::scoped(&self.ctx, "dispatching render samples", || {
+            self.ctx
+                .queue()
+                .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+            let mut encoder =
                 self.ctx
-                    .queue()
-                    .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-                let mut encoder =
-                    self.ctx
-                        .device()
-                        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                            label: Some("render accumulate"),
-                        });
-                {
-                    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    .device()
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                         label: Some("render accumulate"),
-                        timestamp_writes: None,
                     });
-                    pass.set_pipeline(pipeline);
-                    pass.set_bind_group(0, bind_group, &[]);
-                    pass.dispatch_workgroups(
-                        self.width.div_ceil(TILE),
-                        self.height.div_ceil(TILE),
-                        1,
-                    );
-                }
-                self.ctx.queue().submit([encoder.finish()]);
-                Ok(())
-            })?;
-            k += k_count;
-        }
-        self.samples_per_pixel = total;
-        Ok(())
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("render accumulate"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, bind_group, &[]);
+                pass.dispatch_workgroups(
+                    self.width.div_ceil(TILE),
+                    (rows.end - rows.start).div_ceil(TILE),
+                    1,
+                );
+            }
+            self.ctx.queue().submit([encoder.finish()]);
+            Ok(())
+        })
     }
 
     /// Waits for the queued samples and returns the sums as an [`Accumulator`] (`f32`
@@ -472,6 +545,12 @@ impl GpuRenderer {
     /// `√spp·2^-24`). `Σ ê²` overflows to `+inf` once a single estimate exceeds about
     /// `1.8·10^19` (`G` of a light closer than about `10^-10` scene units).
     pub fn readback(&self) -> Result<Accumulator, GpuError> {
+        if self.band_row > 0 {
+            return Err(GpuError::PassInProgress {
+                rows_done: self.band_row,
+                height: self.height,
+            });
+        }
         let pixels = u64::from(self.width) * u64::from(self.height);
         let bytes = super::read_buffer(&self.ctx, "pixel sums", &self.sums, pixels * 8)?;
         let words = super::words(&bytes);
@@ -490,25 +569,43 @@ impl GpuRenderer {
     }
 
     /// Writes the tonemapped image into [`GpuRenderer::output_view`]: the WGSL twin of
-    /// [`crate::render::tonemap_value`] applied to `exposure · Φ_total · Σê / spp`, where
-    /// the factor `exposure · Φ_total / spp` is computed in `f64` and clamped to the finite
-    /// `f32` range (black before any sample). The work is queued, not waited for.
+    /// [`crate::render::tonemap_value`] applied to `exposure · Φ_total · Σê / n`, where
+    /// the factor `exposure · Φ_total / n` is computed in `f64` and clamped to the finite
+    /// `f32` range (black before any sample), and `n` is the row's sample count: `spp`, or
+    /// `spp + 1` for the rows a pass in progress has reached. The work is queued, not waited
+    /// for.
     pub fn tonemap(&mut self, exposure: f64) -> Result<(), GpuError> {
-        let factor = if self.samples_per_pixel == 0 {
-            0.0
-        } else {
-            exposure * self.total_power / f64::from(self.samples_per_pixel)
-        };
-        let factor = if factor.is_nan() {
-            0.0
-        } else {
-            factor.clamp(-f64::from(f32::MAX), f64::from(f32::MAX)) as f32
+        self.tonemap_rows(exposure, 0..self.height)
+    }
+
+    /// [`GpuRenderer::tonemap`] of the rows `rows` only (clamped to the image): after
+    /// [`GpuRenderer::accumulate_rows`] only the band just rendered changed, so only it needs
+    /// writing until the pass completes (then every row's sample count has changed).
+    pub fn tonemap_rows(&mut self, exposure: f64, rows: Range<u32>) -> Result<(), GpuError> {
+        let rows = rows.start.min(self.height)..rows.end.min(self.height);
+        if rows.is_empty() {
+            return Ok(());
+        }
+        let factor = |samples: u32| {
+            let f = if samples == 0 {
+                0.0
+            } else {
+                exposure * self.total_power / f64::from(samples)
+            };
+            if f.is_nan() {
+                0.0
+            } else {
+                f.clamp(-f64::from(f32::MAX), f64::from(f32::MAX)) as f32
+            }
         };
         let params = TonemapParams {
-            factor,
+            factor: factor(self.samples_per_pixel),
             width: self.width,
             height: self.height,
-            pad: 0,
+            band_row: self.band_row,
+            factor_band: factor(self.samples_per_pixel.saturating_add(1)),
+            row_begin: rows.start,
+            pad: [0; 2],
         };
         super::scoped(&self.ctx, "dispatching the tonemap", || {
             self.ctx
@@ -527,7 +624,11 @@ impl GpuRenderer {
                 });
                 pass.set_pipeline(&self.tonemap_pipeline);
                 pass.set_bind_group(0, &self.tonemap_bind_group, &[]);
-                pass.dispatch_workgroups(self.width.div_ceil(TILE), self.height.div_ceil(TILE), 1);
+                pass.dispatch_workgroups(
+                    self.width.div_ceil(TILE),
+                    (rows.end - rows.start).div_ceil(TILE),
+                    1,
+                );
             }
             self.ctx.queue().submit([encoder.finish()]);
             Ok(())

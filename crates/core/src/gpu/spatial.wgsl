@@ -176,11 +176,12 @@ fn spatial_exact_estimate(x: vec2<f32>, state: ptr<function, u32>) -> f32 {
 
 @compute @workgroup_size(16, 16)
 fn accumulate_spatial(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= params.width || gid.y >= params.height {
+    let py = params.row_begin + gid.y;
+    if gid.x >= params.width || py >= params.row_end {
         return;
     }
-    let p = gid.y * params.width + gid.x;
-    let x = pixel_center(gid.x, gid.y);
+    let p = py * params.width + gid.x;
+    let x = pixel_center(gid.x, py);
     var acc = sums[p];
     for (var j = 0u; j < params.k_count; j++) {
         var state = rng_new(params.seed_lo, params.seed_hi, p, params.k_base + j);

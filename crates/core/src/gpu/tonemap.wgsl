@@ -4,10 +4,17 @@
 // (Reinhard), then sRGB, then round(255·v); negative or NaN values map to black.
 
 struct TonemapParams {
+    // exposure·Φ_total/spp, and /(spp + 1) for the rows 0..band_row that a sample pass in
+    // progress has reached (they hold one sample more).
     factor: f32,
     width: u32,
     height: u32,
-    _pad: u32,
+    band_row: u32,
+    factor_band: f32,
+    // The first row of this dispatch (the grid covers rows from here to height).
+    row_begin: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: TonemapParams;
@@ -31,11 +38,13 @@ fn tonemap_value(l: f32) -> f32 {
 
 @compute @workgroup_size(16, 16)
 fn tonemap(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= params.width || gid.y >= params.height {
+    let py = params.row_begin + gid.y;
+    if gid.x >= params.width || py >= params.height {
         return;
     }
-    let p = gid.y * params.width + gid.x;
+    let p = py * params.width + gid.x;
     // Quantize here, so the unorm store receives an exact k/255.
-    let v = round(255.0 * tonemap_value(params.factor * sums[p].x)) / 255.0;
-    textureStore(output, vec2<i32>(gid.xy), vec4<f32>(v, v, v, 1.0));
+    let factor = select(params.factor, params.factor_band, py < params.band_row);
+    let v = round(255.0 * tonemap_value(factor * sums[p].x)) / 255.0;
+    textureStore(output, vec2<i32>(i32(gid.x), i32(py)), vec4<f32>(v, v, v, 1.0));
 }
