@@ -184,3 +184,38 @@ fn a_corrupt_stored_scene_gives_the_seed_scene_and_says_so() {
     let (message, _) = app.state.status.as_ref().expect("a status message");
     assert!(message.contains("last scene not restored"), "{message}");
 }
+
+/// A scene too large to store light by light is kept by name when it is an unedited preset
+/// (and restored with its own exposure); once edited it is not kept, and the next run opens
+/// the seed scene with the seed scene's exposure, not the large scene's.
+#[test]
+fn large_presets_persist_by_name_and_edited_large_scenes_fall_back_to_the_seed() {
+    let mut harness = lights_panel();
+    harness.state_mut().state.load_preset("million");
+    run_until_built(&mut harness, 1_000_000);
+    let million_exposure = harness.state().state.settings.exposure;
+    let mut storage = MemoryStorage::default();
+    eframe::App::save(harness.state_mut(), &mut storage);
+    assert!(
+        !storage.0.values().any(|v| v.len() > 1_000_000),
+        "no light list stored"
+    );
+    let app = restored(&storage);
+    assert_eq!(app.state.built.len(), 1_000_000);
+    assert_eq!(app.state.built.scene.name, "million");
+    assert_eq!(app.state.settings.exposure, million_exposure);
+
+    // Edit one power: the scene is no longer the preset, and is not kept.
+    harness
+        .get_by_role_and_label(Role::SpinButton, "power of light 1")
+        .set_value_accesskit(3.0);
+    harness.run();
+    assert_eq!(harness.state().state.unedited_preset, None);
+    eframe::App::save(harness.state_mut(), &mut storage);
+    let app = restored(&storage);
+    assert_eq!(app.state.built.scene.powers.as_slice(), [2.0, 5.0, 20.0]);
+    let seed_exposure =
+        lightpick::app::state::auto_exposure(&lightpick::app::scene_io::seed_scene());
+    assert_eq!(app.state.settings.exposure, seed_exposure);
+    assert_ne!(seed_exposure, million_exposure);
+}

@@ -6,7 +6,7 @@ use egui::{RichText, Sense, Ui, vec2};
 
 use super::colors;
 use super::scene_io::{self, PowerDistribution};
-use super::state::{AppState, MessageKind, SliderScale};
+use super::state::{AppState, SliderScale};
 
 const ROW_HEIGHT: f32 = 22.0;
 
@@ -38,13 +38,7 @@ fn presets_ui(ui: &mut Ui, state: &mut AppState) {
                 .on_hover_text(format!("Load the '{name}' scene"))
                 .clicked()
             {
-                match scene_io::preset(name) {
-                    Ok(scene) => {
-                        state.load_scene(scene);
-                        state.message(format!("loaded preset '{name}'"), MessageKind::Info);
-                    }
-                    Err(e) => state.message(e, MessageKind::Error),
-                }
+                state.load_preset(name);
             }
         }
     });

@@ -56,6 +56,8 @@ const FRAME_PERIOD: std::time::Duration = std::time::Duration::from_millis(16);
 const SETTINGS_KEY: &str = "lightpick.settings";
 /// Storage key of the persisted scene (JSON).
 const SCENE_KEY: &str = "lightpick.scene";
+/// Storage key of the preset name, for a large scene that is an unedited preset.
+const SCENE_PRESET_KEY: &str = "lightpick.scene_preset";
 /// Scenes with more lights are not persisted light by light.
 const PERSIST_SCENE_LIMIT: usize = 20_000;
 
@@ -79,6 +81,7 @@ pub fn run() -> anyhow::Result<()> {
         // Dithering costs a noise evaluation per fragment; on software rasterizers
         // (lavapipe) that is a large share of every frame, and the panels have no gradients.
         dithering: false,
+        wgpu_options: wgpu_options(),
         ..Default::default()
     };
     eframe::run_native(
@@ -92,6 +95,23 @@ pub fn run() -> anyhow::Result<()> {
              subcommands, e.g. `lightpick table --powers 2,5,20` (see `lightpick --help`)"
         )
     })
+}
+
+/// eframe's wgpu setup with the adapter's own limits: the compute renderers need storage
+/// buffers (and, for millions of lights, large ones) that egui's defaults, sized for drawing
+/// (WebGL2's on a GL adapter), leave out.
+fn wgpu_options() -> eframe::egui_wgpu::WgpuConfiguration {
+    use eframe::egui_wgpu::{WgpuConfiguration, WgpuSetup, WgpuSetupCreateNew};
+    let mut setup = WgpuSetupCreateNew::without_display_handle();
+    setup.device_descriptor = std::sync::Arc::new(|adapter| eframe::wgpu::DeviceDescriptor {
+        label: Some("lightpick device"),
+        required_limits: adapter.limits(),
+        ..Default::default()
+    });
+    WgpuConfiguration {
+        wgpu_setup: WgpuSetup::CreateNew(setup),
+        ..Default::default()
+    }
 }
 
 /// Whether a window can be opened at all: on Linux and the BSDs, `DISPLAY` or
@@ -174,9 +194,20 @@ impl LightpickApp {
                     Ok(s) => scene = Some(s),
                     Err(e) => restore_error = Some(format!("last scene not restored: {e}")),
                 }
+            } else if let Some(name) = storage.get_string(SCENE_PRESET_KEY) {
+                match scene_io::preset(&name) {
+                    Ok(s) => scene = Some(s),
+                    Err(e) => restore_error = Some(format!("last scene not restored: {e}")),
+                }
             }
         }
-        let scene = scene.unwrap_or_else(scene_io::seed_scene);
+        // The exposure belongs to the scene it was set for: without that scene, the seed
+        // scene's own.
+        let scene = scene.unwrap_or_else(|| {
+            let seed = scene_io::seed_scene();
+            settings.exposure = state::auto_exposure(&seed);
+            seed
+        });
         let mut app = Self::with_state(AppState::new(scene, settings), true);
         if let Some(e) = restore_error {
             app.state.message(e, MessageKind::Error);
@@ -709,8 +740,22 @@ impl eframe::App for LightpickApp {
             .saved_scene
             .as_ref()
             .unwrap_or(&self.state.built.scene);
+        // Small scenes are kept light by light; a large one only when it is an unedited
+        // preset (kept by name); otherwise none is kept, and the seed scene opens next time.
         if scene.light_count() <= PERSIST_SCENE_LIMIT {
             storage.set_string(SCENE_KEY, scene_io::to_json(scene));
+            storage.remove_string(SCENE_PRESET_KEY);
+        } else {
+            storage.remove_string(SCENE_KEY);
+            let preset = self
+                .state
+                .unedited_preset
+                .as_ref()
+                .filter(|_| self.state.walkthrough.saved_scene.is_none());
+            match preset {
+                Some(name) => storage.set_string(SCENE_PRESET_KEY, name.clone()),
+                None => storage.remove_string(SCENE_PRESET_KEY),
+            }
         }
     }
 }

@@ -327,6 +327,9 @@ pub struct AppState {
     pub stepper: super::stepper_ui::StepperState,
     /// What the table and its diagram highlight this frame (set by the walkthrough).
     pub table_highlight: Option<lightpick_core::walkthrough::Highlight>,
+    /// The preset the scene is, unedited (set by [`AppState::load_preset`], cleared by any
+    /// edit): how a scene too large to store light by light is persisted.
+    pub unedited_preset: Option<String>,
     next_generation: u64,
     pending: Option<PendingBuild>,
     rebuild_queued: bool,
@@ -357,6 +360,7 @@ impl AppState {
             walkthrough: super::walkthrough_ui::WalkthroughState::default(),
             stepper: super::stepper_ui::StepperState::default(),
             table_highlight: None,
+            unedited_preset: None,
             next_generation: 2,
             pending: None,
             rebuild_queued: false,
@@ -388,6 +392,7 @@ impl AppState {
     /// Replaces the whole scene (preset, file, generated): the edit, the text field and the
     /// table, and a slider range that fits it.
     pub fn load_scene(&mut self, scene: Scene) {
+        self.unedited_preset = None;
         self.edit = SceneEdit::from_scene(&scene);
         self.powers_text = powers_to_text(&self.edit.powers);
         self.input_error = None;
@@ -405,9 +410,22 @@ impl AppState {
         }
     }
 
+    /// Loads the bundled scene `name` ([`scene_io::preset`]), or says why it cannot.
+    pub fn load_preset(&mut self, name: &str) {
+        match scene_io::preset(name) {
+            Ok(scene) => {
+                self.load_scene(scene);
+                self.unedited_preset = Some(name.to_owned());
+                self.message(format!("loaded preset '{name}'"), MessageKind::Info);
+            }
+            Err(e) => self.message(e, MessageKind::Error),
+        }
+    }
+
     /// Call after any change of `edit.powers`: validates and rebuilds, or names the problem
     /// and keeps the last good table.
     pub fn powers_changed(&mut self) {
+        self.unedited_preset = None;
         if self.edit.powers.len() > SYNC_BUILD_LIMIT && self.pending.is_some() {
             // One background build at a time: this edit is validated and built as soon as
             // the running build lands (the latest values win; intermediate ones are skipped).
