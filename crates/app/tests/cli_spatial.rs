@@ -144,3 +144,31 @@ fn bench_rows_include_spatial() {
     }
     assert!(f(&spatial["variance_per_sample"]) * 4.0 < f(&alias["variance_per_sample"]));
 }
+
+#[test]
+fn bench_reports_the_exact_pick_as_zero_variance_with_infinite_efficiency() {
+    let v = ok_json(&[
+        "bench",
+        "--quick",
+        "--sizes",
+        "3",
+        "--presets",
+        "seed",
+        "--spp",
+        "8",
+        "--no-gpu",
+        "--json",
+    ]);
+    let schemes = v["renders"][0]["schemes"].as_array().unwrap();
+    for s in schemes {
+        let exact = s["scheme"] == "spatial";
+        assert_eq!(s["zero_variance"], exact, "{s}");
+        if exact {
+            // Infinite efficiency: JSON has no infinity, so null.
+            assert!(s["efficiency"].is_null(), "{s}");
+            assert!(s["efficiency_vs_uniform"].is_null(), "{s}");
+        } else {
+            assert!(f(&s["efficiency"]) > 0.0, "{s}");
+        }
+    }
+}

@@ -1,6 +1,8 @@
 //! Build and sample benchmarks of the alias table against its peers, in one run:
 //! `rand_distr::WeightedAliasIndex` (alias peer) and `rand::distr::weighted::WeightedIndex`
-//! (CDF peer), plus lightpick's own `CdfTable` and `Uniform`.
+//! (CDF peer), plus lightpick's own `CdfTable` and `Uniform`, and the spatial sampler
+//! (`SpatialSampler`: the exact pick for `N ≤ 16`, the light tree beyond), whose pick needs a
+//! shading point (one per iteration, on a fixed cycle of points).
 //!
 //! Run with `cargo bench -p lightpick-core --bench alias`; `LIGHTPICK_BENCH_SIZES=3,1000`
 //! restricts the sizes.
@@ -9,6 +11,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
+use lightpick_core::spatial::SpatialSampler;
 use lightpick_core::{AliasTable, CdfTable, LightPowers, Rng, Uniform};
 use rand::SeedableRng as _;
 use rand::distr::Distribution as _;
@@ -27,6 +30,30 @@ fn sizes() -> Vec<usize> {
 fn powers(n: usize) -> Vec<f64> {
     let mut rng = Rng::new(2024, n as u64);
     (0..n).map(|_| -(1.0 - rng.next_unit()).ln()).collect()
+}
+
+/// Light positions in `[-2, 2]² × [0.1, 1]`, reproducible.
+fn positions(n: usize) -> Vec<[f64; 3]> {
+    let mut rng = Rng::new(2025, n as u64);
+    (0..n)
+        .map(|_| {
+            [
+                4.0 * rng.next_unit() - 2.0,
+                4.0 * rng.next_unit() - 2.0,
+                0.1 + 0.9 * rng.next_unit(),
+            ]
+        })
+        .collect()
+}
+
+/// 64 shading points on the plane, cycled through by the spatial pick benchmark.
+fn points() -> Vec<[f64; 2]> {
+    (0..64)
+        .map(|k| {
+            let t = f64::from(k);
+            [(0.7 * t).sin() * 1.8, (0.3 * t).cos() * 1.8]
+        })
+        .collect()
 }
 
 fn configure(
@@ -66,6 +93,10 @@ fn build(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new("build/peer-cdf", n), &weights, |b, w| {
             b.iter(|| WeightedIndex::new(black_box(w)).expect("valid"));
         });
+        let lights = positions(n);
+        group.bench_with_input(BenchmarkId::new("build/spatial", n), &validated, |b, p| {
+            b.iter(|| SpatialSampler::build(black_box(&lights), black_box(p)));
+        });
         group.finish();
     }
 }
@@ -79,12 +110,28 @@ fn sample(c: &mut Criterion) {
         let uniform = Uniform::new(n as u32);
         let peer_alias = WeightedAliasIndex::new(weights.clone()).expect("valid");
         let peer_cdf = WeightedIndex::new(&weights).expect("valid");
+        let spatial = SpatialSampler::build(&positions(n), &validated);
         drop(weights);
         drop(validated);
         let mut group = configure(c, n);
+        // The default pick (exactly uniform column by Lemire's rejection, then the keep test).
         group.bench_function(BenchmarkId::new("sample/alias", n), |b| {
             let mut rng = Rng::new(1, 0);
+            b.iter(|| alias.sample(&mut rng));
+        });
+        // The raw two-draw pick (one multiply-high per column, no rejection).
+        group.bench_function(BenchmarkId::new("sample/alias-raw", n), |b| {
+            let mut rng = Rng::new(1, 0);
             b.iter(|| alias.sample_u32(rng.next_u32(), rng.next_u32()));
+        });
+        group.bench_function(BenchmarkId::new("sample/spatial", n), |b| {
+            let mut rng = Rng::new(1, 0);
+            let at = points();
+            let mut k = 0;
+            b.iter(|| {
+                k = (k + 1) & 63;
+                spatial.sample(at[k], &mut rng)
+            });
         });
         group.bench_function(BenchmarkId::new("sample/alias-one-random", n), |b| {
             let mut rng = Rng::new(1, 0);

@@ -454,8 +454,11 @@ pub struct SchemeRender {
     pub variance_per_sample: f64,
     /// `T`, seconds per pixel sample.
     pub seconds_per_sample: f64,
-    /// `1/(V·T)` (`null` in JSON when `V = 0`: infinite).
+    /// `1/(V·T)`; infinite (`null` in JSON) for a zero-variance scheme.
     pub efficiency: f64,
+    /// Whether `V` is the rounding of zero (the exact spatial pick on few lights:
+    /// [`lightpick_core::render::is_zero_variance`] against the uniform scheme's `V`).
+    pub zero_variance: bool,
     /// Efficiency over the uniform scheme's.
     pub efficiency_vs_uniform: f64,
     /// RMSE after the whole run.
@@ -528,6 +531,7 @@ fn render_preset(
             variance_per_sample: e.variance_per_sample,
             seconds_per_sample: e.seconds_per_sample,
             efficiency: e.efficiency,
+            zero_variance: false,
             efficiency_vs_uniform: 0.0,
             rmse: series.last().map_or(0.0, |p| p.rmse),
             rmse_at_equal_time: 0.0,
@@ -540,8 +544,14 @@ fn render_preset(
         .filter_map(|s| s.series.last().map(|p| p.seconds))
         .fold(f64::INFINITY, f64::min);
     let uniform_eff = schemes[0].efficiency;
+    let uniform_variance = schemes[0].variance_per_sample;
     for s in &mut schemes {
         s.rmse_at_equal_time = rmse_at(&s.series, equal_time);
+        s.zero_variance =
+            lightpick_core::render::is_zero_variance(s.variance_per_sample, uniform_variance);
+        if s.zero_variance {
+            s.efficiency = f64::INFINITY;
+        }
         s.efficiency_vs_uniform = s.efficiency / uniform_eff;
     }
     Ok(PresetRender {
@@ -699,17 +709,30 @@ fn text(
             "build ms"
         );
         for s in &r.schemes {
+            let (efficiency, vs_uniform) = if s.zero_variance {
+                ("inf".to_owned(), "inf".to_owned())
+            } else {
+                (
+                    format!("{:.4e}", s.efficiency),
+                    format!("{:.3e}", s.efficiency_vs_uniform),
+                )
+            };
             let _ = writeln!(
                 out,
-                "  {:<17} {:>12.4e} {:>12.2} {:>12.4e} {:>9.3e} {:>12.4e} {:>14.4e} {:>10.3}",
+                "  {:<17} {:>12.4e} {:>12.2} {:>12} {:>9} {:>12.4e} {:>14.4e} {:>10.3}{}",
                 s.scheme.name(),
                 s.variance_per_sample,
                 s.seconds_per_sample * 1e9,
-                s.efficiency,
-                s.efficiency_vs_uniform,
+                efficiency,
+                vs_uniform,
                 s.rmse,
                 s.rmse_at_equal_time,
-                s.build_seconds * 1e3
+                s.build_seconds * 1e3,
+                if s.zero_variance {
+                    "  zero variance: rounding only"
+                } else {
+                    ""
+                }
             );
         }
     }

@@ -76,7 +76,7 @@ pub(crate) fn table_text(powers: &LightPowers, table: &AliasTable) -> String {
             out,
             "{:>7}  {:>12}  {:>22}  {:>22}  {:>6}",
             i,
-            powers.as_slice()[i],
+            power_text(powers.as_slice()[i]),
             labelled(table.pmf(i), den),
             labelled(table.thresholds()[i], den),
             table.aliases()[i],
@@ -117,11 +117,24 @@ fn decimal_from_log10(l: f64) -> String {
     format!("{m:.3}e{d}")
 }
 
-/// `6/27 (0.222222)` where the fraction is exact, else the decimal alone.
+/// A power as Rust's shortest round-trip `f64` text, in positional form between `10^-4`
+/// and `10^15` (`20`, `0.5`) and in scientific form beyond (`1.7976931348623157e308`, not
+/// its 309 digits).
+fn power_text(power: f64) -> String {
+    if power == 0.0 || (1e-4..1e15).contains(&power.abs()) {
+        format!("{power}")
+    } else {
+        format!("{power:e}")
+    }
+}
+
+/// `6/27 (0.222222)` where the fraction is exact, else the decimal alone (six decimals
+/// from `10^-3` up, else six significant digits in scientific form).
 fn labelled(value: f64, den: Option<u64>) -> String {
     match format_fraction(value, den) {
         Some(f) if f == "1" || f == "0" => f,
         Some(f) => format!("{f} ({value:.6})"),
+        None if value.abs() >= 1e-3 => format!("{value:.6}"),
         None => format!("{value:.6e}"),
     }
 }
@@ -129,6 +142,16 @@ fn labelled(value: f64, den: Option<u64>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn powers_and_probabilities_read_at_every_scale() {
+        assert_eq!(power_text(20.0), "20");
+        assert_eq!(power_text(0.5), "0.5");
+        assert_eq!(power_text(f64::MAX), "1.7976931348623157e308");
+        assert_eq!(power_text(1e-300), "1e-300");
+        assert_eq!(labelled(0.5, None), "0.500000");
+        assert_eq!(labelled(2.5e-7, None), "2.500000e-7");
+    }
 
     #[test]
     fn seed_text_shows_fractions() {
