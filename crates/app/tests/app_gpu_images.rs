@@ -52,6 +52,19 @@ fn step_until_measured(harness: &mut Harness<'static, LightpickApp>, frames: u32
     }
 }
 
+/// The RMSE the CPU renderer reaches with the app's scene and seed at `spp`, per scheme.
+fn cpu_rmses(harness: &Harness<'static, LightpickApp>, spp: u32) -> impl Fn(Scheme) -> f64 {
+    let app = harness.state();
+    let scene = app.state.built.scene.clone();
+    let seed = app.state.settings.seed;
+    let reference = Reference::compute(&scene);
+    move |scheme| {
+        let mut r = CpuRenderer::new(&scene, scheme, seed);
+        r.accumulate(spp);
+        rmse(r.accumulator(), &reference)
+    }
+}
+
 #[test]
 fn the_gpu_renders_the_three_images_with_the_cpu_engines_numbers() {
     if skip() {
@@ -69,16 +82,7 @@ fn the_gpu_renders_the_three_images_with_the_cpu_engines_numbers() {
     assert_eq!(published.importance.spp, spp);
     assert_eq!(published.spatial.spp, spp);
 
-    // The CPU renderers with the app's seed and scene, at the same spp.
-    let app = harness.state();
-    let scene = app.state.built.scene.clone();
-    let seed = app.state.settings.seed;
-    let reference = Reference::compute(&scene);
-    let cpu_rmse = |scheme| {
-        let mut r = CpuRenderer::new(&scene, scheme, seed);
-        r.accumulate(spp);
-        rmse(r.accumulator(), &reference)
-    };
+    let cpu_rmse = cpu_rmses(&harness, spp);
     // Same picks (the RNG and the pick are bit for bit the CPU's); the per-pixel f32
     // estimates and sums differ by ~1e-6 relative, so the RMSEs agree far within 1e-3.
     for (scheme, image) in [
@@ -194,18 +198,13 @@ fn running_frames_within_the_budget_give_the_cpu_numbers() {
     let spp = published.uniform.spp;
     assert_eq!(published.importance.spp, spp);
     assert_eq!(published.spatial.spp, spp);
-    let app = harness.state();
-    let scene = app.state.built.scene.clone();
-    let seed = app.state.settings.seed;
-    let reference = Reference::compute(&scene);
+    let cpu_rmse = cpu_rmses(&harness, spp);
     for (scheme, image) in [
         (Scheme::Uniform, &published.uniform),
         (Scheme::Alias, &published.importance),
         (Scheme::Spatial, &published.spatial),
     ] {
-        let mut r = CpuRenderer::new(&scene, scheme, seed);
-        r.accumulate(spp);
-        let cpu = rmse(r.accumulator(), &reference);
+        let cpu = cpu_rmse(scheme);
         let gpu = image.rmse.expect("rmse");
         assert!(
             (gpu - cpu).abs() <= 1e-3 * cpu,

@@ -101,24 +101,12 @@ pub fn histogram_range_split(
     let pipeline =
         super::compute_pipeline(ctx, "histogram", &[PICK_WGSL, HISTOGRAM_WGSL], "histogram")?;
     let bind_group = super::scoped(ctx, "binding the histogram buffers", || {
-        Ok(ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("histogram"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: params_buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: table_buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: counts_buffer.as_entire_binding(),
-                },
-            ],
-        }))
+        Ok(super::bind_buffers(
+            ctx,
+            "histogram",
+            &pipeline,
+            &[&params_buffer, &table_buffer, &counts_buffer],
+        ))
     })?;
 
     let mut done = 0u64;

@@ -101,6 +101,28 @@ pub(crate) fn check_storage_size(
     Ok(())
 }
 
+/// A bind group of `pipeline`'s group 0 with `buffers[k]`, whole, at binding `k`.
+pub(crate) fn bind_buffers(
+    ctx: &GpuContext,
+    label: &str,
+    pipeline: &wgpu::ComputePipeline,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+        .iter()
+        .enumerate()
+        .map(|(k, buffer)| wgpu::BindGroupEntry {
+            binding: k as u32,
+            resource: buffer.as_entire_binding(),
+        })
+        .collect();
+    ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    })
+}
+
 /// Runs `f` inside validation, out-of-memory and internal error scopes, so that a wgpu
 /// error becomes a [`GpuError::Wgpu`] instead of the default panic.
 pub(crate) fn scoped<T>(

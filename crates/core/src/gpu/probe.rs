@@ -102,24 +102,12 @@ fn run(
         .write_buffer(&params_buffer, 0, bytemuck::bytes_of(&params));
     let pipeline = super::compute_pipeline(ctx, entry, &[PROBE_WGSL], entry)?;
     super::scoped(ctx, entry, || {
-        let bind_group = ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(entry),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: params_buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: input_buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: output_buffer.as_entire_binding(),
-                },
-            ],
-        });
+        let bind_group = super::bind_buffers(
+            ctx,
+            entry,
+            &pipeline,
+            &[&params_buffer, &input_buffer, &output_buffer],
+        );
         let mut encoder = ctx
             .device()
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(entry) });

@@ -196,25 +196,12 @@ impl GpuRenderer {
                     view_formats: &[],
                 });
                 let output_view = output.create_view(&wgpu::TextureViewDescriptor::default());
-                let accumulate_bind_group =
-                    ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("render accumulate"),
-                        layout: &accumulate_pipeline.get_bind_group_layout(0),
-                        entries: &[
-                            wgpu::BindGroupEntry {
-                                binding: 0,
-                                resource: params.as_entire_binding(),
-                            },
-                            wgpu::BindGroupEntry {
-                                binding: 1,
-                                resource: lights.as_entire_binding(),
-                            },
-                            wgpu::BindGroupEntry {
-                                binding: 2,
-                                resource: sums.as_entire_binding(),
-                            },
-                        ],
-                    });
+                let accumulate_bind_group = super::bind_buffers(
+                    ctx,
+                    "render accumulate",
+                    &accumulate_pipeline,
+                    &[&params, &lights, &sums],
+                );
                 let tonemap_bind_group =
                     ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
                         label: Some("render tonemap"),

@@ -92,32 +92,12 @@ impl SpatialGpu {
         )?;
         let [params, lights, sums] = buffers;
         let bind_group = super::scoped(ctx, "binding the light tree", || {
-            Ok(ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("render accumulate spatial"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: params.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: lights.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: sums.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: nodes.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: order_buffer.as_entire_binding(),
-                    },
-                ],
-            }))
+            Ok(super::bind_buffers(
+                ctx,
+                "render accumulate spatial",
+                &pipeline,
+                &[params, lights, sums, &nodes, &order_buffer],
+            ))
         })?;
         Ok(Self {
             code,

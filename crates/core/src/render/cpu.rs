@@ -215,6 +215,30 @@ impl CpuRenderer {
 /// large `N`) are independent loads in short loops, which the CPU overlaps.
 const BATCH: usize = 16;
 
+/// Calls `pixel(x_p, p, Σê, Σê²)` for every pixel `p` of row `py` (centre `x_p`), with the
+/// pixel's running sums to add to.
+#[inline]
+fn for_each_pixel(
+    plane: &ReceiverPlane,
+    py: u32,
+    sum_row: &mut [f64],
+    sq_row: &mut [f64],
+    mut pixel: impl FnMut([f64; 2], u64, &mut f64, &mut f64),
+) {
+    let row_start = u64::from(py) * u64::from(plane.width);
+    for (px, (sum, sq)) in sum_row.iter_mut().zip(sq_row.iter_mut()).enumerate() {
+        let (mut s, mut q) = (*sum, *sq);
+        pixel(
+            pixel_center(plane, px as u32, py),
+            row_start + px as u64,
+            &mut s,
+            &mut q,
+        );
+        *sum = s;
+        *sq = q;
+    }
+}
+
 /// Samples `k ∈ k0 .. k0 + spp` of every pixel of row `py`, added in increasing `k`.
 #[allow(clippy::too_many_arguments)] // The disjoint borrows of one renderer, split for rayon.
 #[inline]
@@ -228,13 +252,9 @@ fn render_row(
     sum_row: &mut [f64],
     sq_row: &mut [f64],
 ) {
-    let row_start = u64::from(py) * u64::from(plane.width);
     let end = k0 + spp;
     let mut picks = [0u32; BATCH];
-    for (px, (sum, sq)) in sum_row.iter_mut().zip(sq_row.iter_mut()).enumerate() {
-        let x = pixel_center(plane, px as u32, py);
-        let p = row_start + px as u64;
-        let (mut s, mut q) = (*sum, *sq);
+    for_each_pixel(plane, py, sum_row, sq_row, |x, p, s, q| {
         let mut k = k0;
         while k < end {
             let batch = &mut picks[..((end - k) as usize).min(BATCH)];
@@ -242,14 +262,12 @@ fn render_row(
             for &i in batch.iter() {
                 let light = lights[i as usize];
                 let e = light.weight * geometry_term(light.position, x);
-                s += e;
-                q += e * e;
+                *s += e;
+                *q += e * e;
             }
             k += batch.len() as u32;
         }
-        *sum = s;
-        *sq = q;
-    }
+    });
 }
 
 /// [`render_row`] for [`Scheme::Spatial`]: sample `k` of pixel `p` is
@@ -264,19 +282,13 @@ fn render_row_spatial(
     sum_row: &mut [f64],
     sq_row: &mut [f64],
 ) {
-    let row_start = u64::from(py) * u64::from(plane.width);
-    for (px, (sum, sq)) in sum_row.iter_mut().zip(sq_row.iter_mut()).enumerate() {
-        let x = pixel_center(plane, px as u32, py);
-        let p = row_start + px as u64;
-        let (mut s, mut q) = (*sum, *sq);
+    for_each_pixel(plane, py, sum_row, sq_row, |x, p, s, q| {
         for k in k0..k0 + spp {
             let e = spatial.estimate(x, &mut Rng::new(seed, (u64::from(k) << 32) | p));
-            s += e;
-            q += e * e;
+            *s += e;
+            *q += e * e;
         }
-        *sum = s;
-        *sq = q;
-    }
+    });
 }
 
 /// `out[j]` = the light of sample `k + j` of pixel `p`: exactly
