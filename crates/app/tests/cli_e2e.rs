@@ -66,7 +66,33 @@ fn sample_counts_fit_the_pmf() {
             .map(|c| c.as_u64().unwrap())
             .collect();
         assert_eq!(counts.iter().sum::<u64>(), 100_000);
+        assert_eq!(v["count"], 100_000);
         assert_eq!(v["dof"], 2);
+        // `expected` is the scheme's pmf, and `chi2` is Pearson's statistic of the counts.
+        let expected: Vec<f64> = v["expected"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|e| e.as_f64().unwrap())
+            .collect();
+        let pmf = if scheme == "uniform" {
+            [1.0 / 3.0; 3]
+        } else {
+            [2.0 / 27.0, 5.0 / 27.0, 20.0 / 27.0]
+        };
+        for (e, p) in expected.iter().zip(pmf) {
+            assert!((e - p).abs() < 1e-15, "{scheme}: expected {e} vs {p}");
+        }
+        let chi2: f64 = counts
+            .iter()
+            .zip(&expected)
+            .map(|(&c, &p)| (c as f64 - 1e5 * p).powi(2) / (1e5 * p))
+            .sum();
+        let reported = v["chi2"].as_f64().unwrap();
+        assert!(
+            (reported - chi2).abs() <= 1e-9 * chi2.max(1.0),
+            "{reported} vs {chi2}"
+        );
         // Fixed seed, significance 0.001.
         assert!(v["p_value"].as_f64().unwrap() > 1e-3, "{scheme}: {v}");
     }
@@ -110,6 +136,28 @@ fn estimate_averages_to_18() {
         let mean = v["mean"].as_f64().unwrap();
         let se = v["std_error"].as_f64().unwrap();
         assert!((mean - 18.0).abs() <= 5.0 * se, "{scheme}: {mean} ± {se}");
+        // The sample variance within 5 standard deviations of its own sampling law:
+        // Var(s²) ≈ (μ4 − σ⁴)/n, μ4 the exact fourth central moment of the estimate f_i/q_i.
+        let (f, q) = if scheme == "uniform" {
+            ([1.0, 2.0, 15.0], [1.0 / 3.0; 3])
+        } else {
+            ([1.0, 2.0, 15.0], [2.0 / 27.0, 5.0 / 27.0, 20.0 / 27.0])
+        };
+        let mu4: f64 = f
+            .iter()
+            .zip(q)
+            .map(|(fi, qi)| qi * (fi / qi - 18.0_f64).powi(4))
+            .sum();
+        let s2 = v["variance"].as_f64().unwrap();
+        let sd = ((mu4 - variance * variance) / 200_000.0).sqrt();
+        assert!(
+            (s2 - variance).abs() <= 5.0 * sd,
+            "{scheme}: sample variance {s2} vs {variance} (sd {sd})"
+        );
+        assert!(
+            (se - (s2 / 200_000.0).sqrt()).abs() <= 1e-12 * se,
+            "{scheme}: {se}"
+        );
     }
 }
 
