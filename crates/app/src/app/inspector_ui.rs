@@ -270,6 +270,10 @@ fn shares_plot_ui(ui: &mut Ui, inspection: &PointInspection) {
         .allow_drag(false)
         .allow_scroll(false)
         .include_y(0.0)
+        // Probabilities: grid lines every 0.1, labels every 0.5 (the default decimal spacer
+        // labels only whole units on a plot this short, i.e. just "0").
+        .y_grid_spacer(egui_plot::uniform_grid_spacer(|_| [0.5, 0.1, 0.02]))
+        .y_axis_formatter(|mark, _| format!("{:.1}", mark.value))
         .x_axis_label("light (largest share first)")
         .x_axis_formatter(move |mark, _range| {
             let k = mark.value.round();
