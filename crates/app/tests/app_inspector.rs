@@ -167,9 +167,7 @@ fn inspector_snapshot() {
 /// sampling's at that point (most lights are far from it, and power sampling ignores that).
 #[test]
 fn the_inspector_shows_the_spatial_pick_and_its_variance() {
-    let mut app = LightpickApp::for_tests();
-    let scene = lightpick::app::scene_io::preset("equal").expect("preset");
-    app.state.load_scene(scene);
+    let app = LightpickApp::for_tests_on("equal");
     let mut harness = Harness::builder().with_size([520.0, 700.0]).build_ui_state(
         |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Inspector),
         app,

@@ -7,13 +7,6 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
 use lightpick::app::{LightpickApp, PanelKind};
 
-fn app_on(name: &str) -> LightpickApp {
-    let mut app = LightpickApp::for_tests();
-    let scene = lightpick::app::scene_io::preset(name).expect("preset");
-    app.state.load_scene(scene);
-    app
-}
-
 #[test]
 fn spatial_is_a_third_image_and_curve_and_wins_on_spread_out_lights() {
     let mut harness = Harness::builder()
@@ -21,7 +14,7 @@ fn spatial_is_a_third_image_and_curve_and_wins_on_spread_out_lights() {
         .wgpu()
         .build_ui_state(
             |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Convergence),
-            app_on("equal"),
+            LightpickApp::for_tests_on("equal"),
         );
     harness.run();
     for _ in 0..16 {

@@ -20,14 +20,6 @@ fn panel(kind: PanelKind, size: [f32; 2], app: LightpickApp) -> Harness<'static,
     harness
 }
 
-/// The app paused on preset `name`.
-fn app_on(name: &str) -> LightpickApp {
-    let mut app = LightpickApp::for_tests();
-    let scene = lightpick::app::scene_io::preset(name).expect("preset");
-    app.state.load_scene(scene);
-    app
-}
-
 #[test]
 fn trade_panel() {
     panel(PanelKind::Trade, [660.0, 560.0], LightpickApp::for_tests())
@@ -94,7 +86,11 @@ fn trade_panel_lists_every_scheme_after_measuring() {
 
 #[test]
 fn precision_panel_shows_no_leak_for_the_f64_build_on_zeros() {
-    let harness = panel(PanelKind::Precision, [720.0, 460.0], app_on("zeros"));
+    let harness = panel(
+        PanelKind::Precision,
+        [720.0, 460.0],
+        LightpickApp::for_tests_on("zeros"),
+    );
     let state = &harness.state().state;
     let m = state.precision.result.as_ref().expect("a measurement");
     assert_eq!(m.generation, state.built.generation);

@@ -10,18 +10,10 @@
 
 mod common;
 
-use common::{assert_error, assert_error_with_env, lightpick_with_env, scratch};
+use common::{assert_error, assert_error_with_env, gpu_expected, lightpick_with_env, scratch};
 
 /// An adapter name no machine has: the GPU context then finds no adapter.
 const NO_ADAPTER: [(&str, &str); 1] = [("WGPU_ADAPTER_NAME", "no-such-adapter-lightpick-test")];
-
-fn gpu_expected() -> bool {
-    if std::env::var_os("LIGHTPICK_SKIP_GPU_TESTS").is_some() {
-        eprintln!("GPU case skipped: LIGHTPICK_SKIP_GPU_TESTS is set");
-        return false;
-    }
-    true
-}
 
 #[test]
 fn an_explicit_gpu_without_an_adapter_is_an_error() {

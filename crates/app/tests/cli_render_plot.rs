@@ -8,19 +8,11 @@ mod common;
 
 use std::path::Path;
 
-use common::{assert_error, json as ok_json, lightpick, scratch};
+use common::{assert_error, gpu_expected, json as ok_json, lightpick, scratch};
 
 fn png_size(path: &Path) -> (u32, u32) {
     let img = image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     (img.width(), img.height())
-}
-
-fn gpu_expected() -> bool {
-    if std::env::var_os("LIGHTPICK_SKIP_GPU_TESTS").is_some() {
-        eprintln!("GPU case skipped: LIGHTPICK_SKIP_GPU_TESTS is set");
-        return false;
-    }
-    true
 }
 
 #[test]

@@ -247,6 +247,20 @@ impl LightpickApp {
         Self::with_state(state, false)
     }
 
+    /// [`LightpickApp::for_tests`] on the bundled scene `name` (panics on an unknown name:
+    /// for tests).
+    ///
+    /// # Panics
+    /// If `name` is not a preset.
+    pub fn for_tests_on(name: &str) -> Self {
+        let mut app = Self::for_tests();
+        match scene_io::preset(name) {
+            Ok(scene) => app.state.load_scene(scene),
+            Err(e) => panic!("{e}"),
+        }
+        app
+    }
+
     /// Asks for one frame of images and histograms on the next frame (the Step button).
     pub fn step(&mut self) {
         self.state.step_requested = true;

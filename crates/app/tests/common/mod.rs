@@ -71,3 +71,13 @@ pub fn assert_error_with_env(args: &[&str], env: &[(&str, &str)], needle: &str) 
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+/// Whether GPU cases run: always, unless `LIGHTPICK_SKIP_GPU_TESTS` is set (then the case
+/// says it was skipped; CI refuses the variable).
+pub fn gpu_expected() -> bool {
+    if std::env::var_os("LIGHTPICK_SKIP_GPU_TESTS").is_some() {
+        eprintln!("GPU case skipped: LIGHTPICK_SKIP_GPU_TESTS is set");
+        return false;
+    }
+    true
+}
