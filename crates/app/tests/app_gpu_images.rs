@@ -212,3 +212,45 @@ fn running_frames_within_the_budget_give_the_cpu_numbers() {
         );
     }
 }
+
+/// Exporting while a costly pass is spread over frames (row bands) completes the pass first:
+/// the sums of a pass in progress cannot be read, and an image must have one sample count.
+#[test]
+fn exporting_in_the_middle_of_a_pass_completes_it() {
+    if skip() {
+        return;
+    }
+    let mut harness = gpu_app();
+    let mut scene = lightpick::app::scene_io::preset("heavy-tail").expect("preset");
+    scene.plane.width = 512;
+    scene.plane.height = 512;
+    harness.state_mut().state.load_scene(scene);
+    harness.state_mut().state.settings.paused = false;
+    // Run until a pass is in progress (on lavapipe the tree's pass never fits in a frame).
+    let deadline = Instant::now() + Duration::from_mins(1);
+    let mid_pass = loop {
+        harness.step();
+        let latest = harness.state_mut().published();
+        if let Some(p) = latest.filter(|p| p.generation == harness.state().state.built.generation)
+            && p.uniform.spp >= 1
+            && (p.spatial.pass_progress > 0.0 || Instant::now() > deadline)
+        {
+            break p.spatial.pass_progress > 0.0;
+        }
+    };
+    eprintln!("exporting in the middle of a pass: {mid_pass}");
+    harness.state_mut().state.settings.paused = true;
+    let path = std::env::temp_dir().join(format!("lightpick-mid-pass-{}.png", std::process::id()));
+    let path_text = path.to_str().expect("utf-8 path").to_owned();
+    harness
+        .state_mut()
+        .file_action(FileAction::ExportImages, &path_text, None);
+    let status = harness.state().state.status.clone();
+    let sheet = image::open(&path).unwrap_or_else(|e| panic!("not written ({e}): {status:?}"));
+    let _ = std::fs::remove_file(&path);
+    // 10^4 lights × 512² pixels exceeds the reference budget: the reference is a pixel
+    // subset, so there is no reference image and no error maps, only the three images.
+    assert_eq!((sheet.width(), sheet.height()), (3 * 512, 512));
+    let (message, _) = status.expect("a status message");
+    assert!(message.contains("exported"), "{message}");
+}

@@ -134,16 +134,18 @@ impl GpuImages {
     }
 
     /// The latest frame with its images read back and tonemapped on the CPU (the same
-    /// tonemap as the GPU's), for exporting them.
-    pub fn frame_with_images(&self, exposure: f64) -> Result<Published, String> {
-        let lanes = self
-            .lanes
-            .as_ref()
-            .ok_or("no image has been rendered yet")?;
+    /// tonemap as the GPU's), for exporting them. A sample pass in progress (a costly scene
+    /// renders in row bands) is completed first, so every pixel of an image has the same
+    /// number of samples and the sums can be read.
+    pub fn frame_with_images(&mut self, exposure: f64) -> Result<Published, String> {
         let mut frame = self
             .latest
             .as_deref()
             .cloned()
+            .ok_or("no image has been rendered yet")?;
+        let lanes = self
+            .lanes
+            .as_mut()
             .ok_or("no image has been rendered yet")?;
         for (image, lane) in [
             &mut frame.uniform,
@@ -151,9 +153,21 @@ impl GpuImages {
             &mut frame.spatial,
         ]
         .into_iter()
-        .zip([&lanes.uniform, &lanes.importance, &lanes.spatial])
+        .zip(lanes.each_mut())
         {
+            if lane.renderer.pass_rows_done() > 0 {
+                // The rest of the pass counts in the lane's render time like any other.
+                let started = Instant::now();
+                lane.renderer.finish_pass().map_err(|e| e.to_string())?;
+                let _ = self.ctx.device().poll(wgpu::PollType::wait_indefinitely());
+                lane.image.seconds += started.elapsed().as_secs_f64();
+                lane.renderer.tonemap(exposure).map_err(|e| e.to_string())?;
+                lane.image.spp = lane.renderer.samples_per_pixel();
+                lane.image.pass_progress = 0.0;
+            }
             let acc = lane.renderer.readback().map_err(|e| e.to_string())?;
+            image.spp = acc.samples_per_pixel;
+            image.pass_progress = 0.0;
             image.rgba = lightpick_core::render::tonemap_rgba8(&acc.image(), exposure);
         }
         Ok(frame)
