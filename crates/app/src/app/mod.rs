@@ -328,9 +328,10 @@ impl LightpickApp {
                 // window keeps them as large as it can), leaving Convergence at least
                 // MIN_CONVERGENCE_HEIGHT; Convergence fills the rest.
                 let width = ui.available_width();
-                let images_height = render_ui::wanted_height(ui, width)
-                    .min(ui.available_height() - MIN_CONVERGENCE_HEIGHT)
-                    .max(0.0);
+                let images_height =
+                    render_ui::wanted_height(ui, width, &self.state, &self.textures)
+                        .min(ui.available_height() - MIN_CONVERGENCE_HEIGHT)
+                        .max(0.0);
                 ui.allocate_ui(egui::vec2(width, images_height), |ui| {
                     render_ui::images_ui(ui, &mut self.state, published.as_deref(), &self.textures);
                 });

@@ -141,11 +141,7 @@ pub fn images_ui(
         return;
     };
     let stale = published.generation != state.built.generation;
-    let columns = if state.settings.show_reference && textures.reference.is_some() {
-        4
-    } else {
-        3
-    };
+    let columns = columns(state, textures);
     let size = image_size(
         ui,
         columns,
@@ -174,49 +170,33 @@ pub fn images_ui(
             inspector_ui::mark_pixel_ui(ui, response.rect, pixel, width, height, dark);
         }
     };
-    ui.horizontal_top(|ui| {
-        let response = image_column(
-            ui,
+    let show_error = state.settings.show_error;
+    let schemes = [
+        (
             "Uniform",
             Scheme::Uniform,
             &published.uniform,
-            ids[0],
-            if state.settings.show_error {
-                textures.uniform_error.as_ref()
-            } else {
-                None
-            },
-            size,
-        );
-        inspect(ui, response);
-        let response = image_column(
-            ui,
+            &textures.uniform_error,
+        ),
+        (
             "Importance (alias)",
             Scheme::Alias,
             &published.importance,
-            ids[1],
-            if state.settings.show_error {
-                textures.importance_error.as_ref()
-            } else {
-                None
-            },
-            size,
-        );
-        inspect(ui, response);
-        let response = image_column(
-            ui,
+            &textures.importance_error,
+        ),
+        (
             "Spatial",
             Scheme::Spatial,
             &published.spatial,
-            ids[2],
-            if state.settings.show_error {
-                textures.spatial_error.as_ref()
-            } else {
-                None
-            },
-            size,
-        );
-        inspect(ui, response);
+            &textures.spatial_error,
+        ),
+    ];
+    ui.horizontal_top(|ui| {
+        for ((title, scheme, image, error), id) in schemes.into_iter().zip(ids) {
+            let error = error.as_ref().filter(|_| show_error);
+            let response = image_column(ui, title, scheme, image, id, error, size);
+            inspect(ui, response);
+        }
         if columns == 4
             && let Some(reference) = &textures.reference
         {
@@ -270,14 +250,22 @@ fn text_rows(ui: &Ui, rows: f32) -> f32 {
 /// The panel's header row (a heading: taller than body text), in body rows.
 const HEADER_ROWS: f32 = 1.6;
 
-/// The height the Images panel needs in `width` to show square images (four columns, each
-/// with its error map) as large as the width allows: what the window's layout leaves it
-/// before giving the rest to the Convergence panel.
-pub fn wanted_height(ui: &Ui, width: f32) -> f32 {
-    let side = side_by_width(ui, width, 4);
-    2.0 * side
-        + text_rows(ui, TEXT_ROWS_PER_IMAGE + HEADER_ROWS)
-        + 2.0 * ui.spacing().item_spacing.y
+/// Images side by side: the three schemes, and the reference when shown and complete.
+fn columns(state: &AppState, textures: &ImageTextures) -> usize {
+    if state.settings.show_reference && textures.reference.is_some() {
+        4
+    } else {
+        3
+    }
+}
+
+/// The height the Images panel needs in `width` to show its square images (and their error
+/// maps when shown) as large as the width allows: what the window's layout leaves it before
+/// giving the rest to the Convergence panel.
+pub fn wanted_height(ui: &Ui, width: f32, state: &AppState, textures: &ImageTextures) -> f32 {
+    let side = side_by_width(ui, width, columns(state, textures));
+    let images = if state.settings.show_error { 2.0 } else { 1.0 };
+    images * (side + ui.spacing().item_spacing.y) + text_rows(ui, TEXT_ROWS_PER_IMAGE + HEADER_ROWS)
 }
 
 fn image_column(
