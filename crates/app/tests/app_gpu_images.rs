@@ -32,6 +32,18 @@ fn gpu_app() -> Harness<'static, LightpickApp> {
     harness
 }
 
+/// The app running (not paused) on `heavy-tail` at 512×512: 10^4 lights, the spatial lane a
+/// 14-level tree whose sample pass costs more than a frame allows on lavapipe.
+fn running_on_a_costly_scene() -> Harness<'static, LightpickApp> {
+    let mut harness = gpu_app();
+    let mut scene = lightpick::app::scene_io::preset("heavy-tail").expect("preset");
+    scene.plane.width = 512;
+    scene.plane.height = 512;
+    harness.state_mut().state.load_scene(scene);
+    harness.state_mut().state.settings.paused = false;
+    harness
+}
+
 /// Steps `frames` frames, then runs until the reference (a worker thread) has arrived and the
 /// latest frame carries every RMSE.
 fn step_until_measured(harness: &mut Harness<'static, LightpickApp>, frames: u32) -> Published {
@@ -166,12 +178,7 @@ fn running_frames_within_the_budget_give_the_cpu_numbers() {
     if skip() {
         return;
     }
-    let mut harness = gpu_app();
-    let mut scene = lightpick::app::scene_io::preset("heavy-tail").expect("preset");
-    scene.plane.width = 512;
-    scene.plane.height = 512;
-    harness.state_mut().state.load_scene(scene);
-    harness.state_mut().state.settings.paused = false;
+    let mut harness = running_on_a_costly_scene();
     let deadline = Instant::now() + Duration::from_mins(2);
     let mut banded = false;
     let published = loop {
@@ -220,12 +227,7 @@ fn exporting_in_the_middle_of_a_pass_completes_it() {
     if skip() {
         return;
     }
-    let mut harness = gpu_app();
-    let mut scene = lightpick::app::scene_io::preset("heavy-tail").expect("preset");
-    scene.plane.width = 512;
-    scene.plane.height = 512;
-    harness.state_mut().state.load_scene(scene);
-    harness.state_mut().state.settings.paused = false;
+    let mut harness = running_on_a_costly_scene();
     // Run until a pass is in progress (on lavapipe the tree's pass never fits in a frame).
     let deadline = Instant::now() + Duration::from_mins(1);
     let mid_pass = loop {
