@@ -6,9 +6,9 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-mod common;
+use crate::common;
 
-use common::{assert_error, json as ok_json, scratch};
+use crate::common::{assert_error, json as ok_json, scratch};
 
 fn f(v: &serde_json::Value) -> f64 {
     v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))

@@ -22,7 +22,7 @@
 //! lights) it refuses with `GpuError::BufferTooLarge`, which is asserted there. The probe
 //! binds thresholds and aliases as two arrays of 4 bytes per light, so `2^25` lights fit.
 
-mod gpu_common;
+use crate::gpu_common;
 
 use lightpick_core::gpu::{self, GpuContext, GpuError, GpuRenderer};
 use lightpick_core::precision::{column_r_range, compare_one_random, compare_thresholds};

@@ -2,9 +2,9 @@
 //! `lightpick precision` and `lightpick bench`: JSON shape, the default path within its
 //! documented bounds, and one-line errors with exit code 2. Timings are never asserted.
 
-mod common;
+use crate::common;
 
-use common::{assert_error, json, lightpick};
+use crate::common::{assert_error, json, lightpick};
 
 fn f(v: &serde_json::Value) -> f64 {
     v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))

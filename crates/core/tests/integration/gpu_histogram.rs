@@ -1,8 +1,8 @@
 //! GPU pick histograms equal the CPU loop over `Sampler::pick_light`, bin for bin.
 
-mod gpu_common;
+use crate::gpu_common;
 
-use gpu_common::SplitMix;
+use crate::gpu_common::SplitMix;
 use lightpick_core::gpu::{GpuError, histogram, histogram_range, histogram_range_split};
 use lightpick_core::{LightPowers, Rng, Sampler, Scheme, rejection_threshold};
 

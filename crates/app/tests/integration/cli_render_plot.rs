@@ -4,11 +4,11 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 
-use common::{assert_error, gpu_expected, json as ok_json, lightpick, scratch};
+use crate::common::{assert_error, gpu_expected, json as ok_json, lightpick, scratch};
 
 fn png_size(path: &Path) -> (u32, u32) {
     let img = image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));

@@ -2,11 +2,11 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-mod common;
+use crate::common;
 
 use std::process::Command;
 
-use common::{assert_error, json, lightpick};
+use crate::common::{assert_error, json, lightpick};
 
 fn as_f64s(v: &serde_json::Value) -> Vec<f64> {
     v.as_array()

@@ -20,9 +20,9 @@
 //!   bound; we allow twice that plus 3 pixels, and print what we see (typically 0);
 //! * the image means (over all pixels) agree within 5 standard errors of the CPU mean.
 
-mod gpu_common;
+use crate::gpu_common;
 
-use gpu_common::SplitMix;
+use crate::gpu_common::SplitMix;
 use lightpick_core::gpu::GpuRenderer;
 use lightpick_core::render::CpuRenderer;
 use lightpick_core::scene::{ReceiverPlane, Scene};

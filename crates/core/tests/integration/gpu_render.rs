@@ -1,9 +1,9 @@
 //! The GPU renderer follows the estimator contract of `lightpick_core::render`: the same
 //! picks as the CPU for every (pixel, sample), and `f32` estimates within a derived bound.
 
-mod gpu_common;
+use crate::gpu_common;
 
-use gpu_common::SplitMix;
+use crate::gpu_common::SplitMix;
 use lightpick_core::gpu::{GpuError, GpuRenderer};
 use lightpick_core::render::tonemap_rgba8;
 use lightpick_core::scene::{ReceiverPlane, Scene, geometry_term, pixel_center};

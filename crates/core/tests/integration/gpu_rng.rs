@@ -1,9 +1,9 @@
 //! The WGSL RNG prelude equals the CPU `Rng`, the CPU multiply-high and the CPU exact
 //! uniform pick (Lemire's rejection loop included), bit for bit.
 
-mod gpu_common;
+use crate::gpu_common;
 
-use gpu_common::SplitMix;
+use crate::gpu_common::SplitMix;
 use lightpick_core::gpu::{probe_mulhi32, probe_pick_uniform, probe_rng};
 use lightpick_core::{Rng, Uniform};
 

@@ -1,0 +1,19 @@
+//! The integration tests of the `lightpick` binary and app library, one module per concern,
+//! linked into one test binary (one link of eframe, wgpu and the core instead of one per
+//! file). Run one module with `cargo test -p lightpick --test integration MODULE::`.
+
+mod common;
+
+mod app_classroom;
+mod app_gpu_images;
+mod app_inspector;
+mod app_interaction;
+mod app_lights;
+mod app_snapshots;
+mod app_spatial;
+mod app_trade_precision;
+mod cli_bench_precision;
+mod cli_device;
+mod cli_e2e;
+mod cli_render_plot;
+mod cli_spatial;
