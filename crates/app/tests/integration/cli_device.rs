@@ -10,7 +10,9 @@
 
 use crate::common;
 
-use crate::common::{assert_error, assert_error_with_env, gpu_expected, lightpick_with_env, scratch};
+use crate::common::{
+    assert_error, assert_error_with_env, gpu_expected, lightpick_with_env, scratch,
+};
 
 /// An adapter name no machine has: the GPU context then finds no adapter.
 const NO_ADAPTER: [(&str, &str); 1] = [("WGPU_ADAPTER_NAME", "no-such-adapter-lightpick-test")];
