@@ -2,7 +2,6 @@
 //! `lightpick precision` and `lightpick bench`: JSON shape, the default path within its
 //! documented bounds, and one-line errors with exit code 2. Timings are never asserted.
 
-use crate::common;
 
 use crate::common::{assert_error, json, lightpick};
 

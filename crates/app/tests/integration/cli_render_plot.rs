@@ -4,7 +4,6 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-use crate::common;
 
 use std::path::Path;
 
