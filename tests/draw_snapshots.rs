@@ -42,7 +42,7 @@ fn sample_counts(scheme: Scheme, powers: &LightPowers, count: u64, seed: u64) ->
 #[test]
 fn seed_table_diagram() {
     let powers = SeedExample::powers();
-    let table = AliasTable::build(&powers);
+    let table = AliasTable::build_exact(&powers);
     let denominator = draw::fraction_denominator(&powers);
     assert_eq!(denominator, Some(27));
     let pixmap = draw::table_diagram(&table, denominator, &Style::default()).expect("draws");
@@ -54,7 +54,7 @@ fn twenty_light_table_diagram() {
     // Mid-size tables keep per-light colours but thin out their labels.
     let powers: Vec<f64> = (0..20u32).map(|i| f64::from(1 + (i * 7) % 11)).collect();
     let powers = LightPowers::new(powers).expect("valid powers");
-    let table = AliasTable::build(&powers);
+    let table = AliasTable::build_exact(&powers);
     let pixmap = draw::table_diagram(
         &table,
         draw::fraction_denominator(&powers),
@@ -71,7 +71,7 @@ fn large_table_summary() {
         .map(|i| 1.0 / f64::from(1 + (i * 7919) % 97))
         .collect();
     let powers = LightPowers::new(powers).expect("valid powers");
-    let table = AliasTable::build(&powers);
+    let table = AliasTable::build_exact(&powers);
     let pixmap = draw::table_diagram(
         &table,
         draw::fraction_denominator(&powers),

@@ -1,4 +1,4 @@
-//! Build and sample benchmarks of the alias table against its peers, in one run:
+//! Build, rebuild and sample benchmarks of the alias table against its peers, in one run:
 //! `rand_distr::WeightedAliasIndex` (alias peer) and `rand::distr::weighted::WeightedIndex`
 //! (CDF peer), plus lightpick's own `CdfTable` and `Uniform`, and the spatial sampler
 //! (`SpatialSampler`: the exact pick for `N ≤ 16`, the light tree beyond), whose pick needs a
@@ -12,7 +12,7 @@ use std::time::Duration;
 
 use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
 use lightpick_core::spatial::SpatialSampler;
-use lightpick_core::{AliasTable, CdfTable, LightPowers, Rng, Uniform};
+use lightpick_core::{AliasTable, CdfTable, Construction, LightPowers, Rng, Uniform};
 use rand::SeedableRng as _;
 use rand::distr::Distribution as _;
 use rand::distr::weighted::WeightedIndex;
@@ -80,6 +80,26 @@ fn build(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new("build/alias", n), &validated, |b, p| {
             b.iter(|| AliasTable::build(black_box(p)));
         });
+        group.bench_with_input(
+            BenchmarkId::new("build/alias-exact", n),
+            &validated,
+            |b, p| {
+                b.iter(|| AliasTable::build_exact(black_box(p)));
+            },
+        );
+        // In place, alternating between two power sets of the same N (no allocation).
+        let other = LightPowers::new(powers(n).into_iter().rev().collect()).expect("valid");
+        for construction in Construction::ALL {
+            let name = format!("rebuild/alias-{construction}");
+            let mut table = AliasTable::build_with(&validated, construction);
+            let mut flip = false;
+            group.bench_function(BenchmarkId::new(name, n), |b| {
+                b.iter(|| {
+                    flip = !flip;
+                    table.rebuild(if flip { &other } else { &validated });
+                });
+            });
+        }
         group.bench_with_input(BenchmarkId::new("build/cdf", n), &validated, |b, p| {
             b.iter(|| CdfTable::build(black_box(p)));
         });
@@ -119,6 +139,17 @@ fn sample(c: &mut Criterion) {
             let mut rng = Rng::new(1, 0);
             b.iter(|| alias.sample(&mut rng));
         });
+        // Batched: the same picks as `sample`, 4096 at a time into a buffer.
+        group.throughput(criterion::Throughput::Elements(4096));
+        group.bench_function(BenchmarkId::new("sample-batch/alias", n), |b| {
+            let mut rng = Rng::new(1, 0);
+            let mut out = vec![0u32; 4096];
+            b.iter(|| {
+                alias.sample_into(&mut out, &mut rng);
+                out[4095]
+            });
+        });
+        group.throughput(criterion::Throughput::Elements(1));
         // The raw two-draw pick (one multiply-high per column, no rejection).
         group.bench_function(BenchmarkId::new("sample/alias-raw", n), |b| {
             let mut rng = Rng::new(1, 0);

@@ -15,8 +15,8 @@
 //! and takes the last large column as alias). [`ConstructionTrace::build`] records the state
 //! after each of these events: the start, each pairing, each leftover.
 //!
-//! # Same order, same numbers as [`AliasTable::build`]
-//! The trace replays [`AliasTable::build`] operation for operation: the same scaling
+//! # Same order, same numbers as [`AliasTable::build_exact`]
+//! The trace replays [`AliasTable::build_exact`] operation for operation: the same scaling
 //! (an exact power-of-two rescale, then `q_i = (w_i·N)/S`), the same residue spreading, the
 //! same two cursors that find the next small and the next large column (so the work lists
 //! are *conceptual*: the small list is the active small column followed by the unvisited
@@ -28,7 +28,7 @@
 //! * a large column that ends at exactly 1 may be found by the small cursor (a rounding
 //!   remnant a hair below 1): it is then a *leftover from the small list*, still set to 1.
 //!
-//! [`AliasTable::build`]: crate::AliasTable::build
+//! [`AliasTable::build_exact`]: crate::AliasTable::build_exact
 
 use crate::alias::{double_double_sum, next_large, next_small, spread_residue, two_sum};
 use crate::powers::{LightPowers, pow2_scale_to_unit};
@@ -293,7 +293,7 @@ mod tests {
 
     fn trace(powers: &[f64]) -> (ConstructionTrace, AliasTable) {
         let p = LightPowers::new(powers.to_vec()).unwrap();
-        (ConstructionTrace::build(&p), AliasTable::build(&p))
+        (ConstructionTrace::build(&p), AliasTable::build_exact(&p))
     }
 
     fn assert_same_as_build(powers: &[f64]) {

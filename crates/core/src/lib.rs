@@ -4,9 +4,10 @@
 //! proportion to its power, and measuring what that buys.
 //!
 //! * [`LightPowers`] validates a set of powers (finite, non-negative, not all zero).
-//! * [`AliasTable`] is Walker's alias method, built with Vose's algorithm in `f64`, and its
-//!   packed `u32` form shared bit for bit with the GPU. [`CdfTable`] and [`Uniform`] are the
-//!   peers it is compared with; all three implement [`LightSampler`].
+//! * [`AliasTable`] is Walker's alias method in its packed `u32` form, shared bit for bit
+//!   with the GPU, built by one of two [`Construction`]s: an exact integer sweep (the fast
+//!   default) or Vose's algorithm in `f64` (exact seed fractions). [`CdfTable`] and
+//!   [`Uniform`] are the peers it is compared with; all three implement [`LightSampler`].
 //! * [`Rng`] is the one counter-based random number generator (the PCG hash of Jarzynski &
 //!   Olano 2020) that the CPU and the WGSL shaders both implement.
 //! * [`Welford`], [`analytic_moments`] and [`chi_square`] measure estimators and samplers.
@@ -15,7 +16,63 @@
 //!   explanation's steps with live numbers, and Vose's construction recorded step by step.
 //! * [`spatial`] picks lights by their contribution at a shading point (exact for few
 //!   lights, a light tree for many): the render-only scheme [`Scheme::Spatial`].
+//! * [`scene`], [`render`] and [`gpu`]: scenes of point lights over a receiver plane,
+//!   progressive renderers on the CPU (rayon) and the GPU (wgpu compute), error metrics.
 //! * [`draw`] renders the diagrams, plots and image sheets headless (tiny-skia → PNG).
+//!
+//! # Quick start
+//! Build a table, sample one light and a batch (the batch holds exactly the picks of as
+//! many single calls on the same stream):
+//! ```
+//! use lightpick_core::{AliasTable, LightPowers, Rng};
+//!
+//! let powers = LightPowers::new(vec![2.0, 5.0, 20.0])?;
+//! let table = AliasTable::build(&powers);
+//! let mut rng = Rng::new(1, 0); // seed 1, stream 0
+//! let light = table.sample(&mut rng);
+//! assert!(light < 3);
+//!
+//! let mut picks = vec![0u32; 10_000];
+//! table.sample_into(&mut picks, &mut rng);
+//! let share_of_light_3 = picks.iter().filter(|&&i| i == 2).count() as f64 / 1e4;
+//! assert!((share_of_light_3 - 20.0 / 27.0).abs() < 0.02); // p = 20/27, σ ≈ 0.0044
+//!
+//! // The exact f64 construction shows the seed document's fractions.
+//! let exact = AliasTable::build_exact(&powers);
+//! assert_eq!(exact.thresholds(), &[6.0 / 27.0, 15.0 / 27.0, 1.0]);
+//! assert_eq!(exact.aliases(), &[2, 2, 2]);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//! Render a scene on the CPU and compare it with the exact image:
+//! ```
+//! use lightpick_core::Scheme;
+//! use lightpick_core::render::{CpuRenderer, Reference, rmse};
+//! use lightpick_core::scene::Scene;
+//!
+//! let scene = Scene::preset("seed")?; // the seed's three lights over a 256×256 plane
+//! let mut renderer = CpuRenderer::new(&scene, Scheme::Alias, 7);
+//! renderer.accumulate(4); // 4 samples per pixel, deterministic for seed 7
+//! assert_eq!(renderer.accumulator().image().len(), 256 * 256);
+//! let reference = Reference::compute(&scene);
+//! let error = rmse(renderer.accumulator(), &reference);
+//! renderer.accumulate(60); // 64 spp: the error falls like 1/√spp
+//! assert!(rmse(renderer.accumulator(), &reference) < error);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//! Draw the table diagram to PNG, headless:
+//! ```
+//! use lightpick_core::draw::{Style, encode_png, fraction_denominator, table_diagram};
+//! use lightpick_core::{AliasTable, LightPowers};
+//!
+//! let powers = LightPowers::new(vec![2.0, 5.0, 20.0])?;
+//! let table = AliasTable::build_exact(&powers);
+//! let pixmap = table_diagram(&table, fraction_denominator(&powers), &Style::default())?;
+//! let png = encode_png(&pixmap)?;
+//! assert!(png.starts_with(b"\x89PNG"));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//! Runnable examples: `cargo run -p lightpick-core --example quick_start` and
+//! `--example snapshot_my_powers` (a deterministic snapshot test of your own powers).
 //!
 //! Nothing here depends on a UI toolkit.
 
@@ -40,7 +97,7 @@ mod uniform;
 pub mod walkthrough;
 mod welford;
 
-pub use alias::{AliasTable, PackedAliasEntry};
+pub use alias::{AliasTable, Construction, PackedAliasEntry};
 pub use cdf::CdfTable;
 pub use chi_square::{ChiSquare, chi_square};
 pub use moments::{EstimatorMoments, analytic_moments};

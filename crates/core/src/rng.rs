@@ -32,6 +32,23 @@ fn lcg_step(state: u32) -> u32 {
         .wrapping_add(LCG_INCREMENT)
 }
 
+/// `(A, C)` with `lcg_step^k(s) = A·s + C (mod 2^32)`, by squaring (Brown 1994,
+/// "Random number generation with arbitrary strides").
+fn lcg_power(mut k: u64) -> (u32, u32) {
+    let (mut mul, mut add) = (1u32, 0u32);
+    let (mut step_mul, mut step_add) = (LCG_MULTIPLIER, LCG_INCREMENT);
+    while k > 0 {
+        if k & 1 == 1 {
+            mul = mul.wrapping_mul(step_mul);
+            add = add.wrapping_mul(step_mul).wrapping_add(step_add);
+        }
+        step_add = step_mul.wrapping_add(1).wrapping_mul(step_add);
+        step_mul = step_mul.wrapping_mul(step_mul);
+        k >>= 1;
+    }
+    (mul, add)
+}
+
 #[inline]
 fn permute(state: u32) -> u32 {
     let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(PERMUTE_MULTIPLIER);
@@ -68,6 +85,38 @@ impl Rng {
         out
     }
 
+    /// Fills `out` with the next `out.len()` draws, exactly those of as many
+    /// [`Rng::next_u32`] calls, and leaves the stream after them. Four lanes each step the
+    /// LCG by `a^4` (jump-ahead), so the hashes do not wait on one multiply chain.
+    pub fn fill(&mut self, out: &mut [u32]) {
+        let (mul4, add4) = lcg_power(4);
+        let mut lanes = [0u32; 4];
+        let mut state = self.state;
+        for lane in &mut lanes {
+            state = lcg_step(state);
+            *lane = state;
+        }
+        let done = out.len() - out.len() % 4;
+        for chunk in out[..done].chunks_exact_mut(4) {
+            for (out, lane) in chunk.iter_mut().zip(&mut lanes) {
+                *out = permute(*lane);
+                *lane = lane.wrapping_mul(mul4).wrapping_add(add4);
+            }
+        }
+        // The lanes ran ahead of `self`: move it past the drawn values, then finish singly.
+        self.advance(done as u64);
+        for out in &mut out[done..] {
+            *out = self.next_u32();
+        }
+    }
+
+    /// Skips `k` draws in `O(log k)` (the LCG's jump-ahead), as if [`Rng::next_u32`] had
+    /// been called `k` times.
+    pub fn advance(&mut self, k: u64) {
+        let (mul, add) = lcg_power(k);
+        self.state = self.state.wrapping_mul(mul).wrapping_add(add);
+    }
+
     /// A uniform `f64` in `[0, 1)` from one 32-bit draw ([`unit_f64`]).
     #[inline]
     pub fn next_unit(&mut self) -> f64 {
@@ -100,6 +149,22 @@ mod tests {
         let mut seen = std::collections::HashSet::new();
         for x in 0..200_000u32 {
             assert!(seen.insert(pcg_hash(x)));
+        }
+    }
+
+    #[test]
+    fn fill_and_advance_follow_the_stream() {
+        for len in [0usize, 1, 3, 4, 5, 17, 1000] {
+            let mut one = Rng::new(9, len as u64);
+            let expected: Vec<u32> = (0..len).map(|_| one.next_u32()).collect();
+            let mut batch = Rng::new(9, len as u64);
+            let mut got = vec![0u32; len];
+            batch.fill(&mut got);
+            assert_eq!(got, expected, "len {len}");
+            assert_eq!(batch, one, "state after {len}");
+            let mut skipped = Rng::new(9, len as u64);
+            skipped.advance(len as u64);
+            assert_eq!(skipped, one, "advance({len})");
         }
     }
 

@@ -1,7 +1,7 @@
 //! One interface over the light-selection schemes: each returns a light and the
 //! probability with which it was picked, which is all an estimator `f/p` needs.
 
-use crate::alias::AliasTable;
+use crate::alias::{AliasTable, Construction};
 use crate::cdf::CdfTable;
 use crate::powers::LightPowers;
 use crate::rng::Rng;
@@ -152,10 +152,21 @@ impl Sampler {
 
     /// [`Sampler::build`], refusing [`Scheme::Spatial`] with [`NeedsShadingPoint`].
     pub fn try_build(scheme: Scheme, powers: &LightPowers) -> Result<Self, NeedsShadingPoint> {
+        Self::try_build_with(scheme, powers, Construction::default())
+    }
+
+    /// [`Sampler::try_build`] with the alias tables built by `construction` (the other
+    /// schemes ignore it).
+    pub fn try_build_with(
+        scheme: Scheme,
+        powers: &LightPowers,
+        construction: Construction,
+    ) -> Result<Self, NeedsShadingPoint> {
+        let table = || AliasTable::build_with(powers, construction);
         Ok(match scheme {
             Scheme::Uniform => Sampler::Uniform(Uniform::new(powers.len() as u32)),
-            Scheme::Alias => Sampler::Alias(AliasTable::build(powers)),
-            Scheme::AliasOneRandom => Sampler::AliasOneRandom(AliasTable::build(powers)),
+            Scheme::Alias => Sampler::Alias(table()),
+            Scheme::AliasOneRandom => Sampler::AliasOneRandom(table()),
             Scheme::Cdf => Sampler::Cdf(CdfTable::build(powers)),
             Scheme::Spatial => return Err(NeedsShadingPoint(scheme)),
         })

@@ -135,6 +135,20 @@ pub fn precision_ui(ui: &mut Ui, state: &mut AppState) {
             ui.label(fractions::short(a.max_rel_error));
             ui.label(fractions::short(b.max_rel_error));
             ui.end_row();
+            let int = r.construction.integer_build;
+            ui.label("1b. build exact f64 / integer")
+                .on_hover_text("The exact f64 construction against the fast integer one (the samplers' default)");
+            ui.label("worst error")
+                .on_hover_text("The integer table realizes exactly integer masses summing to N·2^32: below 1 unit of 2^-32/N unless some p_i < 2^-32/N (then at most 1 + a_i)");
+            ui.label(format!("{} relative", fractions::short(a.max_rel_error)))
+                .on_hover_text("The exact f64 table: relative error, as above");
+            ui.label(format!(
+                "{} × 2^-32/N, leak {}",
+                fractions::short(r.construction.integer_max_error_units),
+                fractions::short(int.zero_leak)
+            ))
+            .on_hover_text("The integer table (the samplers' default): absolute error of the pmf it samples, and its probability on zero lights");
+            ui.end_row();
 
             let t = r.thresholds;
             ui.label("2. thresholds u32 / f32")
@@ -208,6 +222,12 @@ pub fn precision_ui(ui: &mut Ui, state: &mut AppState) {
         ui,
         "1. An f32 build rounds the sum and every scaled power: leftovers forced to 1 can hand \
          probability to lights that emit nothing. The f64 build keeps zero lights at exactly 0.",
+    );
+    explain(
+        ui,
+        "1b. The integer build (the samplers' default, several times faster) makes integer \
+         masses summing to N·2^32 and sweeps them exactly: no rounding after that, so its pmf \
+         is within 2^-32/N of p_i.",
     );
     explain(
         ui,

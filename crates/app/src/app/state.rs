@@ -14,7 +14,9 @@
 use std::sync::{Arc, mpsc};
 
 use lightpick_core::scene::{ReceiverPlane, Scene};
-use lightpick_core::{AliasTable, ChiSquare, LightPowers, PowersError, Rng, Uniform, chi_square};
+use lightpick_core::{
+    AliasTable, ChiSquare, Construction, LightPowers, PowersError, Rng, Uniform, chi_square,
+};
 
 use super::scene_io::{self, PowerDistribution};
 
@@ -156,10 +158,24 @@ pub struct Built {
     pub total_power: f64,
 }
 
+/// Up to this many lights the app shows the exact `f64` construction (exact seed
+/// fractions, replayed step by step by the stepper); beyond, the integer one, whose rebuild
+/// fits a frame at `10^6` lights. Either way every panel and the histograms use this table.
+pub const EXACT_TABLE_MAX_LIGHTS: usize = 1 << 16;
+
+/// The construction the app uses for `n` lights ([`EXACT_TABLE_MAX_LIGHTS`]).
+pub fn construction_for(n: usize) -> Construction {
+    if n <= EXACT_TABLE_MAX_LIGHTS {
+        Construction::Exact
+    } else {
+        Construction::Integer
+    }
+}
+
 impl Built {
     /// Builds the table of a validated scene (`O(N)`).
     pub fn new(generation: u64, scene: Scene) -> Self {
-        let table = AliasTable::build(&scene.powers);
+        let table = AliasTable::build_with(&scene.powers, construction_for(scene.powers.len()));
         let denominator = lightpick_core::draw::fraction_denominator(&scene.powers);
         let total_power = scene.powers.as_slice().iter().sum();
         Self {

@@ -31,7 +31,9 @@ use lightpick_core::gpu::{self, GpuContext};
 use lightpick_core::precision::Distribution;
 use lightpick_core::render::{CpuRenderer, Reference, SeriesPoint, convergence_series, efficiency};
 use lightpick_core::scene::Scene;
-use lightpick_core::{AliasTable, CdfTable, LightPowers, Rng, Sampler, Scheme, Uniform};
+use lightpick_core::{
+    AliasTable, CdfTable, Construction, LightPowers, Rng, Sampler, Scheme, Uniform,
+};
 use rand::distr::Distribution as _;
 use rand::rngs::SmallRng;
 use rand::{Rng as _, SeedableRng as _};
@@ -106,8 +108,13 @@ pub struct Case {
     pub method: &'static str,
     /// The random generator the samples drew from.
     pub rng: &'static str,
-    /// Median build time, nanoseconds.
+    /// Median build time (powers to a ready table, allocation included), nanoseconds.
     pub build_ns: f64,
+    /// Median time to rebuild an existing table of the same `N` in place (no allocation),
+    /// nanoseconds, for the methods that can (`alias`, `alias-exact`, and the peer
+    /// `rand_distr::WeightedAliasIndex`, which has no in-place rebuild: its build).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rebuild_ns: Option<f64>,
     /// Median time per sample, nanoseconds.
     pub sample_ns: f64,
 }
@@ -247,6 +254,28 @@ fn median_ns<T>(repetitions: usize, batch: usize, mut f: impl FnMut(usize) -> T)
     times[times.len() / 2]
 }
 
+/// Like [`median_ns`], for an `f` that consumes an input: the `batch` inputs of each
+/// repetition are made by `input` before its clock starts.
+fn median_with_inputs<I, T>(
+    repetitions: usize,
+    batch: usize,
+    mut input: impl FnMut() -> I,
+    mut f: impl FnMut(I) -> T,
+) -> f64 {
+    let mut times: Vec<f64> = (0..repetitions)
+        .map(|_| {
+            let inputs: Vec<I> = (0..batch).map(|_| input()).collect();
+            let start = Instant::now();
+            for x in inputs {
+                black_box(f(x));
+            }
+            start.elapsed().as_secs_f64() * 1e9 / batch as f64
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
 /// Times every method at `N` lights (exponential powers).
 fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
     let raw = Distribution::Exponential.powers(n, seed);
@@ -255,26 +284,70 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
     let reps = if n >= 4_000_000 { 3 } else { plan.repetitions };
     let samples = plan.samples_per_batch;
     let mut cases = Vec::new();
-    let mut push = |method, rng, build_ns, sample_ns| {
+    let mut push = |method, rng, build_ns, rebuild_ns, sample_ns| {
         cases.push(Case {
             n,
             method,
             rng,
             build_ns,
+            rebuild_ns,
             sample_ns,
         });
     };
 
-    // The project's samplers, drawing from the project's Rng (as the renderers do).
-    let alias_build = median_ns(reps, build_batch, |_| AliasTable::build(&powers));
-    let table = AliasTable::build(&powers);
-    let sampler = Sampler::Alias(table);
+    // The project's samplers, drawing from the project's Rng (as the renderers do). Each
+    // construction: build (allocating), rebuild in place, one pick at a time.
+    let other = Distribution::Exponential.powers(n, seed ^ 0x5eed);
+    let other = LightPowers::new(other).context("bench powers")?;
+    let mut exact_rebuild = 0.0;
+    let mut exact_build = 0.0;
+    let mut exact_sample = 0.0;
+    let mut alias_rebuild = 0.0;
+    let mut alias_build = 0.0;
+    for construction in [Construction::Exact, Construction::Integer] {
+        let build = median_ns(reps, build_batch, |_| {
+            AliasTable::build_with(&powers, construction)
+        });
+        let mut table = AliasTable::build_with(&powers, construction);
+        let inputs = [&other, &powers];
+        let rebuild = median_ns(reps, build_batch, |i| {
+            table.rebuild(inputs[i & 1]);
+            table.len()
+        });
+        // An even number of rebuilds ends on `powers` in every repetition.
+        table.rebuild(&powers);
+        let sampler = Sampler::Alias(table);
+        let sample = time_picks(&sampler, seed, reps, samples);
+        if construction == Construction::Exact {
+            (exact_build, exact_rebuild, exact_sample) = (build, rebuild, sample);
+        } else {
+            (alias_build, alias_rebuild) = (build, rebuild);
+            push("alias", "pcg", build, Some(rebuild), sample);
+        }
+    }
     push(
-        "alias",
+        "alias-exact",
+        "pcg",
+        exact_build,
+        Some(exact_rebuild),
+        exact_sample,
+    );
+    let table = AliasTable::build(&powers);
+    // Batched picks into a buffer (the same picks as one at a time on the same stream).
+    let mut batch = vec![0u32; samples.min(1 << 16)];
+    let batch_sample = median_ns(reps, samples / batch.len(), |rep| {
+        let mut rng = Rng::new(seed, rep as u64);
+        table.sample_into(&mut batch, &mut rng);
+        batch[batch.len() - 1]
+    }) / batch.len() as f64;
+    push(
+        "alias-batch",
         "pcg",
         alias_build,
-        time_picks(&sampler, seed, reps, samples),
+        Some(alias_rebuild),
+        batch_sample,
     );
+    let sampler = Sampler::Alias(table);
     let Sampler::Alias(table) = sampler else {
         unreachable!("built as alias above")
     };
@@ -283,6 +356,7 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
         "alias-one-random",
         "pcg",
         alias_build,
+        None,
         time_picks(&sampler, seed, reps, samples),
     );
     let Sampler::AliasOneRandom(table) = sampler else {
@@ -294,7 +368,7 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
         let r1 = small.next_u32();
         table.sample_u32(r1, small.next_u32())
     });
-    push("alias+smallrng", "SmallRng", alias_build, alias_small);
+    push("alias+smallrng", "SmallRng", alias_build, None, alias_small);
     drop(table);
 
     let cdf_build = median_ns(reps, build_batch, |_| CdfTable::build(&powers));
@@ -303,6 +377,7 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
         "cdf",
         "pcg",
         cdf_build,
+        None,
         time_picks(&cdf, seed, reps, samples),
     );
     drop(cdf);
@@ -315,12 +390,17 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
         "uniform",
         "pcg",
         uniform_build,
+        None,
         time_picks(&uniform, seed, reps, samples),
     );
 
-    let wai_build = median_ns(reps, build_batch, |_| {
-        rand_distr::weighted::WeightedAliasIndex::new(raw.clone())
-    });
+    // The peer takes its weights by value: each timed build gets a clone made beforehand.
+    let wai_build = median_with_inputs(
+        reps,
+        build_batch,
+        || raw.clone(),
+        rand_distr::weighted::WeightedAliasIndex::new,
+    );
     let wai = rand_distr::weighted::WeightedAliasIndex::new(raw.clone())
         .map_err(|e| anyhow::anyhow!("WeightedAliasIndex: {e}"))?;
     let mut small = SmallRng::seed_from_u64(seed);
@@ -329,6 +409,7 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
         "rand_distr::WeightedAliasIndex",
         "SmallRng",
         wai_build,
+        Some(wai_build),
         wai_sample,
     );
     drop(wai);
@@ -340,7 +421,7 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
         .map_err(|e| anyhow::anyhow!("WeightedIndex: {e}"))?;
     let mut small = SmallRng::seed_from_u64(seed);
     let wi_sample = median_ns(reps, samples, |_| wi.sample(&mut small));
-    push("rand::WeightedIndex", "SmallRng", wi_build, wi_sample);
+    push("rand::WeightedIndex", "SmallRng", wi_build, None, wi_sample);
     Ok(cases)
 }
 
@@ -363,28 +444,37 @@ fn time_picks(sampler: &Sampler, seed: u64, reps: usize, samples: usize) -> f64 
     times[times.len() / 2]
 }
 
-/// Per `N`: each peer's and each project method's times over the alias table's.
+/// Per `N`: how many times slower each peer (and each other project method) is than the
+/// alias table, per operation: `build` (peer build over ours), `rebuild` (peer build, which
+/// cannot be done in place, over our in-place rebuild), `sample` (one pick; the peers and
+/// `alias+smallrng` draw from `SmallRng`, so those ratios compare like with like) and
+/// `batch` (one pick over a batched pick of ours). A ratio above 1 means ours is faster.
 fn ratios(cases: &[Case]) -> Vec<serde_json::Value> {
     let mut out = Vec::new();
     let mut ns: Vec<usize> = cases.iter().map(|c| c.n).collect();
     ns.dedup();
     for n in ns {
         let of = |m: &str| cases.iter().find(|c| c.n == n && c.method == m);
-        let (Some(alias), Some(alias_small)) = (of("alias"), of("alias+smallrng")) else {
+        let (Some(alias), Some(alias_small), Some(batch)) =
+            (of("alias"), of("alias+smallrng"), of("alias-batch"))
+        else {
             continue;
         };
         let ratio = |m: &str, base: &Case| {
             of(m).map(|c| {
                 json!({
                     "method": m,
-                    "build_vs_alias": c.build_ns / base.build_ns,
+                    "build_vs_alias": c.build_ns / alias.build_ns,
+                    "rebuild_vs_alias": c.rebuild_ns.map(|r| r / alias.rebuild_ns.unwrap_or(f64::NAN)),
                     "sample_vs_alias": c.sample_ns / base.sample_ns,
+                    "sample_vs_alias_batch": c.sample_ns / batch.sample_ns,
                 })
             })
         };
         let row: Vec<serde_json::Value> = [
             ratio("rand_distr::WeightedAliasIndex", alias_small),
             ratio("rand::WeightedIndex", alias_small),
+            ratio("alias-exact", alias),
             ratio("cdf", alias),
             ratio("alias-one-random", alias),
             ratio("uniform", alias),
@@ -662,29 +752,41 @@ fn text(
     );
     let _ = writeln!(
         out,
-        "{:>9}  {:<31} {:>9} {:>14} {:>10}",
-        "N", "method", "rng", "build ns", "sample ns"
+        "{:>9}  {:<31} {:>9} {:>14} {:>14} {:>10}",
+        "N", "method", "rng", "build ns", "rebuild ns", "sample ns"
     );
     for c in cases {
+        let rebuild = c
+            .rebuild_ns
+            .map_or_else(|| "-".to_owned(), |r| format!("{r:.1}"));
         let _ = writeln!(
             out,
-            "{:>9}  {:<31} {:>9} {:>14.1} {:>10.2}",
-            c.n, c.method, c.rng, c.build_ns, c.sample_ns
+            "{:>9}  {:<31} {:>9} {:>14.1} {:>14} {:>10.2}",
+            c.n, c.method, c.rng, c.build_ns, rebuild, c.sample_ns
         );
     }
     let _ = writeln!(
         out,
-        "\nratios (peers over alias+smallrng; cdf, one-random, uniform over alias):"
+        "\ntimes of each method over the alias table's (above 1: alias is faster; peers' \
+         samples over alias+smallrng, batch over alias-batch):"
     );
     for r in ratios {
         let mut line = format!("{:>9} ", r["n"].as_u64().unwrap_or(0));
         for x in r["ratios"].as_array().into_iter().flatten() {
             let _ = write!(
                 line,
-                " {} build ×{:.2} sample ×{:.2};",
+                " {} build ×{:.2}",
                 x["method"].as_str().unwrap_or("?"),
                 x["build_vs_alias"].as_f64().unwrap_or(f64::NAN),
-                x["sample_vs_alias"].as_f64().unwrap_or(f64::NAN)
+            );
+            if let Some(rebuild) = x["rebuild_vs_alias"].as_f64() {
+                let _ = write!(line, " rebuild ×{rebuild:.2}");
+            }
+            let _ = write!(
+                line,
+                " sample ×{:.2} batch ×{:.2};",
+                x["sample_vs_alias"].as_f64().unwrap_or(f64::NAN),
+                x["sample_vs_alias_batch"].as_f64().unwrap_or(f64::NAN)
             );
         }
         let _ = writeln!(out, "{line}");

@@ -2,7 +2,9 @@
 
 use anyhow::bail;
 use clap::Args;
-use lightpick_core::{LightSampler as _, Rng, Sampler, Scheme, Welford, analytic_moments};
+use lightpick_core::{
+    Construction, LightSampler as _, Rng, Sampler, Scheme, Welford, analytic_moments,
+};
 use rayon::prelude::*;
 use serde_json::json;
 
@@ -27,6 +29,10 @@ pub struct EstimateArgs {
     /// Random seed; sample k uses stream k of this seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// How the alias table is built: `exact` (`f64`, the pmf `p_i` the seed document
+    /// gives) or `integer` (the renderers' default; its pmf is the one it realizes exactly).
+    #[arg(long, default_value = "exact")]
+    pub construction: Construction,
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
@@ -47,7 +53,7 @@ pub fn run(args: &EstimateArgs) -> anyhow::Result<()> {
     if let Some(i) = contrib.iter().position(|f| !f.is_finite()) {
         bail!("--contrib: item {i} is not finite ({})", contrib[i]);
     }
-    let sampler = Sampler::try_build(args.scheme, &powers)?;
+    let sampler = Sampler::try_build_with(args.scheme, &powers, args.construction)?;
     let stats = estimate(&sampler, &contrib, args.count, args.seed);
     let moments = analytic_moments(&contrib, |i| sampler.probability(i));
     let z = if stats.std_error() > 0.0 {
@@ -58,6 +64,7 @@ pub fn run(args: &EstimateArgs) -> anyhow::Result<()> {
     if args.json {
         super::print_json(&json!({
             "scheme": args.scheme.name(),
+            "construction": args.construction.name(),
             "count": args.count,
             "seed": args.seed,
             "mean": stats.mean(),

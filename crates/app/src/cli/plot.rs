@@ -154,7 +154,7 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
         PlotKind::Table { powers, output } => {
             let style = output.style()?;
             let powers = powers.load()?;
-            let table = AliasTable::build(&powers);
+            let table = AliasTable::build_exact(&powers);
             output.write(&draw::table_diagram(
                 &table,
                 draw::fraction_denominator(&powers),

@@ -94,22 +94,33 @@ fn text(reports: &[PrecisionReport], sweep: &[ColumnPickComparison]) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "1. Table construction: max relative error of the implied pmf, leak onto zero lights"
+        "1. Table construction: max relative error of the implied pmf, leak onto zero lights; \
+         integer: worst |P − p| in units of 2^-32/N (below 1 + a_i), leak"
     );
     let _ = writeln!(
         out,
-        "{:>12} {:>9} {:>12} {:>12} {:>12} {:>14}",
-        "powers", "N", "f64 rel err", "f64 leak", "f32 rel err", "f32 leak"
+        "{:>12} {:>9} {:>12} {:>12} {:>13} {:>12} {:>12} {:>14}",
+        "powers",
+        "N",
+        "f64 rel err",
+        "f64 leak",
+        "integer units",
+        "integer leak",
+        "f32 rel err",
+        "f32 leak"
     );
     for r in reports {
         let (a, b) = (r.construction.f64_build, r.construction.f32_build);
+        let int = r.construction.integer_build;
         let _ = writeln!(
             out,
-            "{:>12} {:>9} {:>12.3e} {:>12.3e} {:>12.3e} {:>9.3e} ({})",
+            "{:>12} {:>9} {:>12.3e} {:>12.3e} {:>13.3} {:>12.3e} {:>12.3e} {:>9.3e} ({})",
             name(r),
             r.n,
             a.max_rel_error,
             a.zero_leak,
+            r.construction.integer_max_error_units,
+            int.zero_leak,
             b.max_rel_error,
             b.zero_leak,
             b.leaking_lights

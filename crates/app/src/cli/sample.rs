@@ -4,7 +4,9 @@ use std::fmt::Write as _;
 
 use anyhow::bail;
 use clap::Args;
-use lightpick_core::{ChiSquare, LightPowers, LightSampler as _, Rng, Sampler, Scheme, chi_square};
+use lightpick_core::{
+    ChiSquare, Construction, LightPowers, LightSampler as _, Rng, Sampler, Scheme, chi_square,
+};
 use rayon::prelude::*;
 use serde_json::json;
 
@@ -29,6 +31,10 @@ pub struct SampleArgs {
     /// Random seed; sample k uses stream k of this seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// How the alias table is built: `exact` (`f64`, the pmf `p_i` the seed document
+    /// gives) or `integer` (the renderers' default; its pmf is the one it realizes exactly).
+    #[arg(long, default_value = "exact")]
+    pub construction: Construction,
     /// Where to draw the samples (default: the CPU). GPU counts equal CPU counts exactly.
     #[arg(long, value_enum, default_value_t = Device::Cpu)]
     pub device: Device,
@@ -41,7 +47,7 @@ pub struct SampleArgs {
 pub fn run(args: &SampleArgs) -> anyhow::Result<()> {
     check_count(args.count)?;
     let powers = args.powers.load()?;
-    let sampler = Sampler::try_build(args.scheme, &powers)?;
+    let sampler = Sampler::try_build_with(args.scheme, &powers, args.construction)?;
     let counts = match choose(Some(args.device), true)? {
         None => count_cpu(&sampler, args.count, args.seed),
         Some(ctx) => lightpick_core::gpu::histogram(&ctx, &sampler, args.count, args.seed)
@@ -54,6 +60,7 @@ pub fn run(args: &SampleArgs) -> anyhow::Result<()> {
     if args.json {
         super::print_json(&json!({
             "scheme": args.scheme.name(),
+            "construction": args.construction.name(),
             "device": args.device.name(),
             "count": args.count,
             "seed": args.seed,

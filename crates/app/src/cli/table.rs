@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 
 use clap::Args;
 use lightpick_core::fraction::{common_denominator, format_fraction};
-use lightpick_core::{AliasTable, LightPowers};
+use lightpick_core::{AliasTable, Construction, LightPowers};
 use serde_json::json;
 
 use super::input::PowersArgs;
@@ -18,6 +18,10 @@ pub struct TableArgs {
     /// Where the powers come from.
     #[command(flatten)]
     pub powers: PowersArgs,
+    /// How the table is built: `exact` (the `f64` construction, exact seed fractions) or
+    /// `integer` (the fast default of the samplers, thresholds `T/2^32`).
+    #[arg(long, default_value = "exact")]
+    pub construction: Construction,
     /// Print one JSON object instead of text.
     #[arg(long)]
     pub json: bool,
@@ -26,7 +30,7 @@ pub struct TableArgs {
 /// Builds the table and prints it.
 pub fn run(args: &TableArgs) -> anyhow::Result<()> {
     let powers = args.powers.load()?;
-    let table = AliasTable::build(&powers);
+    let table = AliasTable::build_with(&powers, args.construction);
     if args.json {
         super::print_json(&table_json(&powers, &table))
     } else {
@@ -46,6 +50,7 @@ pub(crate) fn table_json(powers: &LightPowers, table: &AliasTable) -> serde_json
     let total = powers.total();
     json!({
         "n": table.len(),
+        "construction": table.construction().name(),
         "total_power": total.is_finite().then_some(total),
         "total_power_log10": powers.total_log10(),
         "pmf": table.pmf_slice(),
@@ -65,6 +70,11 @@ pub(crate) fn table_text(powers: &LightPowers, table: &AliasTable) -> String {
         "{} lights, total power {}  (lights numbered from 0: the seed's light №1 is light 0)",
         table.len(),
         total_text(powers)
+    );
+    let _ = writeln!(
+        out,
+        "construction: {}",
+        construction_text(table.construction())
     );
     let _ = writeln!(
         out,
@@ -92,13 +102,24 @@ pub(crate) fn table_text(powers: &LightPowers, table: &AliasTable) -> String {
     out
 }
 
-/// The total power for people: `Σ Φ_i` as Rust prints an `f64` (`27`), or, when the sum
-/// exceeds `f64::MAX`, its value from `log10 Σ Φ_i` ([`LightPowers::total_log10`]) with four
-/// significant digits: `3.595e308 (exceeds f64)`.
+/// What a construction's thresholds are, in one line.
+fn construction_text(construction: Construction) -> &'static str {
+    match construction {
+        Construction::Exact => "exact (f64 Vose; thresholds as exact fractions where they are)",
+        Construction::Integer => {
+            "integer (the samplers' default; thresholds T/2^32 of masses summing to N·2^32)"
+        }
+    }
+}
+
+/// The total power for people, in the same form as the powers ([`power_text`]: `27`,
+/// `1e300`, not 301 digits), or, when the sum exceeds `f64::MAX`, its value from
+/// `log10 Σ Φ_i` ([`LightPowers::total_log10`]) with four significant digits:
+/// `3.595e308 (exceeds f64)`.
 fn total_text(powers: &LightPowers) -> String {
     let total = powers.total();
     if total.is_finite() {
-        total.to_string()
+        power_text(total)
     } else {
         format!("{} (exceeds f64)", decimal_from_log10(powers.total_log10()))
     }
@@ -144,6 +165,15 @@ mod tests {
     use super::*;
 
     #[test]
+    fn huge_totals_print_in_scientific_form() {
+        let powers = LightPowers::new(vec![1e300]).unwrap();
+        assert_eq!(total_text(&powers), "1e300");
+        let text = table_text(&powers, &AliasTable::build_exact(&powers));
+        assert!(text.starts_with("1 lights, total power 1e300 "), "{text}");
+        assert!(text.contains("construction: exact"), "{text}");
+    }
+
+    #[test]
     fn powers_and_probabilities_read_at_every_scale() {
         assert_eq!(power_text(20.0), "20");
         assert_eq!(power_text(0.5), "0.5");
@@ -156,7 +186,7 @@ mod tests {
     #[test]
     fn seed_text_shows_fractions() {
         let powers = LightPowers::new(vec![2.0, 5.0, 20.0]).unwrap();
-        let text = table_text(&powers, &AliasTable::build(&powers));
+        let text = table_text(&powers, &AliasTable::build_exact(&powers));
         assert!(text.contains("6/27 (0.222222)"), "{text}");
         assert!(text.contains("15/27 (0.555556)"), "{text}");
         assert!(text.contains("20/27 (0.740741)"), "{text}");
@@ -166,7 +196,7 @@ mod tests {
     #[test]
     fn an_overflowing_total_is_reported_honestly() {
         let powers = LightPowers::new(vec![f64::MAX, f64::MAX]).unwrap();
-        let table = AliasTable::build(&powers);
+        let table = AliasTable::build_exact(&powers);
         // Σ = 2·f64::MAX = 3.5953862697246314e308.
         let text = table_text(&powers, &table);
         assert!(
@@ -182,7 +212,7 @@ mod tests {
         );
         assert_eq!(v["pmf"], json!([0.5, 0.5]));
         let seed = LightPowers::new(vec![2.0, 5.0, 20.0]).unwrap();
-        let v = table_json(&seed, &AliasTable::build(&seed));
+        let v = table_json(&seed, &AliasTable::build_exact(&seed));
         assert_eq!(v["total_power"], json!(27.0));
     }
 

@@ -2,7 +2,6 @@
 //! `lightpick precision` and `lightpick bench`: JSON shape, the default path within its
 //! documented bounds, and one-line errors with exit code 2. Timings are never asserted.
 
-
 use crate::common::{assert_error, json, lightpick};
 
 fn f(v: &serde_json::Value) -> f64 {
@@ -109,6 +108,8 @@ fn bench_json_has_every_case_and_the_peers() {
         .collect();
     for m in [
         "alias",
+        "alias-exact",
+        "alias-batch",
         "alias-one-random",
         "alias+smallrng",
         "cdf",
@@ -121,10 +122,40 @@ fn bench_json_has_every_case_and_the_peers() {
     for c in cases {
         assert_eq!(c["n"], 1000);
         assert!(f(&c["build_ns"]) > 0.0 && f(&c["sample_ns"]) > 0.0, "{c}");
+        // The tables that can be rebuilt in place say how long it takes (the peer alias
+        // table, which cannot, reports its build); the others carry no rebuild figure.
+        let rebuilds = [
+            "alias",
+            "alias-exact",
+            "alias-batch",
+            "rand_distr::WeightedAliasIndex",
+        ];
+        let method = c["method"].as_str().unwrap();
+        assert_eq!(
+            c.get("rebuild_ns").is_some(),
+            rebuilds.contains(&method),
+            "{c}"
+        );
+        if let Some(r) = c.get("rebuild_ns") {
+            assert!(f(r) > 0.0, "{c}");
+        }
     }
     let ratios = v["ratios"].as_array().unwrap();
     assert_eq!(ratios[0]["n"], 1000);
-    assert_eq!(ratios[0]["ratios"].as_array().unwrap().len(), 5);
+    let row = ratios[0]["ratios"].as_array().unwrap();
+    assert_eq!(row.len(), 6);
+    let peer = row
+        .iter()
+        .find(|r| r["method"] == "rand_distr::WeightedAliasIndex")
+        .unwrap();
+    for key in [
+        "build_vs_alias",
+        "rebuild_vs_alias",
+        "sample_vs_alias",
+        "sample_vs_alias_batch",
+    ] {
+        assert!(f(&peer[key]) > 0.0, "{key}: {peer}");
+    }
     assert!(v["gpu"]["adapter"].is_null());
     assert!(v["gpu"]["note"].as_str().unwrap().contains("--no-gpu"));
     let render = &v["renders"][0];

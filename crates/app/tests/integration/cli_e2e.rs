@@ -2,7 +2,6 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-
 use std::process::Command;
 
 use crate::common::{assert_error, json, lightpick};

@@ -4,7 +4,6 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-
 use std::path::Path;
 
 use crate::common::{assert_error, gpu_expected, json as ok_json, lightpick, scratch};

@@ -6,7 +6,6 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-
 use crate::common::{assert_error, json as ok_json, scratch};
 
 fn f(v: &serde_json::Value) -> f64 {

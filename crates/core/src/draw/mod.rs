@@ -154,7 +154,7 @@ mod tests {
     fn tiny_canvases_draw_without_panicking() {
         use crate::{AliasTable, Scheme, SeedExample};
         let powers = SeedExample::powers();
-        let table = AliasTable::build(&powers);
+        let table = AliasTable::build_exact(&powers);
         let pmf = powers.pmf();
         let counts = SchemeCounts::new(Scheme::Alias, vec![2, 5, 20], pmf.clone())
             .expect("valid test input");

@@ -548,7 +548,7 @@ mod tests {
         let powers = SeedExample::powers();
         let d = fraction_denominator(&powers);
         assert_eq!(d, Some(27));
-        let table = AliasTable::build(&powers);
+        let table = AliasTable::build_exact(&powers);
         let labels: Vec<String> = table
             .thresholds()
             .iter()
@@ -575,7 +575,7 @@ mod tests {
 
     #[test]
     fn column_split_heights_equal_thresholds() {
-        let table = AliasTable::build(&SeedExample::powers());
+        let table = AliasTable::build_exact(&SeedExample::powers());
         let unit_px = 120.0;
         for &t in table.thresholds() {
             let c = split_column(10.0, 40.0, t, 300.0, unit_px);
@@ -590,7 +590,7 @@ mod tests {
     #[test]
     fn unit_columns_hold_the_scaled_masses() {
         // Σ over columns of each light's drawn area equals N·pᵢ (in units of column area).
-        let table = AliasTable::build(&SeedExample::powers());
+        let table = AliasTable::build_exact(&SeedExample::powers());
         let mut area = [0.0; 3];
         for (i, (&t, &a)) in table.thresholds().iter().zip(table.aliases()).enumerate() {
             let c = split_column(0.0, 1.0, t, 100.0, 100.0);
@@ -635,11 +635,11 @@ mod tests {
     #[test]
     fn draws_small_and_large_tables() {
         let style = Style::default();
-        let seed = AliasTable::build(&SeedExample::powers());
+        let seed = AliasTable::build_exact(&SeedExample::powers());
         let pm = table_diagram(&seed, Some(27), &style).expect("valid test input");
         assert_eq!((pm.width(), pm.height()), (800, 500));
         let powers: Vec<f64> = (0..5000).map(|i| 1.0 + f64::from(i % 7)).collect();
-        let big = AliasTable::build(&LightPowers::new(powers).expect("valid test input"));
+        let big = AliasTable::build_exact(&LightPowers::new(powers).expect("valid test input"));
         assert!(table_diagram(&big, None, &style).is_ok());
     }
 }

@@ -305,9 +305,9 @@ impl GpuRenderer {
         let lights: Vec<[u32; 6]> = self
             .positions
             .iter()
-            .zip(table.pmf_slice())
+            .zip(powers.pmf())
             .zip(table.packed())
-            .map(|((p, &pmf), e)| {
+            .map(|((p, pmf), e)| {
                 [
                     (p[0] as f32).to_bits(),
                     (p[1] as f32).to_bits(),

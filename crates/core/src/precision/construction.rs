@@ -164,22 +164,41 @@ pub fn accuracy_of(implied: &[f64], exact: &[f64]) -> TableAccuracy {
     out
 }
 
-/// The naive `f32` build against the project's `f64` build, on the same powers.
+/// The constructions against the exact pmf, on the same powers: the project's exact `f64`
+/// build, its default integer build, and a naive `f32` build.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct ConstructionComparison {
-    /// The project's table ([`AliasTable::build`], [`AliasTable::implied_pmf`]).
+    /// The exact construction's `f64` table ([`AliasTable::build_exact`],
+    /// [`AliasTable::implied_pmf`]).
     pub f64_build: TableAccuracy,
+    /// The integer construction's packed table ([`AliasTable::build`],
+    /// [`AliasTable::implied_pmf_packed`], what it samples). Its relative error is large for
+    /// powers near `2^-32/N`, which it resolves in absolute terms:
+    /// see [`ConstructionComparison::integer_max_error_units`].
+    pub integer_build: TableAccuracy,
+    /// The integer build's worst `|P(i) − p_i|` in units of `2^-32/N` (below 1 unless some
+    /// `p_i < 2^-32/N`, then below `1 + a_i`).
+    pub integer_max_error_units: f64,
     /// The naive `f32` table ([`NaiveF32Table`]).
     pub f32_build: TableAccuracy,
 }
 
-/// Builds the naive `f32` table over `powers` and compares both tables with the exact pmf;
-/// `table` must be [`AliasTable::build`]`(powers)`.
+/// Builds the integer and the naive `f32` tables over `powers` and compares all three with
+/// the exact pmf; `table` must be [`AliasTable::build_exact`]`(powers)`.
 pub fn compare_construction(powers: &LightPowers, table: &AliasTable) -> ConstructionComparison {
     let exact = exact_pmf(powers);
     let naive = NaiveF32Table::build(powers.as_slice());
+    let integer = AliasTable::build(powers).implied_pmf_packed();
+    let unit = 1.0 / (powers.len() as f64 * 4_294_967_296.0);
+    let integer_max_error_units = integer
+        .iter()
+        .zip(&exact)
+        .map(|(got, want)| (got - want).abs() / unit)
+        .fold(0.0, f64::max);
     ConstructionComparison {
         f64_build: accuracy_of(&table.implied_pmf(), &exact),
+        integer_build: accuracy_of(&integer, &exact),
+        integer_max_error_units,
         f32_build: accuracy_of(&naive.implied_pmf(), &exact),
     }
 }

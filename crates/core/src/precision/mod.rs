@@ -78,7 +78,7 @@ pub struct PrecisionReport {
 impl PrecisionReport {
     /// Builds the project's table over `powers` once and measures questions 1, 2 and 4.
     pub fn measure(powers: &LightPowers, distribution: Option<Distribution>) -> Self {
-        let table = AliasTable::build(powers);
+        let table = AliasTable::build_exact(powers);
         Self {
             n: powers.len(),
             distribution,

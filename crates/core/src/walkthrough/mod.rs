@@ -187,7 +187,7 @@ pub struct Walkthrough {
     pub uniform_estimates: Vec<f64>,
     /// Their average over the lights: `L`.
     pub uniform_average: f64,
-    /// The table's thresholds ([`AliasTable::build`]).
+    /// The table's thresholds ([`AliasTable::build_exact`]).
     pub thresholds: Vec<f64>,
     /// The table's aliases, 0-based.
     pub aliases: Vec<u32>,
@@ -215,7 +215,7 @@ impl Walkthrough {
             .collect();
         let f: Vec<f64> = phi.iter().zip(&g).map(|(p, g)| p * g).collect();
         let exact = f.iter().sum();
-        let table = AliasTable::build(powers);
+        let table = AliasTable::build_exact(powers);
         let thresholds = table.thresholds().to_vec();
         let aliases = table.aliases().to_vec();
         let probabilities = (0..n)

@@ -28,7 +28,7 @@ proptest! {
 
     #[test]
     fn implied_pmf_equals_pmf(powers in powers_strategy()) {
-        let table = AliasTable::build(&LightPowers::new(powers).unwrap());
+        let table = AliasTable::build_exact(&LightPowers::new(powers).unwrap());
         let implied = table.implied_pmf();
         for (i, (&got, &want)) in implied.iter().zip(table.pmf_slice()).enumerate() {
             // Within 1e-12 relative to the pmf, or 1e-15/N absolute for entries whose mass
@@ -40,7 +40,7 @@ proptest! {
 
     #[test]
     fn thresholds_in_unit_interval_aliases_in_range(powers in powers_strategy()) {
-        let table = AliasTable::build(&LightPowers::new(powers).unwrap());
+        let table = AliasTable::build_exact(&LightPowers::new(powers).unwrap());
         let n = table.len() as u32;
         for (&t, &a) in table.thresholds().iter().zip(table.aliases()) {
             prop_assert!((0.0..=1.0).contains(&t), "threshold {t}");
@@ -51,7 +51,7 @@ proptest! {
     #[test]
     fn zero_powers_are_never_sampled(powers in powers_strategy()) {
         let lp = LightPowers::new(powers.clone()).unwrap();
-        let table = AliasTable::build(&lp);
+        let table = AliasTable::build_exact(&lp);
         for (i, e) in table.packed().iter().enumerate() {
             if powers[i] == 0.0 {
                 // Own keep probability is zero …
@@ -79,7 +79,7 @@ proptest! {
 
     #[test]
     fn packed_pmf_within_quantization_bound(powers in powers_strategy()) {
-        let table = AliasTable::build(&LightPowers::new(powers).unwrap());
+        let table = AliasTable::build_exact(&LightPowers::new(powers).unwrap());
         let n = table.len();
         let mut aliased_to = vec![0u32; n];
         for (i, e) in table.packed().iter().enumerate() {
@@ -94,6 +94,38 @@ proptest! {
                 + 1e-12 * table.pmf(i);
             prop_assert!((packed[i] - table.pmf(i)).abs() <= bound,
                 "light {i}: packed {} vs pmf {} (bound {bound})", packed[i], table.pmf(i));
+        }
+    }
+
+    #[test]
+    fn integer_table_realizes_its_masses_within_the_bound(powers in powers_strategy()) {
+        let lp = LightPowers::new(powers.clone()).unwrap();
+        let table = AliasTable::build(&lp);
+        let n = table.len();
+        let masses = table.packed_masses();
+        prop_assert_eq!(masses.iter().sum::<u64>(), (n as u64) << 32);
+        let mut aliased_to = vec![0u32; n];
+        for (i, e) in table.packed().iter().enumerate() {
+            if e.alias as usize != i {
+                aliased_to[e.alias as usize] += 1;
+            }
+            // Zero powers: never kept, never an alias.
+            if powers[i] == 0.0 {
+                prop_assert_eq!(e.threshold, 0);
+            }
+            if e.threshold < u32::MAX {
+                prop_assert!(powers[e.alias as usize] > 0.0, "column {i} aliases a zero light");
+            }
+        }
+        let unit = 2f64.powi(-32) / n as f64;
+        for (i, (&m, &p)) in masses.iter().zip(&lp.pmf()).enumerate() {
+            // Reachable exactly when the power is positive.
+            prop_assert_eq!(m > 0, powers[i] > 0.0, "light {}", i);
+            // (1 + a_i) units, plus the f64 rounding of p_i itself.
+            let realized = m as f64 / (n as f64 * 4_294_967_296.0);
+            let bound = f64::from(1 + aliased_to[i]) * unit + 1e-15 * p;
+            prop_assert!((realized - p).abs() <= bound,
+                "light {i}: realized {realized} vs p {p} (bound {bound})");
         }
     }
 }

@@ -5,7 +5,7 @@
 use lightpick_core::{AliasTable, LightPowers, PowersError};
 
 fn build(powers: Vec<f64>) -> AliasTable {
-    AliasTable::build(&LightPowers::new(powers).unwrap())
+    AliasTable::build_exact(&LightPowers::new(powers).unwrap())
 }
 
 fn assert_implied_matches(table: &AliasTable) {

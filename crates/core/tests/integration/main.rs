@@ -4,6 +4,7 @@
 
 mod gpu_common;
 
+mod alias_guarantees;
 mod alias_properties;
 mod extremes;
 mod gpu_extremes;

@@ -60,7 +60,7 @@ fn naive_f32_build_leaks_onto_zero_lights_when_its_large_stack_runs_out() {
     let acc = accuracy_of(&naive.implied_pmf(), &exact);
     eprintln!("naive f32, 2^20 with zeros: {acc:?}");
     assert!(acc.leaking_lights > 0, "{acc:?}");
-    let table = AliasTable::build(&p);
+    let table = AliasTable::build_exact(&p);
     let ours = accuracy_of(&table.implied_pmf(), &exact);
     assert_eq!(ours.zero_leak, 0.0);
     assert_eq!(ours.leaking_lights, 0);
@@ -96,7 +96,7 @@ fn f32_thresholds_lose_lights_below_the_f32_range_and_u32_keeps_them() {
     // Powers 1e-50 beside 1: t = N·p ≈ 1e-50 is below the smallest f32 (1.4e-45).
     let mut p = vec![1.0; 1000];
     p[17] = 1e-50;
-    let table = AliasTable::build(&LightPowers::new(p).unwrap());
+    let table = AliasTable::build_exact(&LightPowers::new(p).unwrap());
     let t = lightpick_core::precision::compare_thresholds(&table);
     assert_eq!(t.u32_lost_lights, 0);
     assert_eq!(t.f32_lost_lights, 1);
@@ -304,7 +304,7 @@ fn exact_pick_counts_equal_brute_force_over_all_draws() {
 fn default_path_realizes_exactly_the_packed_pmf() {
     for d in Distribution::ALL {
         for n in [N, 1_000_003, 1 << 17] {
-            let table = AliasTable::build(&powers(d, n, 5));
+            let table = AliasTable::build_exact(&powers(d, n, 5));
             let packed = table.implied_pmf_packed();
             assert_eq!(exact_pick_pmf(&table), packed, "{d} {n}");
             // Integer check: every column weighs Q, so the counts are Q times the packed ones.
@@ -352,7 +352,7 @@ fn default_path_realizes_exactly_the_packed_pmf() {
 /// equals the raw two-random map on the accepted draw and the draw after it.
 #[test]
 fn default_sampler_is_the_raw_map_on_the_accepted_draw_and_the_next() {
-    let table = AliasTable::build(&powers(Distribution::Pareto, 1_000_003, 7));
+    let table = AliasTable::build_exact(&powers(Distribution::Pareto, 1_000_003, 7));
     let t = table.rejection_threshold();
     let n = table.len() as u64;
     let sampler = Sampler::Alias(table.clone());
@@ -402,7 +402,7 @@ fn one_random_counts_equal_enumeration_of_every_r_in_sampled_columns() {
         (Distribution::WithZeros, 1 << 20),
         (Distribution::Pareto, 3 * 65_537),
     ] {
-        let table = AliasTable::build(&powers(d, n, 3));
+        let table = AliasTable::build_exact(&powers(d, n, 3));
         let middle = (0..200).map(|j| (j * 7919 + 11) % n);
         check_one_random_columns(&table, (0..150).chain(n - 150..n).chain(middle));
     }
@@ -411,7 +411,7 @@ fn one_random_counts_equal_enumeration_of_every_r_in_sampled_columns() {
 #[test]
 fn one_random_pmf_sums_to_one_and_matches_two_random_for_power_of_two_columns() {
     let p = powers(Distribution::Uniform, 1 << 16, 4);
-    let table = AliasTable::build(&p);
+    let table = AliasTable::build_exact(&p);
     let one = one_random_pmf(&table);
     let two = two_random_pmf(&table);
     assert!((one.iter().sum::<f64>() - 1.0).abs() < 1e-12);
@@ -450,7 +450,7 @@ fn one_and_two_random_pmfs_stay_within_their_bounds_and_never_leak() {
 #[test]
 fn one_random_bias_is_of_order_n_times_2_to_the_minus_32() {
     // Equal powers: q_i = 1 for every light, no aliasing, both paths exact.
-    let equal = AliasTable::build(&LightPowers::new(vec![1.0; 1 << 12]).unwrap());
+    let equal = AliasTable::build_exact(&LightPowers::new(vec![1.0; 1 << 12]).unwrap());
     assert_eq!(one_random_pmf(&equal), two_random_pmf(&equal));
     // Uniform powers on 2^16 lights: the two-random path is the packed pmf exactly (N is a
     // power of two); the one-random path resolves a column's own mass only in steps of
