@@ -2,6 +2,7 @@
 //! every key step (and after a power changes), the construction stepper's states, and
 //! snapshots of both (goldens in `tests/snapshots/`, `UPDATE_SNAPSHOTS=1` to refresh).
 
+use crate::common::{app_harness as harness, shows};
 use egui::accesskit::Role;
 use egui_kittest::kittest::Queryable as _;
 use egui_kittest::{Harness, SnapshotOptions};
@@ -9,22 +10,6 @@ use lightpick::app::LightpickApp;
 use lightpick::app::stepper_ui;
 use lightpick_core::construction::ConstructionEvent;
 use lightpick_core::walkthrough::{ColumnPart, StepKind, TableField};
-
-fn harness() -> Harness<'static, LightpickApp> {
-    let mut harness = Harness::builder()
-        .with_size([1560.0, 960.0])
-        .build_ui_state(
-            |ui, app: &mut LightpickApp| app.ui(ui),
-            LightpickApp::for_tests(),
-        );
-    harness.run();
-    harness
-}
-
-/// Whether some node is labelled exactly `label`.
-fn shows(harness: &Harness<'_, LightpickApp>, label: &str) -> bool {
-    harness.query_all_by_label(label).next().is_some()
-}
 
 fn assert_shows(harness: &Harness<'_, LightpickApp>, labels: &[&str]) {
     for label in labels {

@@ -12,13 +12,7 @@ use lightpick_core::scene::pixel_center;
 use lightpick_core::spatial::SpatialSampler;
 
 fn whole_app() -> Harness<'static, LightpickApp> {
-    let mut harness = Harness::builder()
-        .with_size([1560.0, 960.0])
-        .build_ui_state(
-            |ui, app: &mut LightpickApp| app.ui(ui),
-            LightpickApp::for_tests(),
-        );
-    harness.run();
+    let mut harness = crate::common::app_harness();
     harness.state_mut().step();
     harness.run();
     harness

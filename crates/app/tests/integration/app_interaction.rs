@@ -1,26 +1,11 @@
 //! The app driven through its accessibility tree (`egui_kittest`), as a user would: typing
 //! powers, bad input, a malformed scene file, a single draw, keyboard shortcuts.
 
+use crate::common::{app_harness as harness, shows};
 use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
 use lightpick::app::LightpickApp;
-
-fn harness() -> Harness<'static, LightpickApp> {
-    let mut harness = Harness::builder()
-        .with_size([1560.0, 960.0])
-        .build_ui_state(
-            |ui, app: &mut LightpickApp| app.ui(ui),
-            LightpickApp::for_tests(),
-        );
-    harness.run();
-    harness
-}
-
-/// Whether some node is labelled exactly `label`.
-fn shows(harness: &Harness<'_, LightpickApp>, label: &str) -> bool {
-    harness.query_all_by_label(label).next().is_some()
-}
 
 #[test]
 fn seed_table_is_shown_with_exact_fractions() {

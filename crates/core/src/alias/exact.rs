@@ -57,7 +57,7 @@ pub(crate) fn build(powers: &LightPowers, parts: &mut ExactParts, words: &mut Ve
     let n = values.len();
     let n_f = n as f64;
     let scale = pow2_scale_to_unit(powers.max());
-    let sum = double_double_sum(values.iter().map(|&p| scale.apply(p))).0;
+    let sum = double_double_sum_of(values, |p| scale.apply(p)).0;
     parts.pmf.clear();
     parts.threshold.clear();
     for &p in values {
@@ -132,8 +132,36 @@ pub(crate) fn double_double_sum(values: impl Iterator<Item = f64>) -> (f64, f64)
         hi[lane] = s;
         lo[lane] += e;
     }
+    combine_lanes(&hi, &lo)
+}
+
+/// [`double_double_sum`] of `f(x)` over a slice, bit for bit the same (value `i` still goes
+/// to lane `i mod 8`), but with the lanes in registers: whole chunks of eight, so the
+/// compiler keeps `hi` and `lo` out of memory and vectorizes the `TwoSum`s.
+pub(crate) fn double_double_sum_of(values: &[f64], f: impl Fn(f64) -> f64) -> (f64, f64) {
+    let mut hi = [0.0f64; 8];
+    let mut lo = [0.0f64; 8];
+    let chunks = values.chunks_exact(8);
+    let rest = chunks.remainder();
+    for chunk in chunks {
+        for ((h, l), &x) in hi.iter_mut().zip(&mut lo).zip(chunk) {
+            let (s, e) = two_sum(*h, f(x));
+            *h = s;
+            *l += e;
+        }
+    }
+    for ((h, l), &x) in hi.iter_mut().zip(&mut lo).zip(rest) {
+        let (s, e) = two_sum(*h, f(x));
+        *h = s;
+        *l += e;
+    }
+    combine_lanes(&hi, &lo)
+}
+
+/// The lanes' `hi` then `lo` words added into one double-double.
+fn combine_lanes(hi: &[f64; 8], lo: &[f64; 8]) -> (f64, f64) {
     let (mut total, mut comp) = (0.0, 0.0);
-    for &x in hi.iter().chain(&lo) {
+    for &x in hi.iter().chain(lo.iter()) {
         let (s, e) = two_sum(total, x);
         total = s;
         comp += e;

@@ -38,7 +38,7 @@
 //! rebuild into an existing table allocates nothing.
 
 use super::PackedAliasEntry;
-use super::exact::{double_double_sum, two_product};
+use super::exact::{double_double_sum_of, two_product};
 use crate::powers::{Pow2Scale, pow2_scale_to_unit};
 
 /// One column's capacity, `C = 2^32`.
@@ -72,36 +72,56 @@ pub(crate) fn build(powers: &[f64], max: f64, table: &mut Vec<u64>, scratch: &mu
         table[0] = full(0);
         return;
     }
-    quantize(powers, max, table);
-    sweep(table, scratch);
+    let small = quantize(powers, max, table, scratch);
+    sweep(table, scratch, small);
 }
 
-/// Writes the masses `m_i` (with [`REACH_FLAG`] where due) into `table`: see the module docs.
-fn quantize(powers: &[f64], max: f64, table: &mut [u64]) {
+/// Writes the masses `m_i` (with [`REACH_FLAG`] where due) into `table` and lists the small
+/// and large indices in `scratch` (see [`classify`]); returns how many are small.
+fn quantize(powers: &[f64], max: f64, table: &mut [u64], scratch: &mut [u32]) -> usize {
     let n = powers.len();
     let scale = pow2_scale_to_unit(max);
-    let (s_hi, s_lo) = double_double_sum(powers.iter().map(|&p| scale.apply(p)));
+    let (s_hi, s_lo) = double_double_sum_of(powers, |p| scale.apply(p));
     let total = n as f64 * CAPACITY as f64; // N·2^32, exact in f64
     // k = total / S to about 2^-100: k_hi rounded, k_lo the correction of its residual.
     let k_hi = total / s_hi;
     let (prod, prod_err) = two_product(k_hi, s_hi);
     let k_lo = (((total - prod) - prod_err) - k_hi * s_lo) / s_hi;
+    // The power-of-two scale folded into k when that stays exact (both factors normal):
+    // p·(2^s·k) rounds exactly like (p·2^s)·k, one multiply instead of three.
+    let (fold_hi, fold_lo) = (scale.apply(k_hi), scale.apply(k_lo));
+    let folded = fold_hi.is_normal() && (fold_lo.is_normal() || fold_lo == 0.0);
 
     let mut fraction_sum = 0u64; // Σ fractions in units of 2^-32 (at most N·2^32 < 2^63)
     let mut rounded_before = 0u64; // round(X_{i−1}) − Σ_{j<i} ⌊x_j⌋
     let mut mass_sum = 0u64;
-    for (slot, &p) in table.iter_mut().zip(powers) {
-        let w = scale.apply(p);
-        let x = w * k_hi + w * k_lo;
+    let mut small = 0usize;
+    let mut large = 0usize;
+    let mut quantize_one = |i: usize, x: f64, positive: bool, slot: &mut u64| {
         let whole = x as i64; // ⌊x⌋: 0 ≤ x < N·C < 2^63
         let fraction = ((x - whole as f64) * CAPACITY as f64) as i64 as u64; // < 2^32
-        let whole = whole as u64;
         fraction_sum += fraction;
         let rounded = (fraction_sum + (CAPACITY >> 1)) >> 32;
-        let m = whole + rounded - rounded_before;
+        let m = whole as u64 + rounded - rounded_before;
         rounded_before = rounded;
         mass_sum += m;
-        *slot = m | if m == 0 && p > 0.0 { REACH_FLAG } else { 0 };
+        *slot = m | if m == 0 && positive { REACH_FLAG } else { 0 };
+        // Both ends of the index lists (see `classify`).
+        let is_small = m < CAPACITY;
+        scratch[small] = i as u32;
+        scratch[n - 1 - large] = i as u32;
+        small += usize::from(is_small);
+        large += usize::from(!is_small);
+    };
+    if folded {
+        for (i, (slot, &p)) in table.iter_mut().zip(powers).enumerate() {
+            quantize_one(i, p * fold_hi + p * fold_lo, p > 0.0, slot);
+        }
+    } else {
+        for (i, (slot, &p)) in table.iter_mut().zip(powers).enumerate() {
+            let w = scale.apply(p);
+            quantize_one(i, w * k_hi + w * k_lo, p > 0.0, slot);
+        }
     }
     let wanted = n as u64 * CAPACITY;
     if mass_sum != wanted {
@@ -112,7 +132,9 @@ fn quantize(powers: &[f64], max: f64, table: &mut [u64]) {
             table,
             wanted as i64 - mass_sum as i64,
         );
+        return classify(table, scratch);
     }
+    small
 }
 
 /// Gives the remainder `d = N·C − Σ m_i` one unit at a time to lights whose rounding
@@ -149,11 +171,11 @@ fn settle_remainder(
     }
 }
 
-/// The exact integer sweep over the masses in `table`, leaving the packed entries there.
-fn sweep(table: &mut [u64], scratch: &mut [u32]) {
+/// Lists the small indices ascending from the front of `scratch` and the large ones from
+/// the back (the k-th large at `n−1−k`); returns how many are small. Each index is written
+/// to both ends and the wrong write is overwritten later, so there is no branch.
+fn classify(table: &[u64], scratch: &mut [u32]) -> usize {
     let n = table.len();
-    // Small indices ascending from the front, large ones from the back (the k-th large at
-    // n−1−k). Each index is written to both ends; the wrong write is overwritten later.
     let mut small = 0usize;
     let mut large = 0usize;
     for (i, &m) in table.iter().enumerate() {
@@ -163,6 +185,18 @@ fn sweep(table: &mut [u64], scratch: &mut [u32]) {
         small += usize::from(is_small);
         large += usize::from(!is_small);
     }
+    small
+}
+
+/// The exact integer sweep over the masses in `table` (the first `small` indices of
+/// `scratch` small, the rest large from the back), leaving the packed entries there.
+///
+/// Each step finishes one column, either the next small one (filled by `h`) or `h` itself,
+/// and both candidates are computed and one selected, so the step has no data-dependent
+/// branch to mispredict (about half the steps would, with powers in random order).
+fn sweep(table: &mut [u64], scratch: &[u32], small: usize) {
+    let n = table.len();
+    let large = n - small;
     if large == 0 {
         // Impossible when Σ m = N·C; keep the table valid regardless.
         for (i, slot) in table.iter_mut().enumerate() {
@@ -175,31 +209,39 @@ fn sweep(table: &mut [u64], scratch: &mut [u32]) {
     let mut taken_large = 0usize; // large columns finished before `h`
     let mut s = 0usize;
     loop {
-        if w >= CAPACITY {
-            // `h` can fill a small column; when none is left, every remaining mass is C.
-            let Some(&l) = scratch[..small].get(s) else {
-                break;
-            };
-            let l = l as usize;
-            let raw = table[l];
-            let m_l = raw & !REACH_FLAG;
-            table[l] = word((m_l | raw >> 63) as u32, h as u32);
-            w -= CAPACITY - m_l;
-            s += 1;
-        } else {
-            // `h` becomes a column, aliasing the next large one, which carries on. There is
-            // one: the remaining masses add up to C per remaining column.
-            if taken_large + 1 >= large {
-                debug_assert!(false, "integer sweep ran out of large columns");
-                break;
-            }
-            let h_next = scratch[n - 2 - taken_large] as usize;
-            let m_next = table[h_next];
-            table[h] = word(w as u32, h_next as u32);
-            w = m_next - (CAPACITY - w);
-            h = h_next;
-            taken_large += 1;
+        // All ones when `h` fills the next small column, zero when `h` itself turns. The
+        // step selects with this mask (bit operations, no branch on `fill`, which the
+        // compiler otherwise turns back into a mispredicted jump).
+        let fill = u64::from(w >= CAPACITY).wrapping_neg();
+        let filling = fill & 1;
+        // The end, as one condition: no small column left to fill (every remaining mass is
+        // then exactly C), or no large column left to turn into (impossible when
+        // Σ m = N·C: the rest would hold less than C per column).
+        let no_small = u64::from(s == small);
+        let no_large = u64::from(taken_large + 1 == large);
+        if (no_small & fill) | (no_large & !fill) != 0 {
+            debug_assert!(filling == 1, "integer sweep ran out of large columns");
+            break;
         }
+        // The next small column (when none is left, a large index: then unused) and the
+        // next large one (when none is left, the last small index: then unused).
+        let l = u64::from(scratch[s]);
+        let h_next = u64::from(scratch[(n - 2).saturating_sub(taken_large)]);
+        let raw = table[l as usize];
+        let m_l = raw & !REACH_FLAG;
+        let m_next = table[h_next as usize] & !REACH_FLAG;
+        let h64 = h as u64;
+        let column = (l & fill) | (h64 & !fill);
+        let threshold = ((m_l | raw >> 63) & fill) | (w & !fill);
+        let alias = (h64 & fill) | (h_next & !fill);
+        table[column as usize] = word(threshold as u32, alias as u32);
+        // Filled: h gives C − m_l. Turned: h_next gives C − w to h's column.
+        let w_fill = w.wrapping_add(m_l).wrapping_sub(CAPACITY);
+        let w_turn = m_next.wrapping_add(w).wrapping_sub(CAPACITY);
+        w = (w_fill & fill) | (w_turn & !fill);
+        h = ((h64 & fill) | (h_next & !fill)) as usize;
+        s += filling as usize;
+        taken_large += (filling ^ 1) as usize;
     }
     debug_assert_eq!(w, CAPACITY, "integer sweep must end with a full column");
     table[h] = full(h);

@@ -142,7 +142,8 @@ pub struct AliasTable {
     exact: exact::ExactParts,
     /// The integer construction's `f64` views, computed when first asked for.
     derived: OnceLock<DerivedViews>,
-    /// The integer sweep's index lists, kept so a rebuild allocates nothing.
+    /// The integer sweep's index lists, kept after a rebuild so the next one allocates
+    /// nothing (empty after a fresh build).
     scratch: Vec<u32>,
 }
 
@@ -180,12 +181,16 @@ impl AliasTable {
             scratch: Vec::new(),
         };
         table.rebuild(powers);
+        // A one-off table keeps only what it samples with (8 bytes per light); the sweep's
+        // index lists come back on the first rebuild and stay for the next.
+        table.scratch = Vec::new();
         table
     }
 
     /// Rebuilds the table in place for new `powers`, with the same construction, reusing
     /// every buffer: when `N` is unchanged nothing is allocated (what the app does while a
-    /// power is dragged).
+    /// power is dragged), except the integer sweep's 4-byte index list on the first rebuild
+    /// of a freshly built table.
     pub fn rebuild(&mut self, powers: &LightPowers) {
         let n = powers.len();
         self.columns = Uniform::new(n as u32);

@@ -1,9 +1,30 @@
-//! Helpers shared by the tests of the `lightpick` binary.
+//! Helpers shared by the tests of the `lightpick` binary and app.
 
 #![allow(dead_code, clippy::unwrap_used)] // Each test file uses a subset; a panic is the report.
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable as _;
+use lightpick::app::LightpickApp;
+
+/// The whole app on its test scene at the tests' window size (1560×960), one frame run.
+pub fn app_harness() -> Harness<'static, LightpickApp> {
+    let mut harness = Harness::builder()
+        .with_size([1560.0, 960.0])
+        .build_ui_state(
+            |ui, app: &mut LightpickApp| app.ui(ui),
+            LightpickApp::for_tests(),
+        );
+    harness.run();
+    harness
+}
+
+/// Whether some node is labelled exactly `label`.
+pub fn shows(harness: &Harness<'_, LightpickApp>, label: &str) -> bool {
+    harness.query_all_by_label(label).next().is_some()
+}
 
 /// A scratch directory unique to this test process.
 pub fn scratch(name: &str) -> PathBuf {
