@@ -193,7 +193,11 @@ fn rebuild_equals_build_and_reuses_the_buffers() {
         let words = table.words.as_ptr();
         let scratch = table.scratch.as_ptr();
         table.rebuild(&b);
-        assert_eq!(table.scratch.as_ptr(), scratch, "{construction}: scratch reallocated");
+        assert_eq!(
+            table.scratch.as_ptr(),
+            scratch,
+            "{construction}: scratch reallocated"
+        );
         assert_eq!(
             table,
             AliasTable::build_with(&b, construction),
