@@ -3,9 +3,7 @@
 
 use crate::common::{app_harness as harness, shows};
 use egui::accesskit::Role;
-use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
-use lightpick::app::LightpickApp;
 
 #[test]
 fn seed_table_is_shown_with_exact_fractions() {
