@@ -299,40 +299,41 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
     // construction: build (allocating), rebuild in place, one pick at a time.
     let other = Distribution::Exponential.powers(n, seed ^ 0x5eed);
     let other = LightPowers::new(other).context("bench powers")?;
-    let mut exact_rebuild = 0.0;
-    let mut exact_build = 0.0;
-    let mut exact_sample = 0.0;
-    let mut alias_rebuild = 0.0;
-    let mut alias_build = 0.0;
-    for construction in [Construction::Exact, Construction::Integer] {
-        let build = median_ns(reps, build_batch, |_| {
-            AliasTable::build_with(&powers, construction)
-        });
-        let mut table = AliasTable::build_with(&powers, construction);
-        let inputs = [&other, &powers];
-        let rebuild = median_ns(reps, build_batch, |i| {
-            table.rebuild(inputs[i & 1]);
-            table.len()
-        });
-        // An even number of rebuilds ends on `powers` in every repetition.
-        table.rebuild(&powers);
-        let sampler = Sampler::Alias(table);
-        let sample = time_picks(&sampler, seed, reps, samples);
-        if construction == Construction::Exact {
-            (exact_build, exact_rebuild, exact_sample) = (build, rebuild, sample);
-        } else {
-            (alias_build, alias_rebuild) = (build, rebuild);
-            push("alias", "pcg", build, Some(rebuild), sample);
-        }
-    }
+    let integer = time_construction(
+        Construction::Integer,
+        &powers,
+        &other,
+        seed,
+        reps,
+        build_batch,
+        samples,
+    );
+    push(
+        "alias",
+        "pcg",
+        integer.build,
+        Some(integer.rebuild),
+        integer.sample,
+    );
+    let exact = time_construction(
+        Construction::Exact,
+        &powers,
+        &other,
+        seed,
+        reps,
+        build_batch,
+        samples,
+    );
     push(
         "alias-exact",
         "pcg",
-        exact_build,
-        Some(exact_rebuild),
-        exact_sample,
+        exact.build,
+        Some(exact.rebuild),
+        exact.sample,
     );
-    let table = AliasTable::build(&powers);
+    drop(exact);
+    let (alias_build, alias_rebuild) = (integer.build, integer.rebuild);
+    let table = integer.table;
     // Batched picks into a buffer (the same picks as one at a time on the same stream).
     let mut batch = vec![0u32; samples.min(1 << 16)];
     let batch_sample = median_ns(reps, samples / batch.len(), |rep| {
@@ -423,6 +424,48 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
     let wi_sample = median_ns(reps, samples, |_| wi.sample(&mut small));
     push("rand::WeightedIndex", "SmallRng", wi_build, None, wi_sample);
     Ok(cases)
+}
+
+/// One construction's timings and its table (built from `powers`).
+struct ConstructionTimes {
+    build: f64,
+    rebuild: f64,
+    sample: f64,
+    table: AliasTable,
+}
+
+/// Times a construction: build (allocating), rebuild in place (alternating `other` and
+/// `powers`), and one pick at a time from the table rebuilt on `powers`.
+fn time_construction(
+    construction: Construction,
+    powers: &LightPowers,
+    other: &LightPowers,
+    seed: u64,
+    reps: usize,
+    build_batch: usize,
+    samples: usize,
+) -> ConstructionTimes {
+    let build = median_ns(reps, build_batch, |_| {
+        AliasTable::build_with(powers, construction)
+    });
+    let mut table = AliasTable::build_with(powers, construction);
+    let inputs = [other, powers];
+    let rebuild = median_ns(reps, build_batch, |i| {
+        table.rebuild(inputs[i & 1]);
+        table.len()
+    });
+    table.rebuild(powers);
+    let sampler = Sampler::Alias(table);
+    let sample = time_picks(&sampler, seed, reps, samples);
+    let Sampler::Alias(table) = sampler else {
+        unreachable!("built as alias above")
+    };
+    ConstructionTimes {
+        build,
+        rebuild,
+        sample,
+        table,
+    }
 }
 
 /// Time per pick of `sampler`, drawing from one stream of the project's [`Rng`] per

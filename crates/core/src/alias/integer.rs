@@ -87,16 +87,12 @@ fn quantize(powers: &[f64], max: f64, table: &mut [u64], scratch: &mut [u32]) ->
     let k_hi = total / s_hi;
     let (prod, prod_err) = two_product(k_hi, s_hi);
     let k_lo = (((total - prod) - prod_err) - k_hi * s_lo) / s_hi;
-    // The power-of-two scale folded into k when that stays exact (both factors normal):
-    // p·(2^s·k) rounds exactly like (p·2^s)·k, one multiply instead of three.
-    let (fold_hi, fold_lo) = (scale.apply(k_hi), scale.apply(k_lo));
-    let folded = fold_hi.is_normal() && (fold_lo.is_normal() || fold_lo == 0.0);
+    let ideal = IdealMass::new(scale, k_hi, k_lo);
 
     let mut fraction_sum = 0u64; // Σ fractions in units of 2^-32 (at most N·2^32 < 2^63)
     let mut rounded_before = 0u64; // round(X_{i−1}) − Σ_{j<i} ⌊x_j⌋
     let mut mass_sum = 0u64;
-    let mut small = 0usize;
-    let mut large = 0usize;
+    let mut lists = IndexLists::new(scratch);
     let mut quantize_one = |i: usize, x: f64, positive: bool, slot: &mut u64| {
         let whole = x as i64; // ⌊x⌋: 0 ≤ x < N·C < 2^63
         let fraction = ((x - whole as f64) * CAPACITY as f64) as i64 as u64; // < 2^32
@@ -106,32 +102,22 @@ fn quantize(powers: &[f64], max: f64, table: &mut [u64], scratch: &mut [u32]) ->
         rounded_before = rounded;
         mass_sum += m;
         *slot = m | if m == 0 && positive { REACH_FLAG } else { 0 };
-        // Both ends of the index lists (see `classify`).
-        let is_small = m < CAPACITY;
-        scratch[small] = i as u32;
-        scratch[n - 1 - large] = i as u32;
-        small += usize::from(is_small);
-        large += usize::from(!is_small);
+        lists.push(i, m < CAPACITY);
     };
-    if folded {
+    // Two loops rather than a test per light of which formula applies.
+    if ideal.folded {
         for (i, (slot, &p)) in table.iter_mut().zip(powers).enumerate() {
-            quantize_one(i, p * fold_hi + p * fold_lo, p > 0.0, slot);
+            quantize_one(i, ideal.folded_of(p), p > 0.0, slot);
         }
     } else {
         for (i, (slot, &p)) in table.iter_mut().zip(powers).enumerate() {
-            let w = scale.apply(p);
-            quantize_one(i, w * k_hi + w * k_lo, p > 0.0, slot);
+            quantize_one(i, ideal.scaled_of(p), p > 0.0, slot);
         }
     }
+    let small = lists.small;
     let wanted = n as u64 * CAPACITY;
     if mass_sum != wanted {
-        settle_remainder(
-            powers,
-            scale,
-            (k_hi, k_lo),
-            table,
-            wanted as i64 - mass_sum as i64,
-        );
+        settle_remainder(powers, ideal, table, wanted as i64 - mass_sum as i64);
         return classify(table, scratch);
     }
     small
@@ -140,21 +126,13 @@ fn quantize(powers: &[f64], max: f64, table: &mut [u64], scratch: &mut [u32]) ->
 /// Gives the remainder `d = N·C − Σ m_i` one unit at a time to lights whose rounding
 /// `x_i − m_i` has the sign of `d` (each stays within one unit of `x_i`); whatever no such
 /// light takes (never seen) goes to the largest mass.
-fn settle_remainder(
-    powers: &[f64],
-    scale: Pow2Scale,
-    (k_hi, k_lo): (f64, f64),
-    table: &mut [u64],
-    mut d: i64,
-) {
+fn settle_remainder(powers: &[f64], ideal: IdealMass, table: &mut [u64], mut d: i64) {
     for (slot, &p) in table.iter_mut().zip(powers) {
         if d == 0 {
             return;
         }
-        let w = scale.apply(p);
-        let x = w * k_hi + w * k_lo;
         let m = *slot & !REACH_FLAG;
-        let error = x - m as f64;
+        let error = ideal.of(p) - m as f64;
         if d > 0 && error > 0.0 && p > 0.0 {
             *slot = m + 1;
             d -= 1;
@@ -175,17 +153,89 @@ fn settle_remainder(
 /// the back (the k-th large at `n−1−k`); returns how many are small. Each index is written
 /// to both ends and the wrong write is overwritten later, so there is no branch.
 fn classify(table: &[u64], scratch: &mut [u32]) -> usize {
-    let n = table.len();
-    let mut small = 0usize;
-    let mut large = 0usize;
+    let mut lists = IndexLists::new(scratch);
     for (i, &m) in table.iter().enumerate() {
-        let is_small = (m & !REACH_FLAG) < CAPACITY;
-        scratch[small] = i as u32;
-        scratch[n - 1 - large] = i as u32;
-        small += usize::from(is_small);
-        large += usize::from(!is_small);
+        lists.push(i, (m & !REACH_FLAG) < CAPACITY);
     }
-    small
+    lists.small
+}
+
+/// The small indices ascending from the front of one buffer, the large ones from the back.
+struct IndexLists<'a> {
+    scratch: &'a mut [u32],
+    small: usize,
+    large: usize,
+}
+
+impl<'a> IndexLists<'a> {
+    fn new(scratch: &'a mut [u32]) -> Self {
+        Self {
+            scratch,
+            small: 0,
+            large: 0,
+        }
+    }
+
+    /// Lists index `i`: written to both ends, and the end it does not belong to is
+    /// overwritten by a later index (the two ends never meet before the last one).
+    #[inline]
+    fn push(&mut self, i: usize, is_small: bool) {
+        let n = self.scratch.len();
+        self.scratch[self.small] = i as u32;
+        self.scratch[n - 1 - self.large] = i as u32;
+        self.small += usize::from(is_small);
+        self.large += usize::from(!is_small);
+    }
+}
+
+/// The ideal mass `x = w·k` of a power, `k = N·2^32/S` carried as `k_hi + k_lo`.
+#[derive(Clone, Copy)]
+struct IdealMass {
+    scale: Pow2Scale,
+    k_hi: f64,
+    k_lo: f64,
+    /// `2^s·k_hi`, `2^s·k_lo`: the power-of-two scale folded into `k`.
+    fold_hi: f64,
+    fold_lo: f64,
+    /// Whether the folded factors are exact (normal): `p·(2^s·k)` then rounds exactly
+    /// like `(p·2^s)·k`, one multiply instead of three.
+    folded: bool,
+}
+
+impl IdealMass {
+    fn new(scale: Pow2Scale, k_hi: f64, k_lo: f64) -> Self {
+        let (fold_hi, fold_lo) = (scale.apply(k_hi), scale.apply(k_lo));
+        Self {
+            scale,
+            k_hi,
+            k_lo,
+            fold_hi,
+            fold_lo,
+            folded: fold_hi.is_normal() && (fold_lo.is_normal() || fold_lo == 0.0),
+        }
+    }
+
+    /// `x` with the folded factors (only when [`IdealMass::folded`]).
+    #[inline]
+    fn folded_of(self, p: f64) -> f64 {
+        p * self.fold_hi + p * self.fold_lo
+    }
+
+    /// `x` scaling the power first.
+    #[inline]
+    fn scaled_of(self, p: f64) -> f64 {
+        let w = self.scale.apply(p);
+        w * self.k_hi + w * self.k_lo
+    }
+
+    /// `x` the way the quantization computed it.
+    fn of(self, p: f64) -> f64 {
+        if self.folded {
+            self.folded_of(p)
+        } else {
+            self.scaled_of(p)
+        }
+    }
 }
 
 /// The exact integer sweep over the masses in `table` (the first `small` indices of
