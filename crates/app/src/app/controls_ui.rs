@@ -58,6 +58,11 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
                 );
             ui.checkbox(&mut state.settings.show_stepper, "Construction stepper")
                 .on_hover_text("Vose's algorithm building the alias table, one pairing at a time");
+            ui.checkbox(&mut state.estimator.open, "Estimator at one point")
+                .on_hover_text(
+                    "The running estimate at the seed's shading point (or a clicked pixel), \
+                     sample by sample, under each scheme",
+                );
         });
         ui.separator();
         controls_ui(ui, state);
@@ -132,6 +137,11 @@ pub fn controls_ui(ui: &mut Ui, state: &mut AppState) {
     ui.selectable_value(&mut s.budget, BudgetMode::EqualTime, "equal time")
         .on_hover_text("Every scheme gets the same compute time per frame (about 12 ms), so a cheaper scheme adds more samples");
     ui.separator();
+    ui.selectable_value(&mut s.device, Device::Auto, "auto")
+        .on_hover_text(
+            "A hardware GPU renders the images; on a software rasterizer (llvmpipe) the app \
+             measures the GPU and the CPU renderer for a few seconds and keeps the faster",
+        );
     ui.selectable_value(&mut s.device, Device::Gpu, "GPU")
         .on_hover_text(
             "Render with wgpu compute on the window's device (CPU fallback without one)",

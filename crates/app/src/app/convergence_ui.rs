@@ -46,7 +46,13 @@ pub fn convergence_ui(
     let a = &published.importance;
     let sp = &published.spatial;
     let spatial_exact = published.spatial_is_exact();
-    figures_ui(ui, [u, a, sp], pixels, spatial_exact);
+    figures_ui(
+        ui,
+        [u, a, sp],
+        pixels,
+        spatial_exact,
+        &published.time_source,
+    );
     if u.series.is_empty() && a.series.is_empty() && sp.series.is_empty() {
         ui.label(
             published
@@ -134,7 +140,13 @@ const SCHEMES: [(&str, Scheme); 3] = [
 /// efficiency and variance ratios over uniform selection. With `spatial_exact` the spatial
 /// row is the exact pick: variance 0 by construction (the measured rounding on hover),
 /// efficiency ∞.
-fn figures_ui(ui: &mut Ui, images: [&SchemeImage; 3], pixels: usize, spatial_exact: bool) {
+fn figures_ui(
+    ui: &mut Ui,
+    images: [&SchemeImage; 3],
+    pixels: usize,
+    spatial_exact: bool,
+    time_source: &str,
+) {
     let u = images[0];
     egui::Grid::new("convergence_figures")
         .striped(true)
@@ -146,7 +158,7 @@ fn figures_ui(ui: &mut Ui, images: [&SchemeImage; 3], pixels: usize, spatial_exa
                     "Var/sample",
                     "Mean per-pixel variance of one sample (normalized irradiance)",
                 ),
-                ("T/sample", "Render time per pixel sample"),
+                ("T/sample", time_source),
                 (
                     "1/(Var·T)",
                     "Efficiency: the inverse of variance times time",
@@ -190,6 +202,15 @@ fn figures_ui(ui: &mut Ui, images: [&SchemeImage; 3], pixels: usize, spatial_exa
                 ui.end_row();
             }
         });
+    ui.label(
+        egui::RichText::new(format!("T: {time_source}"))
+            .small()
+            .color(colors::muted(ui.visuals().dark_mode)),
+    )
+    .on_hover_text(
+        "lightpick bench times the same passes the same way (its GPU rows at the preset's \
+         own resolution), so these figures are comparable with it",
+    );
 }
 
 /// "E× (variance V×)": the efficiency and variance ratios of `image` over uniform, "–"

@@ -136,6 +136,8 @@ pub struct Published {
     pub reference_note: Option<String>,
     /// Where it was rendered ("CPU (rayon, 2 threads)").
     pub device_note: String,
+    /// What each lane's time `T` measures, in words (for the figures' hover text).
+    pub time_source: String,
 }
 
 impl Published {
@@ -279,6 +281,15 @@ impl Job {
             reference_rgba: full.map(|r| tonemap_rgba8(r, exposure)),
             reference_note: self.reference_note.clone(),
             device_note: device_note.to_owned(),
+            time_source: if virtual_time_note(device_note) {
+                "virtual time (inline test engine: 10 ns per pixel sample)".to_owned()
+            } else {
+                format!(
+                    "CPU pass time per pixel sample (wall clock of each scheme's pass on {} \
+                     render threads), excluding tonemap and error maps",
+                    rayon::current_num_threads()
+                )
+            },
         }
     }
 }
@@ -355,6 +366,13 @@ pub struct Engine {
 }
 
 const CPU_NOTE: &str = "CPU renderer";
+/// The device note of the inline (test) engine, whose timings are virtual.
+const INLINE_NOTE: &str = "CPU renderer (inline, virtual time)";
+
+/// Whether a frame published with `device_note` has virtual timings.
+fn virtual_time_note(device_note: &str) -> bool {
+    device_note == INLINE_NOTE
+}
 
 impl Engine {
     /// A threaded engine that asks `ctx` to repaint whenever a frame is ready.
@@ -436,7 +454,7 @@ impl Engine {
             && config.running
         {
             job.advance(config, true);
-            *latest = Some(Arc::new(job.publish(config, CPU_NOTE)));
+            *latest = Some(Arc::new(job.publish(config, INLINE_NOTE)));
         }
     }
 
@@ -476,7 +494,7 @@ impl Engine {
             } => {
                 handle(command, job, config, true);
                 if let (Some(job), Some(config)) = (job.as_mut(), config.as_ref()) {
-                    *latest = Some(Arc::new(job.publish(config, CPU_NOTE)));
+                    *latest = Some(Arc::new(job.publish(config, INLINE_NOTE)));
                 }
             }
         }
@@ -515,15 +533,15 @@ fn handle(
 }
 
 /// The worker loop: waits for commands while paused; while running renders one frame at a
-/// time, each after the UI has taken the previous one. Rendering uses a rayon pool that
-/// leaves one core to the UI thread.
+/// time, each after the UI has taken the previous one, on a rayon pool of every core.
 fn worker(
     receiver: &mpsc::Receiver<Command>,
     shared: &Mutex<Option<Arc<Published>>>,
     ctx: &egui::Context,
 ) {
-    let threads =
-        std::thread::available_parallelism().map_or(1, |n| n.get().saturating_sub(1).max(1));
+    // Every core: the UI thread mostly waits for its frame, and the bench renders with every
+    // core too, so the two measure the same time per sample.
+    let threads = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .thread_name(|i| format!("lightpick-render-{i}"))

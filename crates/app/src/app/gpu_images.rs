@@ -121,6 +121,11 @@ impl GpuImages {
         }
     }
 
+    /// Whether the adapter is a software rasterizer on the CPU (llvmpipe, lavapipe).
+    pub fn is_software(&self) -> bool {
+        self.ctx.is_software()
+    }
+
     /// The adapter, in words ("llvmpipe (LLVM 19), Vulkan").
     pub fn description(&self) -> String {
         self.ctx.description()
@@ -157,10 +162,11 @@ impl GpuImages {
         {
             if lane.renderer.pass_rows_done() > 0 {
                 // The rest of the pass counts in the lane's render time like any other.
-                let started = Instant::now();
                 lane.renderer.finish_pass().map_err(|e| e.to_string())?;
-                let _ = self.ctx.device().poll(wgpu::PollType::wait_indefinitely());
-                lane.image.seconds += started.elapsed().as_secs_f64();
+                lane.image.seconds += lane
+                    .renderer
+                    .take_pass_seconds()
+                    .map_err(|e| e.to_string())?;
                 lane.renderer.tonemap(exposure).map_err(|e| e.to_string())?;
                 lane.image.spp = lane.renderer.samples_per_pixel();
                 lane.image.pass_progress = 0.0;
@@ -287,15 +293,22 @@ impl GpuImages {
                         n.min(height - before)
                     }
                 };
-                // Wait for this lane's work, so the time per frame is the lane's own.
-                let _ = self.ctx.device().poll(wgpu::PollType::wait_indefinitely());
+                // The lane's time is its passes' own (the device's timestamps, or the CPU
+                // clock over each pass alone on an idle queue): never tonemapping, readback,
+                // the other lanes or egui's frame. The rows each lane gets (equal samples or
+                // equal time) are planned with the same pass time; the UI's own cost is the
+                // frame's wall time less the wall time these waits took.
+                let pass_seconds = lane
+                    .renderer
+                    .take_pass_seconds()
+                    .map_err(|e| e.to_string())?;
                 let spent = started.elapsed().as_secs_f64();
-                let per_row = spent / f64::from(rows.max(1));
+                let per_row = pass_seconds / f64::from(rows.max(1));
                 lane.row_seconds = Some(lane.row_seconds.map_or(per_row, |t| {
                     (1.0 - ROW_COST_SMOOTHING) * t + ROW_COST_SMOOTHING * per_row
                 }));
-                lane.image.seconds += spent;
-                lane.image.last_frame_seconds = spent;
+                lane.image.seconds += pass_seconds;
+                lane.image.last_frame_seconds = pass_seconds;
                 lane.image.spp = lane.renderer.samples_per_pixel();
                 lane.image.pass_progress =
                     lane.renderer.pass_rows_done() as f32 / height.max(1) as f32;
@@ -380,6 +393,10 @@ impl GpuImages {
                 .map(|r| lightpick_core::render::tonemap_rgba8(r, config.exposure)),
             reference_note: lanes.reference_note.clone(),
             device_note: format!("GPU: {}", self.ctx.description()),
+            time_source: format!(
+                "GPU pass time per pixel sample ({}), excluding tonemap and readback",
+                lanes.importance.renderer.pass_clock().describe()
+            ),
         }));
         Ok(())
     }

@@ -8,76 +8,11 @@ use egui::{Color32, Rect, Response, Sense, Ui, vec2};
 use egui_plot::{Bar, BarChart, Legend, Plot};
 use lightpick_core::Scheme;
 use lightpick_core::inspect::PointInspection;
-use lightpick_core::scene::{Scene, pixel_center};
-use lightpick_core::spatial::SpatialSampler;
-use std::sync::Arc;
 
-use super::background::Background;
 use super::colors;
 use super::fractions;
 use super::state::AppState;
-
-/// Which pixel is inspected, and its inspection for the current scene.
-#[derive(Debug, Default)]
-pub struct Inspector {
-    /// The inspected pixel `(px, py)`, or `None` (the window is closed).
-    pub pixel: Option<[u32; 2]>,
-    /// The spatial sampler of a scene generation, built on a worker thread (inline in tests).
-    pub spatial: Background<(u64, Arc<SpatialSampler>)>,
-    cached: Option<Cached>,
-}
-
-#[derive(Debug)]
-struct Cached {
-    generation: u64,
-    pixel: [u32; 2],
-    with_spatial: bool,
-    inspection: PointInspection,
-}
-
-impl Inspector {
-    /// The inspection of the selected pixel for the scene of `generation`, computed (`O(N)`)
-    /// when the pixel or the scene changed, and again once the scene's spatial sampler is
-    /// ready. `None` when no pixel is selected or it lies outside the scene's image.
-    fn inspection(&mut self, generation: u64, scene: &Arc<Scene>) -> Option<&PointInspection> {
-        let pixel = self.pixel?;
-        if pixel[0] >= scene.plane.width || pixel[1] >= scene.plane.height {
-            return None;
-        }
-        self.spatial.poll();
-        let spatial = self
-            .spatial
-            .result
-            .as_ref()
-            .filter(|(g, _)| *g == generation)
-            .map(|(_, sampler)| Arc::clone(sampler));
-        if spatial.is_none() {
-            let for_build = Arc::clone(scene);
-            self.spatial
-                .start(generation, "lightpick-inspector-spatial", move |_| {
-                    let sampler = SpatialSampler::build(&for_build.positions, &for_build.powers);
-                    (generation, Arc::new(sampler))
-                });
-        }
-        let fresh = self.cached.as_ref().is_some_and(|c| {
-            c.generation == generation && c.pixel == pixel && c.with_spatial == spatial.is_some()
-        });
-        if !fresh {
-            let x = pixel_center(&scene.plane, pixel[0], pixel[1]);
-            let inspection = match &spatial {
-                Some(sampler) => PointInspection::at_with_spatial(scene, x, sampler),
-                None => PointInspection::at(scene, x),
-            };
-            self.cached = Some(Cached {
-                generation,
-                pixel,
-                with_spatial: spatial.is_some(),
-                inspection,
-            });
-        }
-        self.cached.as_ref().map(|c| &c.inspection)
-    }
-}
+use super::state::estimator::EstimatorPoint;
 
 /// The pixel of a `width × height` image under a click on its `response`, if it was
 /// clicked.
@@ -161,6 +96,17 @@ pub fn inspector_ui(ui: &mut Ui, state: &mut AppState) {
         return;
     }
     variance_ui(ui, inspection);
+    if ui
+        .button("Watch the estimate converge here")
+        .on_hover_text(
+            "Open the estimator at this pixel's point: the running estimate of each scheme, \
+             sample by sample, against the exact irradiance",
+        )
+        .clicked()
+    {
+        state.estimator.open_at(EstimatorPoint::Pixel(pixel));
+        state.estimator.running = true;
+    }
     ui.add_space(4.0);
     shares_plot_ui(ui, inspection);
     ui.add_space(4.0);

@@ -16,6 +16,7 @@ pub mod colors;
 pub mod controls_ui;
 pub mod convergence_ui;
 pub mod engine;
+pub mod estimator_ui;
 pub mod file_dialog_ui;
 pub mod fractions;
 pub mod frame_budget;
@@ -24,6 +25,7 @@ pub mod histogram_ui;
 pub mod inspector_ui;
 pub mod lights_ui;
 pub mod log_axes;
+pub mod placement;
 pub mod precision_ui;
 pub mod render_ui;
 pub mod scene_io;
@@ -33,6 +35,7 @@ pub mod table_ui;
 pub mod trade_ui;
 pub mod walkthrough_ui;
 
+use std::fmt::Write as _;
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
@@ -99,12 +102,14 @@ pub fn run() -> anyhow::Result<()> {
 
 /// eframe's wgpu setup with the adapter's own limits: the compute renderers need storage
 /// buffers (and, for millions of lights, large ones) that egui's defaults, sized for drawing
-/// (WebGL2's on a GL adapter), leave out.
+/// (WebGL2's on a GL adapter), leave out; and timestamp queries where the adapter has them.
 fn wgpu_options() -> eframe::egui_wgpu::WgpuConfiguration {
     use eframe::egui_wgpu::{WgpuConfiguration, WgpuSetup, WgpuSetupCreateNew};
     let mut setup = WgpuSetupCreateNew::without_display_handle();
     setup.device_descriptor = std::sync::Arc::new(|adapter| eframe::wgpu::DeviceDescriptor {
         label: Some("lightpick device"),
+        // Timestamps, when the adapter has them: the images' pass times come from the GPU.
+        required_features: adapter.features() & lightpick_core::gpu::GpuContext::TIMING_FEATURES,
         required_limits: adapter.limits(),
         ..Default::default()
     });
@@ -152,6 +157,8 @@ pub enum PanelKind {
     Precision,
     /// The per-pixel inspector (of the pixel selected in `state.inspector`).
     Inspector,
+    /// The running estimate at one shading point (`state.estimator`).
+    Estimator,
 }
 
 /// The app: the state, the render engine and the textures of its latest frame.
@@ -170,6 +177,8 @@ pub struct LightpickApp {
     gpu: Option<gpu_images::GpuImages>,
     /// Why the GPU images stopped (shown in the status bar; the CPU takes over).
     gpu_error: Option<String>,
+    /// Where the images render (measured in `Auto` on a software adapter).
+    placement: placement::Placement,
 }
 
 /// Frame-time log to stderr (`LIGHTPICK_FRAME_LOG=1`), for measuring responsiveness.
@@ -237,6 +246,7 @@ impl LightpickApp {
             }),
             gpu: None,
             gpu_error: None,
+            placement: placement::Placement::default(),
         }
     }
 
@@ -244,6 +254,9 @@ impl LightpickApp {
     pub fn for_tests() -> Self {
         let mut state = AppState::seed();
         state.settings.paused = true;
+        // The GPU when the harness has one (kittest's wgpu device is lavapipe, where `Auto`
+        // would measure both renderers first); tests of `Auto` set it themselves.
+        state.settings.device = state::Device::Gpu;
         Self::with_state(state, false)
     }
 
@@ -274,18 +287,47 @@ impl LightpickApp {
         self.engine.as_mut().and_then(Engine::latest)
     }
 
-    /// Whether the GPU renders the images this frame.
+    /// Whether the GPU renders the images this frame ([`placement`]).
     fn uses_gpu(&self) -> bool {
-        self.state.settings.device == state::Device::Gpu
-            && self.gpu.is_some()
-            && self.gpu_error.is_none()
+        self.placement
+            .renderer(self.state.settings.device, self.adapter())
+            == placement::Renderer::Gpu
+    }
+
+    /// The wgpu compute device as the placement sees it.
+    fn adapter(&self) -> placement::Adapter {
+        match &self.gpu {
+            Some(gpu) if self.gpu_error.is_none() => {
+                if gpu.is_software() {
+                    placement::Adapter::Software
+                } else {
+                    placement::Adapter::Hardware
+                }
+            }
+            _ => placement::Adapter::None,
+        }
+    }
+
+    /// Where the images render, and why (the status bar's words).
+    pub fn placement_note(&self) -> String {
+        let name = self
+            .gpu
+            .as_ref()
+            .map_or_else(String::new, gpu_images::GpuImages::description);
+        let mut note = self
+            .placement
+            .describe(self.state.settings.device, self.adapter(), &name);
+        if let Some(e) = &self.gpu_error {
+            let _ = write!(note, "; GPU failed: {e}");
+        }
+        note
     }
 
     /// Draws the whole app into `ui` and advances it by one frame.
     pub fn ui(&mut self, ui: &mut Ui) {
         let started = Instant::now();
         let published = self.begin_frame(ui.ctx());
-        let device_note = self.device_note(published.as_deref());
+        let device_note = self.placement_note();
         let frame_ms = if self.threaded {
             Some(self.frame_ms)
         } else {
@@ -389,6 +431,7 @@ impl LightpickApp {
             PanelKind::Trade => trade_ui::trade_ui(ui, &mut self.state),
             PanelKind::Precision => precision_ui::precision_ui(ui, &mut self.state),
             PanelKind::Inspector => inspector_ui::inspector_ui(ui, &mut self.state),
+            PanelKind::Estimator => estimator_ui::estimator_ui(ui, &mut self.state),
         });
         self.end_frame(ui, published.as_deref());
     }
@@ -413,6 +456,7 @@ impl LightpickApp {
         inspector_ui::inspector_window(ctx, &mut self.state);
         walkthrough_ui::walkthrough_window(ctx, &mut self.state);
         stepper_ui::stepper_window(ctx, &mut self.state);
+        estimator_ui::estimator_window(ctx, &mut self.state);
     }
 
     /// Everything a frame does before drawing: background builds, shortcuts, theme, engine
@@ -423,11 +467,12 @@ impl LightpickApp {
         }
         self.state.frame += 1;
         self.state.poll_build();
-        walkthrough_ui::prepare(&mut self.state);
+        self.state.prepare_walkthrough();
         self.shortcuts(ctx);
         self.apply_theme(ctx);
         self.advance(ctx);
         let published = self.published();
+        self.observe_placement(published.as_deref());
         if let Some(p) = &published {
             self.textures.update(ctx, p);
         }
@@ -488,6 +533,7 @@ impl LightpickApp {
     /// Feeds the engine and the histograms: restarts on a new table or a reset, runs a
     /// frame when running or stepped.
     fn advance(&mut self, ctx: &egui::Context) {
+        let use_gpu = self.uses_gpu();
         let threaded = self.threaded;
         let engine = self.engine.get_or_insert_with(|| {
             if threaded {
@@ -505,9 +551,6 @@ impl LightpickApp {
             seed: s.seed,
             running,
         };
-        let use_gpu = self.state.settings.device == state::Device::Gpu
-            && self.gpu.is_some()
-            && self.gpu_error.is_none();
         // The CPU engine idles while the GPU renders.
         engine.sync_config(EngineConfig {
             running: running && !use_gpu,
@@ -546,17 +589,30 @@ impl LightpickApp {
         }
     }
 
-    fn device_note(&self, published: Option<&Published>) -> String {
-        let base = published.map_or("CPU renderer", |p| p.device_note.as_str());
-        match (self.state.settings.device, &self.gpu, &self.gpu_error) {
-            (state::Device::Gpu, None, _) => {
-                format!("{base} (no wgpu compute device: the CPU renders the images)")
-            }
-            (state::Device::Gpu, Some(_), Some(e)) => {
-                format!("{base} (GPU failed: {e}; the CPU renders the images)")
-            }
-            _ => base.to_owned(),
-        }
+    /// Feeds the placement's measurement with the frame just taken.
+    fn observe_placement(&mut self, published: Option<&Published>) {
+        let shown = if self.uses_gpu() {
+            placement::Renderer::Gpu
+        } else {
+            placement::Renderer::Cpu
+        };
+        let total_spp = published
+            .filter(|p| p.generation == self.state.built.generation)
+            .map(|p| {
+                [&p.uniform, &p.importance, &p.spatial]
+                    .iter()
+                    .map(|s| f64::from(s.spp) + f64::from(s.pass_progress))
+                    .sum::<f64>()
+                    / 3.0
+            });
+        self.placement.observe(
+            self.state.settings.device,
+            self.adapter(),
+            shown,
+            total_spp,
+            !self.state.settings.paused,
+            Instant::now(),
+        );
     }
 
     fn measure(&mut self, started: Instant) {

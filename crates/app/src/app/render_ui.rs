@@ -212,6 +212,17 @@ pub fn images_ui(
             });
         }
     });
+    if published.light_count == SEED_NOTE_LIGHTS {
+        ui.label(
+            egui::RichText::new(SEED_IMAGE_NOTE)
+                .small()
+                .color(colors::muted(dark)),
+        )
+        .on_hover_text(
+            "Var/E² = Σ s_i²/p_i − 1 at each pixel: zero only where the shares s_i of the \
+                 irradiance equal the power pmf p_i (click a pixel to see both)",
+        );
+    }
     if stale {
         ui.label("restarting on the new table…");
     }
@@ -219,6 +230,14 @@ pub fn images_ui(
         ui.label(note);
     }
 }
+
+/// Scenes with this many lights (the seed's) get [`SEED_IMAGE_NOTE`] under the images.
+const SEED_NOTE_LIGHTS: usize = 3;
+
+/// Why the seed's images gain less from importance sampling than its shading point does.
+pub const SEED_IMAGE_NOTE: &str = "The images gain less than the seed's shading point (24.6×): \
+     the geometry term G_i(x) varies across the plane, so the power pmf matches each pixel's \
+     contributions only where every light's G is alike.";
 
 /// Text rows under each image: title, spp, RMSE, time (which may wrap to two rows).
 const TEXT_ROWS_PER_IMAGE: f32 = 5.0;
@@ -265,7 +284,14 @@ fn columns(state: &AppState, textures: &ImageTextures) -> usize {
 pub fn wanted_height(ui: &Ui, width: f32, state: &AppState, textures: &ImageTextures) -> f32 {
     let side = side_by_width(ui, width, columns(state, textures));
     let images = if state.settings.show_error { 2.0 } else { 1.0 };
-    images * (side + ui.spacing().item_spacing.y) + text_rows(ui, TEXT_ROWS_PER_IMAGE + HEADER_ROWS)
+    // The seed's note wraps to about two lines of small text.
+    let note_rows = if state.built.len() == SEED_NOTE_LIGHTS {
+        1.6
+    } else {
+        0.0
+    };
+    images * (side + ui.spacing().item_spacing.y)
+        + text_rows(ui, TEXT_ROWS_PER_IMAGE + HEADER_ROWS + note_rows)
 }
 
 fn image_column(

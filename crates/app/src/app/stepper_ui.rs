@@ -9,63 +9,16 @@
 //! small one (animated while playing). Step / Back / Play / Reset; tables of up to
 //! [`STEPPER_MAX_LIGHTS`] lights.
 
-use std::sync::Arc;
-
 use egui::{Align2, FontId, Rect, RichText, Sense, Stroke, StrokeKind, Ui, pos2, vec2};
-use lightpick_core::construction::{ConstructionEvent, ConstructionState, ConstructionTrace};
+use lightpick_core::construction::{ConstructionEvent, ConstructionState};
 
 use super::colors;
 use super::fractions;
 use super::state::AppState;
-
-/// The stepper animates tables of at most this many lights.
-pub const STEPPER_MAX_LIGHTS: usize = 64;
+use super::state::stepper::{STEPPER_MAX_LIGHTS, StepperState};
 
 /// The tallest mass the diagram shows before clipping a bar.
 const MAX_SHOWN_MASS: f64 = 4.0;
-
-/// The stepper's own state (in [`AppState::stepper`]).
-pub struct StepperState {
-    /// The state shown: 0 is the start, the last is the finished table.
-    pub index: usize,
-    /// Whether Play advances one event per [`StepperState::seconds_per_step`].
-    pub playing: bool,
-    /// Seconds per event while playing.
-    pub seconds_per_step: f32,
-    last_advance: f64,
-    cache: Option<(u64, Arc<ConstructionTrace>)>,
-}
-
-impl Default for StepperState {
-    fn default() -> Self {
-        Self {
-            index: 0,
-            playing: false,
-            seconds_per_step: 1.5,
-            last_advance: 0.0,
-            cache: None,
-        }
-    }
-}
-
-/// The construction of the current table (cached per table generation; a new table starts
-/// the stepper over). `None` when the scene has more than [`STEPPER_MAX_LIGHTS`] lights.
-pub fn trace(state: &mut AppState) -> Option<Arc<ConstructionTrace>> {
-    if state.built.len() > STEPPER_MAX_LIGHTS {
-        return None;
-    }
-    let generation = state.built.generation;
-    if let Some((g, trace)) = &state.stepper.cache
-        && *g == generation
-    {
-        return Some(Arc::clone(trace));
-    }
-    let trace = Arc::new(ConstructionTrace::build(&state.built.scene.powers));
-    state.stepper.cache = Some((generation, Arc::clone(&trace)));
-    state.stepper.index = 0;
-    state.stepper.playing = false;
-    Some(trace)
-}
 
 /// The Construction stepper window (View menu, or the table panel's button).
 pub fn stepper_window(ctx: &egui::Context, state: &mut AppState) {
@@ -83,7 +36,7 @@ pub fn stepper_window(ctx: &egui::Context, state: &mut AppState) {
 
 /// The window's content: controls, the event, the work lists and the diagram.
 pub fn stepper_ui(ui: &mut Ui, state: &mut AppState) {
-    let Some(trace) = trace(state) else {
+    let Some(trace) = state.stepper_trace() else {
         ui.label(format!(
             "The stepper animates tables of up to {STEPPER_MAX_LIGHTS} lights; this scene \
              has {}. Load a smaller scene (e.g. the seed preset) to watch the construction.",

@@ -8,10 +8,8 @@ use lightpick_core::walkthrough::{ColumnPart, Highlight, TableField};
 
 use super::colors;
 use super::fractions;
+pub use super::state::DIAGRAM_MAX_COLUMNS;
 use super::state::{AppState, OneDraw};
-
-/// The diagram draws at most this many columns; larger tables show a window of them.
-pub const DIAGRAM_MAX_COLUMNS: usize = 64;
 
 /// Rows of the table shown without scrolling when the table is small.
 const ROW_HEIGHT: f32 = 18.0;

@@ -9,69 +9,15 @@
 //! offers to load the seed scene (2, 5, 20), keeps the user's scene and restores it when the
 //! walkthrough closes (or on request; "Keep the classic scene" forgets it).
 
-use std::sync::Arc;
-
 use egui::{Key, Modifiers, RichText, Ui};
-use lightpick_core::scene::Scene;
-use lightpick_core::walkthrough::{CLASSIC_GEOMETRY, CLASSIC_POWERS, WalkStep, Walkthrough};
+use lightpick_core::walkthrough::{CLASSIC_GEOMETRY, CLASSIC_POWERS};
 
-use super::scene_io;
-use super::state::{AppState, MessageKind};
-
-/// The walkthrough retells the classic explanation, which has exactly this many lights.
-pub const WALKTHROUGH_LIGHTS: usize = 3;
+use super::state::AppState;
+use super::state::estimator::EstimatorPoint;
+use super::state::walkthrough::WALKTHROUGH_LIGHTS;
 
 /// Text size of the formulas: readable from the back of a classroom.
 pub const FORMULA_SIZE: f32 = 19.0;
-
-/// The walkthrough of the current powers and its steps.
-pub type Lesson = Arc<(Walkthrough, Vec<WalkStep>)>;
-
-/// The walkthrough's own state (in [`AppState::walkthrough`]).
-#[derive(Default)]
-pub struct WalkthroughState {
-    /// The current step (0-based).
-    pub step: usize,
-    /// The user's scene, kept while the classic scene is shown; restored on close.
-    pub saved_scene: Option<Scene>,
-    cache: Option<(u64, Lesson)>,
-    was_open: bool,
-}
-
-/// Once per frame, before the panels: restores the user's scene when the walkthrough was
-/// just closed, and sets the table highlight of the current step (or clears it).
-pub fn prepare(state: &mut AppState) {
-    let open = state.settings.show_walkthrough;
-    if state.walkthrough.was_open && !open {
-        restore_scene(state);
-    }
-    state.walkthrough.was_open = open;
-    state.table_highlight = None;
-    if let Some(walk) = current(state) {
-        let k = state.walkthrough.step.min(walk.1.len() - 1);
-        state.walkthrough.step = k;
-        state.table_highlight = Some(walk.1[k].highlight.clone());
-    }
-}
-
-/// The walkthrough of the current powers (cached per table generation), `None` when the
-/// window is closed or the scene does not have three lights.
-pub fn current(state: &mut AppState) -> Option<Lesson> {
-    if !state.settings.show_walkthrough || state.built.len() != WALKTHROUGH_LIGHTS {
-        return None;
-    }
-    let generation = state.built.generation;
-    if let Some((g, walk)) = &state.walkthrough.cache
-        && *g == generation
-    {
-        return Some(Arc::clone(walk));
-    }
-    let walk = Walkthrough::new(&state.built.scene.powers, &CLASSIC_GEOMETRY);
-    let steps = walk.steps();
-    let walk = Arc::new((walk, steps));
-    state.walkthrough.cache = Some((generation, Arc::clone(&walk)));
-    Some(walk)
-}
 
 /// The Walkthrough window (View menu, or the table panel's button).
 pub fn walkthrough_window(ctx: &egui::Context, state: &mut AppState) {
@@ -92,7 +38,7 @@ pub fn right_edge(ctx: &egui::Context) -> f32 {
 
 /// The window's content: the current step, or the offer to load the classic scene.
 pub fn walkthrough_ui(ui: &mut Ui, state: &mut AppState) {
-    let Some(walk) = current(state) else {
+    let Some(walk) = state.walkthrough_lesson() else {
         ui.label(format!(
             "The walkthrough retells the classic explanation, which has {WALKTHROUGH_LIGHTS} \
              lights; this scene has {}.",
@@ -106,7 +52,7 @@ pub fn walkthrough_ui(ui: &mut Ui, state: &mut AppState) {
             )
             .clicked()
         {
-            load_classic(state);
+            state.load_classic();
         }
         saved_scene_ui(ui, state);
         return;
@@ -143,6 +89,20 @@ pub fn walkthrough_ui(ui: &mut Ui, state: &mut AppState) {
     for formula in &step.formulas {
         ui.label(RichText::new(formula).size(FORMULA_SIZE).strong());
     }
+    if k + 1 == total {
+        ui.add_space(4.0);
+        if ui
+            .button(RichText::new("Watch it converge →").size(16.0))
+            .on_hover_text(
+                "Open the estimator at this shading point: the running estimate of uniform \
+                 and importance picking, sample by sample, against the exact 18",
+            )
+            .clicked()
+        {
+            state.estimator.open_at(EstimatorPoint::Seed);
+            state.estimator.running = true;
+        }
+    }
     ui.separator();
     ui.label(
         RichText::new(format!(
@@ -163,7 +123,7 @@ pub fn walkthrough_ui(ui: &mut Ui, state: &mut AppState) {
             .on_hover_text("Load the classic scene; yours comes back when the walkthrough closes")
             .clicked()
     {
-        load_classic(state);
+        state.load_classic();
     }
     saved_scene_ui(ui, state);
 }
@@ -185,7 +145,7 @@ fn saved_scene_ui(ui: &mut Ui, state: &mut AppState) {
             .on_hover_text("Bring your scene back now")
             .clicked()
         {
-            restore_scene(state);
+            state.restore_scene();
         }
         if ui
             .button("Keep the classic scene")
@@ -195,31 +155,4 @@ fn saved_scene_ui(ui: &mut Ui, state: &mut AppState) {
             state.walkthrough.saved_scene = None;
         }
     });
-}
-
-/// Loads the seed scene (2, 5, 20), keeping the user's scene for later.
-pub fn load_classic(state: &mut AppState) {
-    if state.walkthrough.saved_scene.is_none() {
-        state.walkthrough.saved_scene = Some((*state.built.scene).clone());
-    }
-    state.load_scene(scene_io::seed_scene());
-    state.walkthrough.step = 0;
-    state.message(
-        "classic scene loaded (powers 2, 5, 20); your scene comes back when the walkthrough \
-         closes",
-        MessageKind::Info,
-    );
-}
-
-/// Puts the kept scene back, if any.
-pub fn restore_scene(state: &mut AppState) {
-    if let Some(scene) = state.walkthrough.saved_scene.take() {
-        let text = format!(
-            "restored your scene \"{}\" ({} lights)",
-            scene.name,
-            scene.light_count()
-        );
-        state.load_scene(scene);
-        state.message(text, MessageKind::Success);
-    }
 }

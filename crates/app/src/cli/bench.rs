@@ -170,6 +170,11 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         .iter()
         .map(|p| render_preset(p, side, spp, args.seed, args.quick))
         .collect::<anyhow::Result<_>>()?;
+    let gpu_renders = if args.no_gpu {
+        Vec::new()
+    } else {
+        gpu_renders(&presets, args.seed, args.quick)
+    };
     let plot = match &args.plot {
         Some(path) => Some(write_plot(path, &renders)?),
         None => None,
@@ -183,13 +188,13 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             "ratios": ratios,
             "gpu": gpu,
             "renders": renders,
+            "gpu_renders": gpu_renders,
             "plot": plot,
         }))
     } else {
-        print!(
-            "{}",
-            text(&cases, &ratios, &gpu, &renders, plot.as_ref(), args.quick)
-        );
+        print!("{}", text(&cases, &ratios, &gpu, &renders, args.quick));
+        print!("{}", gpu_renders_text(&gpu_renders));
+        print!("{}", plot_text(plot.as_ref()));
         Ok(())
     }
 }
@@ -698,6 +703,147 @@ fn render_preset(
     })
 }
 
+/// Pass seconds the GPU renders of one preset and scheme aim at (fewer passes when `--quick`).
+const GPU_RENDER_SECONDS: [f64; 2] = [0.5, 0.15];
+/// Most samples per pixel of one GPU render.
+const GPU_RENDER_MAX_SPP: u32 = 256;
+/// The schemes the GPU renders (the app's three images).
+const GPU_RENDER_SCHEMES: [Scheme; 3] = [Scheme::Uniform, Scheme::Alias, Scheme::Spatial];
+
+/// One scheme's GPU figures on one preset.
+#[derive(Clone, Debug, Serialize)]
+pub struct GpuSchemeRender {
+    /// The measurement ([`gpu::measure_passes`]): spp, pass seconds, `T`, `V`, clock.
+    #[serde(flatten)]
+    pub measured: gpu::GpuPassMeasurement,
+    /// `1/(V·T)`; infinite (`null` in JSON) for a zero-variance scheme.
+    pub efficiency: f64,
+    /// Whether `V` is the rounding of zero (the exact spatial pick).
+    pub zero_variance: bool,
+    /// Efficiency over the uniform scheme's.
+    pub efficiency_vs_uniform: f64,
+}
+
+/// Every GPU scheme's figures on one preset, at the preset's own resolution (the app's).
+#[derive(Clone, Debug, Serialize)]
+pub struct GpuPresetRender {
+    /// Preset name.
+    pub preset: String,
+    /// The adapter.
+    pub adapter: String,
+    /// Image width and height.
+    pub size: [u32; 2],
+    /// One entry per scheme (uniform, alias, spatial).
+    pub schemes: Vec<GpuSchemeRender>,
+    /// Why there are no figures (a scheme the device refused), if so.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+/// The GPU renders of `presets` (empty without an adapter): the time per sample the app's
+/// GPU images measure, from the device's own clock.
+fn gpu_renders(presets: &[String], seed: u64, quick: bool) -> Vec<GpuPresetRender> {
+    let Ok(ctx) = GpuContext::new() else {
+        return Vec::new();
+    };
+    let min_seconds = GPU_RENDER_SECONDS[usize::from(quick)];
+    presets
+        .iter()
+        .filter_map(|name| {
+            let scene = Scene::preset(name).ok()?;
+            let mut out = GpuPresetRender {
+                preset: name.clone(),
+                adapter: ctx.description(),
+                size: [scene.plane.width, scene.plane.height],
+                schemes: Vec::new(),
+                note: None,
+            };
+            for scheme in GPU_RENDER_SCHEMES {
+                match gpu::measure_passes(
+                    &ctx,
+                    &scene,
+                    scheme,
+                    seed,
+                    min_seconds,
+                    GPU_RENDER_MAX_SPP,
+                ) {
+                    Ok(measured) => out.schemes.push(GpuSchemeRender {
+                        measured,
+                        efficiency: 1.0
+                            / (measured.variance_per_sample * measured.seconds_per_sample),
+                        zero_variance: false,
+                        efficiency_vs_uniform: 0.0,
+                    }),
+                    Err(e) => {
+                        out.note = Some(format!("{scheme}: {e}"));
+                        out.schemes.clear();
+                        return Some(out);
+                    }
+                }
+            }
+            let uniform_variance = out.schemes[0].measured.variance_per_sample;
+            let uniform_efficiency = out.schemes[0].efficiency;
+            for s in &mut out.schemes {
+                s.zero_variance = lightpick_core::render::is_zero_variance(
+                    s.measured.variance_per_sample,
+                    uniform_variance,
+                );
+                if s.zero_variance {
+                    s.efficiency = f64::INFINITY;
+                }
+                s.efficiency_vs_uniform = s.efficiency / uniform_efficiency;
+            }
+            Some(out)
+        })
+        .collect()
+}
+
+/// The GPU renders as text: `T` in ns from the device's clock, `V`, efficiency.
+fn gpu_renders_text(renders: &[GpuPresetRender]) -> String {
+    let mut out = String::new();
+    for r in renders {
+        let clock = r
+            .schemes
+            .first()
+            .map_or("", |s| s.measured.clock.describe());
+        let _ = writeln!(
+            out,
+            "\nGPU preset {} on {} ({}×{} px; T = pass time per pixel sample from {clock})",
+            r.preset, r.adapter, r.size[0], r.size[1]
+        );
+        if let Some(note) = &r.note {
+            let _ = writeln!(out, "  not measured: {note}");
+            continue;
+        }
+        let _ = writeln!(
+            out,
+            "  {:<17} {:>6} {:>12} {:>12} {:>12} {:>9}",
+            "scheme", "spp", "Var/sample", "ns/sample", "1/(Var·T)", "vs unif"
+        );
+        for s in &r.schemes {
+            let (efficiency, vs_uniform) = if s.zero_variance {
+                ("inf".to_owned(), "inf".to_owned())
+            } else {
+                (
+                    format!("{:.4e}", s.efficiency),
+                    format!("{:.3e}", s.efficiency_vs_uniform),
+                )
+            };
+            let _ = writeln!(
+                out,
+                "  {:<17} {:>6} {:>12.4e} {:>12.2} {:>12} {:>9}",
+                s.measured.scheme.name(),
+                s.measured.spp,
+                s.measured.variance_per_sample,
+                s.measured.seconds_per_sample * 1e9,
+                efficiency,
+                vs_uniform
+            );
+        }
+    }
+    out
+}
+
 /// The RMSE of a series at `seconds`, interpolated linearly in `(log t, log rmse)`
 /// between the points around it (the first point's RMSE before it, the last's after).
 fn rmse_at(series: &[SeriesPoint], seconds: f64) -> f64 {
@@ -782,7 +928,6 @@ fn text(
     ratios: &[serde_json::Value],
     gpu: &serde_json::Value,
     renders: &[PresetRender],
-    plot: Option<&PlotInfo>,
     quick: bool,
 ) -> String {
     let mut out = String::new();
@@ -881,6 +1026,12 @@ fn text(
             );
         }
     }
+    out
+}
+
+/// The line naming the plot written, if any.
+fn plot_text(plot: Option<&PlotInfo>) -> String {
+    let mut out = String::new();
     if let Some(plot) = plot {
         let _ = write!(
             out,

@@ -7,7 +7,6 @@ use egui::accesskit::Role;
 use egui_kittest::kittest::Queryable as _;
 use egui_kittest::{Harness, SnapshotOptions};
 use lightpick::app::LightpickApp;
-use lightpick::app::stepper_ui;
 use lightpick_core::construction::ConstructionEvent;
 use lightpick_core::walkthrough::{ColumnPart, StepKind, TableField};
 
@@ -166,7 +165,10 @@ fn walkthrough_numbers_follow_a_changed_power() {
             "samples per light: 21, 15, 60",
         ],
     );
-    let step = lightpick::app::walkthrough_ui::current(&mut h.state_mut().state)
+    let step = h
+        .state_mut()
+        .state
+        .walkthrough_lesson()
         .expect("walkthrough")
         .1[8]
         .clone();
@@ -211,7 +213,7 @@ fn walkthrough_offers_the_classic_scene_and_restores_the_users_scene() {
 /// The stepper's lists and assigned columns, read from the app.
 fn stepper_state(h: &mut Harness<'_, LightpickApp>) -> (Vec<usize>, Vec<usize>, usize) {
     let state = &mut h.state_mut().state;
-    let trace = stepper_ui::trace(state).expect("trace");
+    let trace = state.stepper_trace().expect("trace");
     let s = &trace.states()[state.stepper.index];
     (s.small.clone(), s.large.clone(), s.assigned_count())
 }
@@ -254,7 +256,7 @@ fn stepper_walks_vose_on_the_seed() {
     assert_eq!(stepper_state(&mut h), (vec![], vec![], 3));
     {
         let state = &mut h.state_mut().state;
-        let trace = stepper_ui::trace(state).expect("trace");
+        let trace = state.stepper_trace().expect("trace");
         assert_eq!(
             trace.thresholds().as_slice(),
             state.built.table.thresholds()

@@ -3,7 +3,7 @@
 
 use egui_kittest::kittest::Queryable as _;
 use egui_kittest::{Harness, SnapshotOptions};
-use lightpick::app::trade_ui::{TRADE_SCHEMES, scheme_label};
+use lightpick::app::state::trade::{TRADE_SCHEMES, scheme_label};
 use lightpick::app::{LightpickApp, PanelKind};
 
 fn options() -> SnapshotOptions {

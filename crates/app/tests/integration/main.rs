@@ -5,6 +5,7 @@
 mod common;
 
 mod app_classroom;
+mod app_estimator;
 mod app_gpu_images;
 mod app_inspector;
 mod app_interaction;

@@ -14,6 +14,11 @@ pub struct GpuContext {
 }
 
 impl GpuContext {
+    /// The optional features lightpick asks of a device when the adapter has them:
+    /// `TIMESTAMP_QUERY`, so that pass times come from the GPU's own clock
+    /// ([`super::PassTimer`]).
+    pub const TIMING_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY;
+
     /// Creates a device on the best adapter available.
     ///
     /// The primary backends (Vulkan, Metal, DX12) are tried first and every backend (GL too)
@@ -50,7 +55,7 @@ impl GpuContext {
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("lightpick"),
-                required_features: wgpu::Features::empty(),
+                required_features: adapter.features() & Self::TIMING_FEATURES,
                 required_limits: adapter.limits(),
                 experimental_features: wgpu::ExperimentalFeatures::disabled(),
                 memory_hints: wgpu::MemoryHints::Performance,

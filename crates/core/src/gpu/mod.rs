@@ -37,6 +37,8 @@
 mod context;
 mod error;
 mod histogram;
+mod measure;
+mod pass_timer;
 mod probe;
 mod renderer;
 mod spatial;
@@ -44,6 +46,8 @@ mod spatial;
 pub use context::GpuContext;
 pub use error::GpuError;
 pub use histogram::{histogram, histogram_range, histogram_range_split};
+pub use measure::{GpuPassMeasurement, measure_passes};
+pub use pass_timer::{PassClock, PassTimer};
 pub use probe::{probe_mulhi32, probe_pick_uniform, probe_rng};
 pub use renderer::GpuRenderer;
 

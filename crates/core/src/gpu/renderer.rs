@@ -2,6 +2,7 @@
 
 use std::ops::Range;
 
+use super::pass_timer::{PassClock, PassTimer};
 use super::spatial::SpatialGpu;
 use super::{GpuContext, GpuError, PICK_WGSL};
 use crate::render::Accumulator;
@@ -101,6 +102,7 @@ pub struct GpuRenderer {
     tonemap_bind_group: wgpu::BindGroup,
     output: wgpu::Texture,
     output_view: wgpu::TextureView,
+    timer: PassTimer,
 }
 
 impl GpuRenderer {
@@ -252,6 +254,7 @@ impl GpuRenderer {
             tonemap_bind_group,
             output,
             output_view,
+            timer: PassTimer::new(ctx),
         };
         renderer.set_powers(&scene.powers)?;
         Ok(renderer)
@@ -457,6 +460,19 @@ impl GpuRenderer {
         Ok(())
     }
 
+    /// The seconds the device spent in this renderer's sample passes since the last call
+    /// (waits for the passes queued so far): pass time only, never tonemapping, readback or
+    /// other work on the device. See [`PassClock`] for where the time comes from.
+    pub fn take_pass_seconds(&mut self) -> Result<f64, GpuError> {
+        self.timer.take_seconds(&self.ctx)
+    }
+
+    /// Where [`GpuRenderer::take_pass_seconds`] reads its time: the device's timestamps
+    /// when it has `TIMESTAMP_QUERY`, else the CPU clock over each pass alone.
+    pub fn pass_clock(&self) -> PassClock {
+        self.timer.clock()
+    }
+
     /// Rows of the pass in progress done so far (0 when no pass is in progress).
     pub fn pass_rows_done(&self) -> u32 {
         self.band_row
@@ -496,6 +512,7 @@ impl GpuRenderer {
             row_begin: rows.start,
             row_end: rows.end,
         };
+        let timestamp_writes = self.timer.begin_pass(&self.ctx)?;
         super::scoped(&self.ctx, "dispatching render samples", || {
             self.ctx
                 .queue()
@@ -509,7 +526,7 @@ impl GpuRenderer {
             {
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("render accumulate"),
-                    timestamp_writes: None,
+                    timestamp_writes,
                 });
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, bind_group, &[]);
@@ -521,7 +538,8 @@ impl GpuRenderer {
             }
             self.ctx.queue().submit([encoder.finish()]);
             Ok(())
-        })
+        })?;
+        self.timer.end_pass(&self.ctx)
     }
 
     /// Waits for the queued samples and returns the sums as an [`Accumulator`] (`f32`

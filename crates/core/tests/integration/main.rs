@@ -13,6 +13,7 @@ mod gpu_render;
 mod gpu_rng;
 mod gpu_spatial;
 mod inspect;
+mod point_estimate;
 mod precision_lab;
 mod render_cpu;
 mod render_metrics;

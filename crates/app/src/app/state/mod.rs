@@ -14,11 +14,19 @@
 use std::sync::{Arc, mpsc};
 
 use lightpick_core::scene::{ReceiverPlane, Scene};
-use lightpick_core::{
-    AliasTable, ChiSquare, Construction, LightPowers, PowersError, Rng, Uniform, chi_square,
-};
+use lightpick_core::{ChiSquare, LightPowers, PowersError, Rng, Uniform, chi_square};
 
 use super::scene_io::{self, PowerDistribution};
+
+pub mod built;
+pub mod estimator;
+pub mod inspector;
+pub mod precision;
+pub mod stepper;
+pub mod trade;
+pub mod walkthrough;
+
+pub use built::{Built, EXACT_TABLE_MAX_LIGHTS, construction_for};
 
 /// Tables of at most this many lights are rebuilt on the UI thread, within the frame.
 pub const SYNC_BUILD_LIMIT: usize = 50_000;
@@ -26,6 +34,9 @@ pub const SYNC_BUILD_LIMIT: usize = 50_000;
 /// Where the progressive images are rendered.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Device {
+    /// The GPU when it is a hardware one; on a software rasterizer (lavapipe) whichever of
+    /// the two renders the images faster, measured ([`crate::app::placement`]).
+    Auto,
     /// wgpu compute on eframe's own device (falls back to the CPU without one).
     Gpu,
     /// The CPU renderer (rayon).
@@ -99,7 +110,7 @@ impl Default for Settings {
             spp_per_frame: 1,
             seed: 1,
             paused: false,
-            device: Device::Gpu,
+            device: Device::Auto,
             exposure: 1.0,
             budget: BudgetMode::EqualSamples,
             show_reference: true,
@@ -140,61 +151,6 @@ impl SceneEdit {
             positions: scene.positions.clone(),
             powers: scene.powers.as_slice().to_vec(),
         }
-    }
-}
-
-/// The last valid state: the scene, its alias table and display helpers.
-#[derive(Debug)]
-pub struct Built {
-    /// Bumped on every rebuild; the engine and histograms restart when it changes.
-    pub generation: u64,
-    /// The validated scene.
-    pub scene: Arc<Scene>,
-    /// Its alias table.
-    pub table: AliasTable,
-    /// `Σ Φ` when every power is a small integer (exact fractions), else `None`.
-    pub denominator: Option<u64>,
-    /// `Σ Φ` (for display).
-    pub total_power: f64,
-}
-
-/// Up to this many lights the app shows the exact `f64` construction (exact seed
-/// fractions, replayed step by step by the stepper); beyond, the integer one, whose rebuild
-/// fits a frame at `10^6` lights. Either way every panel and the histograms use this table.
-pub const EXACT_TABLE_MAX_LIGHTS: usize = 1 << 16;
-
-/// The construction the app uses for `n` lights ([`EXACT_TABLE_MAX_LIGHTS`]).
-pub fn construction_for(n: usize) -> Construction {
-    if n <= EXACT_TABLE_MAX_LIGHTS {
-        Construction::Exact
-    } else {
-        Construction::Integer
-    }
-}
-
-impl Built {
-    /// Builds the table of a validated scene (`O(N)`).
-    pub fn new(generation: u64, scene: Scene) -> Self {
-        let table = AliasTable::build_with(&scene.powers, construction_for(scene.powers.len()));
-        let denominator = lightpick_core::draw::fraction_denominator(&scene.powers);
-        let total_power = scene.powers.as_slice().iter().sum();
-        Self {
-            generation,
-            scene: Arc::new(scene),
-            table,
-            denominator,
-            total_power,
-        }
-    }
-
-    /// Number of lights.
-    pub fn len(&self) -> usize {
-        self.table.len()
-    }
-
-    /// Always `false` (a valid scene has a light).
-    pub fn is_empty(&self) -> bool {
-        self.table.is_empty()
     }
 }
 
@@ -260,6 +216,9 @@ pub struct SamplingRun {
     /// Expected uniform frequency per bar (its share of the lights).
     pub flat_bins: Vec<f64>,
 }
+
+/// The alias-table diagram shows at most this many columns (a window of a larger table).
+pub const DIAGRAM_MAX_COLUMNS: usize = 64;
 
 /// Histograms group lights into at most this many bars.
 pub const MAX_BARS: usize = 48;
@@ -332,15 +291,17 @@ pub struct AppState {
     /// Clear the images and restart accumulation.
     pub reset_requested: bool,
     /// The speed-against-accuracy measurement.
-    pub trade: super::trade_ui::TradeRun,
+    pub trade: trade::TradeRun,
     /// The precision measurement.
-    pub precision: super::precision_ui::PrecisionRun,
+    pub precision: precision::PrecisionRun,
     /// The pixel inspector (a clicked pixel of the images).
-    pub inspector: super::inspector_ui::Inspector,
+    pub inspector: inspector::Inspector,
     /// The classroom walkthrough (step, saved scene).
-    pub walkthrough: super::walkthrough_ui::WalkthroughState,
+    pub walkthrough: walkthrough::WalkthroughState,
     /// The construction stepper (trace, position, playback).
-    pub stepper: super::stepper_ui::StepperState,
+    pub stepper: stepper::StepperState,
+    /// The estimator view (one shading point, sample by sample).
+    pub estimator: estimator::EstimatorState,
     /// What the table and its diagram highlight this frame (set by the walkthrough).
     pub table_highlight: Option<lightpick_core::walkthrough::Highlight>,
     /// The preset the scene is, unedited (set by [`AppState::load_preset`], cleared by any
@@ -370,11 +331,12 @@ impl AppState {
             frame: 0,
             step_requested: false,
             reset_requested: false,
-            trade: super::trade_ui::TradeRun::default(),
-            precision: super::precision_ui::PrecisionRun::default(),
-            inspector: super::inspector_ui::Inspector::default(),
-            walkthrough: super::walkthrough_ui::WalkthroughState::default(),
-            stepper: super::stepper_ui::StepperState::default(),
+            trade: trade::TradeRun::default(),
+            precision: precision::PrecisionRun::default(),
+            inspector: inspector::Inspector::default(),
+            walkthrough: walkthrough::WalkthroughState::default(),
+            stepper: stepper::StepperState::default(),
+            estimator: estimator::EstimatorState::default(),
             table_highlight: None,
             unedited_preset: None,
             next_generation: 2,
@@ -732,10 +694,74 @@ impl AppState {
             light,
         };
         // Large tables show a window of columns: move it to the picked one.
-        if table.len() > super::table_ui::DIAGRAM_MAX_COLUMNS {
-            self.diagram_offset = column.saturating_sub(super::table_ui::DIAGRAM_MAX_COLUMNS / 2);
+        if table.len() > DIAGRAM_MAX_COLUMNS {
+            self.diagram_offset = column.saturating_sub(DIAGRAM_MAX_COLUMNS / 2);
         }
         self.sampling.last_draw = Some(draw);
+    }
+}
+
+impl AppState {
+    /// Once per frame, before the panels: restores the user's scene when the walkthrough
+    /// was just closed, and sets the table highlight of the current step (or clears it).
+    pub fn prepare_walkthrough(&mut self) {
+        let open = self.settings.show_walkthrough;
+        if self.walkthrough.was_open && !open {
+            self.restore_scene();
+        }
+        self.walkthrough.was_open = open;
+        self.table_highlight = None;
+        if let Some(walk) = self.walkthrough_lesson() {
+            let k = self.walkthrough.step.min(walk.1.len() - 1);
+            self.walkthrough.step = k;
+            self.table_highlight = Some(walk.1[k].highlight.clone());
+        }
+    }
+
+    /// The walkthrough of the current powers, `None` when its window is closed or the scene
+    /// does not have three lights.
+    pub fn walkthrough_lesson(&mut self) -> Option<walkthrough::Lesson> {
+        if !self.settings.show_walkthrough {
+            return None;
+        }
+        let built = Arc::clone(&self.built);
+        self.walkthrough.lesson(&built)
+    }
+
+    /// The construction of the current table for the stepper (`None` beyond
+    /// [`stepper::STEPPER_MAX_LIGHTS`] lights).
+    pub fn stepper_trace(
+        &mut self,
+    ) -> Option<Arc<lightpick_core::construction::ConstructionTrace>> {
+        let built = Arc::clone(&self.built);
+        self.stepper.trace(&built)
+    }
+
+    /// Loads the seed scene (2, 5, 20), keeping the user's scene for later.
+    pub fn load_classic(&mut self) {
+        if self.walkthrough.saved_scene.is_none() {
+            self.walkthrough.saved_scene = Some((*self.built.scene).clone());
+        }
+        self.load_scene(scene_io::seed_scene());
+        self.walkthrough.step = 0;
+        self.message(
+            "classic scene loaded (powers 2, 5, 20); your scene comes back when the \
+             walkthrough closes",
+            MessageKind::Info,
+        );
+    }
+
+    /// Puts the scene kept by the walkthrough back, if any.
+    pub fn restore_scene(&mut self) {
+        if let Some(scene) = self.walkthrough.saved_scene.take() {
+            let text = format!(
+                "restored your scene \"{}\" ({} lights)",
+                scene.name,
+                scene.light_count()
+            );
+            self.load_scene(scene);
+            self.message(text, MessageKind::Success);
+        }
     }
 }
 

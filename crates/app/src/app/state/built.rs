@@ -1,0 +1,65 @@
+//! The last valid scene and what is built from it once per scene generation.
+
+use std::sync::Arc;
+
+use lightpick_core::scene::Scene;
+use lightpick_core::{AliasTable, Construction};
+
+/// The last valid state: the scene, its alias table and display helpers.
+#[derive(Debug)]
+pub struct Built {
+    /// Bumped on every rebuild; the engine and histograms restart when it changes.
+    pub generation: u64,
+    /// The validated scene.
+    pub scene: Arc<Scene>,
+    /// Its alias table, shared with whatever samples by power (histograms, the estimator
+    /// view).
+    pub table: Arc<AliasTable>,
+    /// `Σ Φ` when every power is a small integer (exact fractions), else `None`.
+    pub denominator: Option<u64>,
+    /// `Σ Φ` (for display).
+    pub total_power: f64,
+}
+
+/// Up to this many lights the app shows the exact `f64` construction (exact seed
+/// fractions, replayed step by step by the stepper); beyond, the integer one, whose rebuild
+/// fits a frame at `10^6` lights. Either way every panel and the histograms use this table.
+pub const EXACT_TABLE_MAX_LIGHTS: usize = 1 << 16;
+
+/// The construction the app uses for `n` lights ([`EXACT_TABLE_MAX_LIGHTS`]).
+pub fn construction_for(n: usize) -> Construction {
+    if n <= EXACT_TABLE_MAX_LIGHTS {
+        Construction::Exact
+    } else {
+        Construction::Integer
+    }
+}
+
+impl Built {
+    /// Builds the table of a validated scene (`O(N)`).
+    pub fn new(generation: u64, scene: Scene) -> Self {
+        let table = Arc::new(AliasTable::build_with(
+            &scene.powers,
+            construction_for(scene.powers.len()),
+        ));
+        let denominator = lightpick_core::draw::fraction_denominator(&scene.powers);
+        let total_power = scene.powers.as_slice().iter().sum();
+        Self {
+            generation,
+            scene: Arc::new(scene),
+            table,
+            denominator,
+            total_power,
+        }
+    }
+
+    /// Number of lights.
+    pub fn len(&self) -> usize {
+        self.table.len()
+    }
+
+    /// Always `false` (a valid scene has a light).
+    pub fn is_empty(&self) -> bool {
+        self.table.is_empty()
+    }
+}

@@ -1,0 +1,127 @@
+//! What the Trade panel measures: for the current scene, what each sampling scheme costs and
+//! buys — time per sample `T`, variance per sample `V`, efficiency `1/(V·T)` — on a small
+//! copy of the scene (at most [`TRADE_SIDE`] pixels a side), one fresh [`CpuRenderer`] per
+//! scheme run to [`TRADE_MAX_SPP`] samples per pixel with [`convergence_series`] (three
+//! times, keeping the fastest time of each point), against an exact [`Reference`]. The
+//! measurement runs on a background thread in the app and inline with virtual timings in
+//! tests (deterministic snapshots).
+
+use lightpick_core::Scheme;
+use lightpick_core::render::{
+    CpuRenderer, Efficiency, Reference, SeriesPoint, convergence_series, efficiency,
+};
+use lightpick_core::scene::Scene;
+
+/// The measurement image is at most this many pixels a side.
+pub const TRADE_SIDE: u32 = 64;
+/// Samples per pixel of each scheme's series (`1, 2, 4, …, 64`).
+pub const TRADE_MAX_SPP: u32 = 64;
+/// Timed runs of each series (the fastest time of each point is kept).
+const TRADE_REPEATS: u32 = 3;
+/// Light-pixel evaluations of the measurement's reference (a pixel subset beyond it).
+const TRADE_REFERENCE_BUDGET: u64 = 1 << 24;
+/// Virtual seconds per pixel sample in inline (test) mode, the engine's figure.
+const VIRTUAL_SECONDS_PER_SAMPLE: f64 = 1.0e-8;
+/// The schemes measured, in display order.
+pub const TRADE_SCHEMES: [Scheme; 5] = [
+    Scheme::Uniform,
+    Scheme::Cdf,
+    Scheme::Alias,
+    Scheme::AliasOneRandom,
+    Scheme::Spatial,
+];
+
+/// The display name of a scheme in this panel.
+pub fn scheme_label(scheme: Scheme) -> &'static str {
+    match scheme {
+        Scheme::Uniform => "uniform",
+        Scheme::Cdf => "cdf (binary search)",
+        Scheme::Alias => "alias, two randoms",
+        Scheme::AliasOneRandom => "alias, one random",
+        Scheme::Spatial => "spatial (by contribution)",
+    }
+}
+
+/// One scheme's measured figures.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TradeRow {
+    /// The scheme.
+    pub scheme: Scheme,
+    /// RMSE and cumulative seconds at `1, 2, 4, …` samples per pixel.
+    pub series: Vec<SeriesPoint>,
+    /// Variance, time and efficiency at the last point.
+    pub efficiency: Efficiency,
+}
+
+/// Every scheme measured on one scene generation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TradeMeasurement {
+    /// The scene generation measured.
+    pub generation: u64,
+    /// Image size measured.
+    pub size: [u32; 2],
+    /// Pixels the reference covers.
+    pub reference_pixels: usize,
+    /// Whether the timings are virtual (inline mode).
+    pub virtual_time: bool,
+    /// Render threads (rayon's global pool, as `lightpick bench` uses).
+    pub threads: usize,
+    /// One row per scheme of [`TRADE_SCHEMES`].
+    pub rows: Vec<TradeRow>,
+}
+
+/// The panel's measurement: the latest result and the one being computed (inline mode
+/// uses virtual timings).
+pub type TradeRun = crate::app::background::Background<TradeMeasurement>;
+
+/// The scene at most [`TRADE_SIDE`] pixels a side (same plane extent, coarser pixels).
+fn small_scene(scene: &Scene) -> Scene {
+    let mut small = scene.clone();
+    let (w, h) = (scene.plane.width.max(1), scene.plane.height.max(1));
+    let scale = (f64::from(TRADE_SIDE) / f64::from(w.max(h))).min(1.0);
+    small.plane.width = ((f64::from(w) * scale).round() as u32).max(1);
+    small.plane.height = ((f64::from(h) * scale).round() as u32).max(1);
+    small
+}
+
+/// Measures every scheme of [`TRADE_SCHEMES`] on a small copy of `scene`.
+pub fn measure(generation: u64, scene: &Scene, virtual_time: bool) -> TradeMeasurement {
+    let small = small_scene(scene);
+    let reference = Reference::with_budget(&small, TRADE_REFERENCE_BUDGET);
+    let pixels = small.plane.pixel_count() as f64;
+    let rows = TRADE_SCHEMES
+        .iter()
+        .map(|&scheme| {
+            let mut renderer = CpuRenderer::new(&small, scheme, 1);
+            let mut series = convergence_series(&mut renderer, &reference, TRADE_MAX_SPP);
+            // The same (deterministic) series again: the fastest time of each point, so a
+            // cold cache or a busy core does not bend one curve.
+            for _ in 1..TRADE_REPEATS {
+                renderer.reset();
+                let again = convergence_series(&mut renderer, &reference, TRADE_MAX_SPP);
+                for (p, q) in series.iter_mut().zip(&again) {
+                    p.seconds = p.seconds.min(q.seconds);
+                }
+            }
+            if virtual_time {
+                for p in &mut series {
+                    p.seconds = f64::from(p.spp) * pixels * VIRTUAL_SECONDS_PER_SAMPLE;
+                }
+            }
+            let seconds = series.last().map_or(0.0, |p| p.seconds);
+            TradeRow {
+                scheme,
+                efficiency: efficiency(renderer.accumulator(), seconds),
+                series,
+            }
+        })
+        .collect();
+    TradeMeasurement {
+        generation,
+        size: [small.plane.width, small.plane.height],
+        reference_pixels: reference.pixels().len(),
+        virtual_time,
+        threads: rayon::current_num_threads(),
+        rows,
+    }
+}

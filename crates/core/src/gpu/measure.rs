@@ -1,0 +1,63 @@
+//! The time per sample and variance per sample of one scheme on the GPU, measured the way
+//! `lightpick bench` and the app's images both do: the device's own time for the sample
+//! passes ([`GpuRenderer::take_pass_seconds`]), never tonemapping, readback or other work.
+
+use super::pass_timer::PassClock;
+use super::{GpuContext, GpuError, GpuRenderer};
+use crate::Scheme;
+use crate::render::mean_variance_per_sample;
+use crate::scene::Scene;
+
+/// One scheme's measured cost and variance on the GPU.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct GpuPassMeasurement {
+    /// The scheme.
+    pub scheme: Scheme,
+    /// Samples per pixel timed.
+    pub spp: u32,
+    /// Pixels of the image.
+    pub pixels: u64,
+    /// Pass seconds of those samples.
+    pub seconds: f64,
+    /// `T`: pass seconds per pixel sample.
+    pub seconds_per_sample: f64,
+    /// `V`: mean variance of one normalized sample over the pixels.
+    pub variance_per_sample: f64,
+    /// Where the time comes from.
+    pub clock: PassClock,
+}
+
+/// Renders `scene` with `scheme` on `ctx`: one untimed warm-up pass (pipeline and light tree
+/// upload), then one pass at a time until the passes took `min_seconds` or `max_spp` passes
+/// were made. The variance comes from the same passes' sums.
+pub fn measure_passes(
+    ctx: &GpuContext,
+    scene: &Scene,
+    scheme: Scheme,
+    seed: u64,
+    min_seconds: f64,
+    max_spp: u32,
+) -> Result<GpuPassMeasurement, GpuError> {
+    let mut renderer = GpuRenderer::new(ctx, scene, scheme, seed)?;
+    renderer.accumulate(1)?;
+    renderer.take_pass_seconds()?;
+    renderer.reset();
+    let mut seconds = 0.0;
+    while renderer.samples_per_pixel() < max_spp.max(1) && seconds < min_seconds {
+        renderer.accumulate(1)?;
+        seconds += renderer.take_pass_seconds()?;
+    }
+    let acc = renderer.readback()?;
+    let (width, height) = renderer.size();
+    let pixels = u64::from(width) * u64::from(height);
+    let spp = renderer.samples_per_pixel();
+    Ok(GpuPassMeasurement {
+        scheme,
+        spp,
+        pixels,
+        seconds,
+        seconds_per_sample: seconds / (f64::from(spp) * pixels as f64),
+        variance_per_sample: mean_variance_per_sample(&acc),
+        clock: renderer.pass_clock(),
+    })
+}

@@ -1,0 +1,388 @@
+//! The running estimate of the irradiance at one shading point, sample by sample, under
+//! several pick rules at once: the seed document's last claim ("more important values would
+//! come first and the result would converge way faster") made measurable.
+//!
+//! At a shading point light `i` contributes `f_i` and the exact total is `F = Σ f_i`. A rule
+//! that picks light `i` with probability `q_i` estimates `F` from one sample by `f_I/q_I`;
+//! the running estimate after `n` samples is their mean `F̂_n`, unbiased whenever `q_i > 0`
+//! wherever `f_i > 0`, with the per-sample variance ([`crate::analytic_moments`])
+//!
+//! ```text
+//! Var = Σ_{q_i > 0} f_i²/q_i − F²,     so     σ(F̂_n) = √(Var/n),
+//! ```
+//!
+//! and the number of samples that brings the standard error down to a fraction `ε` of `F`
+//! is `n_ε = Var/(ε·F)²`. On the seed (`f = 1, 2, 15`, `F = 18`) uniform picking has
+//! `Var = 366` and needs `n_1% = 11 296` samples; picking by power (`q = 2/27, 5/27, 20/27`)
+//! has `Var = 14.85` and needs 459: 24.6 times fewer.
+//!
+//! Each lane draws its `k`-th sample from `Rng::new(seed ^ salt, k)` with its own salt, so
+//! a run is reproducible from its seed and [`PointEstimator::advance`] in any chunks draws
+//! the same samples.
+
+use std::sync::Arc;
+
+use crate::moments::{EstimatorMoments, analytic_moments};
+use crate::spatial::SpatialSampler;
+use crate::{AliasTable, Rng, Uniform, Welford};
+
+/// How one lane picks a light at the shading point.
+#[derive(Clone, Debug)]
+pub enum PointPicker {
+    /// Every light with probability `1/N` ([`Uniform::sample`]).
+    Uniform(Uniform),
+    /// By power: the alias table's picks ([`AliasTable::sample`]), probability
+    /// [`AliasTable::pmf`].
+    Table(Arc<AliasTable>),
+    /// By contribution at `point_on_plane`: the spatial sampler's picks
+    /// ([`SpatialSampler::sample`]), probability `P(i | x)`.
+    Spatial {
+        /// The scene's spatial sampler.
+        sampler: Arc<SpatialSampler>,
+        /// The shading point `x` on the plane `z = 0`.
+        point_on_plane: [f64; 2],
+    },
+}
+
+impl PointPicker {
+    /// The light picked from the next draws of `rng` and its probability, or `None` when
+    /// the rule picks nothing (the spatial rule where no light contributes: estimate 0).
+    fn pick(&self, rng: &mut Rng) -> Option<(usize, f64)> {
+        match self {
+            PointPicker::Uniform(u) => Some((u.sample(rng) as usize, 1.0 / u.len() as f64)),
+            PointPicker::Table(t) => {
+                let i = t.sample(rng) as usize;
+                Some((i, t.pmf(i)))
+            }
+            PointPicker::Spatial {
+                sampler,
+                point_on_plane,
+            } => sampler
+                .sample(*point_on_plane, rng)
+                .map(|p| (p.light as usize, p.pdf)),
+        }
+    }
+
+    /// The number of lights the rule picks among.
+    fn light_count(&self) -> usize {
+        match self {
+            PointPicker::Uniform(u) => u.len(),
+            PointPicker::Table(t) => t.len(),
+            PointPicker::Spatial { sampler, .. } => sampler.light_count(),
+        }
+    }
+
+    /// The probability `q_i` of every light (`O(N)`).
+    fn probabilities(&self, n: usize) -> Vec<f64> {
+        match self {
+            PointPicker::Uniform(u) => vec![1.0 / u.len() as f64; n],
+            PointPicker::Table(t) => (0..n).map(|i| t.pmf(i)).collect(),
+            PointPicker::Spatial {
+                sampler,
+                point_on_plane,
+            } => sampler.pdfs(*point_on_plane),
+        }
+    }
+}
+
+/// One point of a running estimate.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct EstimatePoint {
+    /// Samples so far, `n`.
+    pub samples: u64,
+    /// The running estimate `F̂_n`.
+    pub mean: f64,
+    /// Its standard error from the running variance, `√(s²/n)` (0 before two samples).
+    pub std_error: f64,
+}
+
+/// One pick rule's running estimate.
+#[derive(Clone, Debug)]
+pub struct EstimateLane {
+    /// The lane's name ("uniform", "importance", "spatial").
+    pub name: &'static str,
+    picker: PointPicker,
+    salt: u64,
+    /// The exact mean and per-sample variance of this rule ([`analytic_moments`]).
+    pub analytic: EstimatorMoments,
+    running: Welford,
+    series: Vec<EstimatePoint>,
+    next_recorded: u64,
+}
+
+impl EstimateLane {
+    /// The running mean and variance of the samples so far.
+    pub fn running(&self) -> &Welford {
+        &self.running
+    }
+
+    /// The running estimate at geometrically spaced sample counts (`1, 2, …` then about 4 %
+    /// apart, and always the latest): a few hundred points for a million samples.
+    pub fn series(&self) -> &[EstimatePoint] {
+        &self.series
+    }
+
+    /// The measured per-sample variance `s²` (0 before two samples).
+    pub fn measured_variance(&self) -> f64 {
+        self.running.variance()
+    }
+
+    fn point(&self) -> EstimatePoint {
+        EstimatePoint {
+            samples: self.running.count(),
+            mean: self.running.mean(),
+            std_error: self.running.std_error(),
+        }
+    }
+}
+
+/// Samples `n_ε = Var/(ε·F)²` that bring the standard error of the mean down to the fraction
+/// `epsilon` of the exact total `exact` (at least 1; 0 samples for zero variance, infinite
+/// when `F = 0` and `Var > 0`).
+pub fn samples_for_relative_error(variance: f64, exact: f64, epsilon: f64) -> f64 {
+    if variance <= 0.0 {
+        return 0.0;
+    }
+    let target = epsilon * exact;
+    if target == 0.0 {
+        return f64::INFINITY;
+    }
+    (variance / (target * target)).max(1.0)
+}
+
+/// Running estimates of one shading point's total under several pick rules (see the module
+/// docs).
+#[derive(Clone, Debug)]
+pub struct PointEstimator {
+    contributions: Vec<f64>,
+    exact: f64,
+    seed: u64,
+    lanes: Vec<EstimateLane>,
+}
+
+/// Why a [`PointEstimator`] cannot be built.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PointEstimateError {
+    /// No contributions.
+    #[error("the shading point has no lights")]
+    Empty,
+    /// A contribution is NaN, infinite or negative.
+    #[error("contribution of light {index} is not a finite non-negative number ({value})")]
+    BadContribution {
+        /// The light (0-based).
+        index: usize,
+        /// Its contribution.
+        value: f64,
+    },
+    /// A picker covers another number of lights than there are contributions.
+    #[error("lane '{lane}' picks among {got} lights but the point has {expected}")]
+    LightCountMismatch {
+        /// The lane's name.
+        lane: &'static str,
+        /// The number of contributions.
+        expected: usize,
+        /// The picker's number of lights.
+        got: usize,
+    },
+}
+
+impl PointEstimator {
+    /// An estimator of `Σ contributions` with one lane per `(name, picker)`, drawing from
+    /// `seed`. Each lane's analytic moments are computed at once (`O(N)` per lane).
+    pub fn new(
+        contributions: Vec<f64>,
+        lanes: Vec<(&'static str, PointPicker)>,
+        seed: u64,
+    ) -> Result<Self, PointEstimateError> {
+        if contributions.is_empty() {
+            return Err(PointEstimateError::Empty);
+        }
+        if let Some(index) = contributions
+            .iter()
+            .position(|f| !(f.is_finite() && *f >= 0.0))
+        {
+            return Err(PointEstimateError::BadContribution {
+                index,
+                value: contributions[index],
+            });
+        }
+        let n = contributions.len();
+        let lanes = lanes
+            .into_iter()
+            .enumerate()
+            .map(|(k, (name, picker))| {
+                if picker.light_count() != n {
+                    return Err(PointEstimateError::LightCountMismatch {
+                        lane: name,
+                        expected: n,
+                        got: picker.light_count(),
+                    });
+                }
+                let q = picker.probabilities(n);
+                Ok(EstimateLane {
+                    name,
+                    analytic: analytic_moments(&contributions, |i| q[i]),
+                    picker,
+                    // Distinct, fixed streams per lane position.
+                    salt: 0x9E37_79B9_7F4A_7C15_u64.wrapping_mul(k as u64 + 1),
+                    running: Welford::new(),
+                    series: Vec::new(),
+                    next_recorded: 1,
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let exact = contributions.iter().sum();
+        Ok(Self {
+            contributions,
+            exact,
+            seed,
+            lanes,
+        })
+    }
+
+    /// The seed example's point: contributions `1, 2, 15` (exact 18) with uniform and
+    /// importance (alias table over powers `2, 5, 20`) lanes.
+    pub fn seed_example(seed: u64) -> Self {
+        let table = Arc::new(AliasTable::build_exact(&crate::SeedExample::powers()));
+        // The constant contributions are valid and match the table's three lights.
+        Self::new(
+            crate::SeedExample::CONTRIBUTIONS.to_vec(),
+            vec![
+                ("uniform", PointPicker::Uniform(Uniform::new(3))),
+                ("importance", PointPicker::Table(table)),
+            ],
+            seed,
+        )
+        .unwrap_or_else(|_| unreachable!())
+    }
+
+    /// The exact total `F = Σ f_i`.
+    pub fn exact(&self) -> f64 {
+        self.exact
+    }
+
+    /// The contributions `f_i`.
+    pub fn contributions(&self) -> &[f64] {
+        &self.contributions
+    }
+
+    /// The seed of every lane's stream.
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// The lanes, in the order given.
+    pub fn lanes(&self) -> &[EstimateLane] {
+        &self.lanes
+    }
+
+    /// Samples drawn so far (every lane has drawn as many).
+    pub fn samples(&self) -> u64 {
+        self.lanes.first().map_or(0, |l| l.running.count())
+    }
+
+    /// Adds `count` samples to every lane, continuing each lane's stream.
+    pub fn advance(&mut self, count: u64) {
+        for lane in &mut self.lanes {
+            let start = lane.running.count();
+            for k in start..start + count {
+                let mut rng = Rng::new(self.seed ^ lane.salt, k);
+                let estimate = lane
+                    .picker
+                    .pick(&mut rng)
+                    .map_or(0.0, |(i, q)| self.contributions[i] / q);
+                lane.running.push(estimate);
+                let n = k + 1;
+                if n >= lane.next_recorded {
+                    lane.series.push(lane.point());
+                    lane.next_recorded = (n + 1).max(n + n / 25);
+                }
+            }
+            // The latest point is always the series' last.
+            if lane.series.last().map(|p| p.samples) != Some(lane.running.count()) {
+                lane.series.push(lane.point());
+            }
+        }
+    }
+
+    /// Forgets every sample (the streams start over from sample 0).
+    pub fn reset(&mut self) {
+        for lane in &mut self.lanes {
+            lane.running = Welford::new();
+            lane.series.clear();
+            lane.next_recorded = 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::SeedExample;
+
+    #[test]
+    fn seed_example_has_the_documents_moments() {
+        let e = PointEstimator::seed_example(1);
+        assert_eq!(e.exact(), 18.0);
+        let [u, a] = [&e.lanes()[0], &e.lanes()[1]];
+        assert!((u.analytic.variance - SeedExample::UNIFORM_VARIANCE).abs() < 1e-9);
+        assert!((a.analytic.variance - SeedExample::POWER_VARIANCE).abs() < 1e-9);
+        let n_u = samples_for_relative_error(u.analytic.variance, 18.0, 0.01);
+        let n_a = samples_for_relative_error(a.analytic.variance, 18.0, 0.01);
+        assert!((n_u - 366.0 / 0.0324).abs() < 1e-6, "{n_u}");
+        assert!((n_u / n_a - 366.0 / 14.85).abs() < 1e-9);
+    }
+
+    #[test]
+    fn advancing_in_chunks_draws_the_same_samples() {
+        let mut once = PointEstimator::seed_example(7);
+        once.advance(1000);
+        let mut chunks = PointEstimator::seed_example(7);
+        for _ in 0..10 {
+            chunks.advance(100);
+        }
+        for (a, b) in once.lanes().iter().zip(chunks.lanes()) {
+            assert_eq!(a.running(), b.running());
+        }
+        chunks.reset();
+        assert_eq!(chunks.samples(), 0);
+        assert!(chunks.lanes()[0].series().is_empty());
+    }
+
+    #[test]
+    fn refuses_bad_contributions_by_index() {
+        let e = PointEstimator::new(vec![1.0, f64::NAN], vec![], 1).unwrap_err();
+        assert!(matches!(
+            e,
+            PointEstimateError::BadContribution { index: 1, .. }
+        ));
+        assert_eq!(
+            PointEstimator::new(vec![], vec![], 1).unwrap_err(),
+            PointEstimateError::Empty
+        );
+        let mismatch = PointEstimator::new(
+            vec![1.0, 2.0],
+            vec![("uniform", PointPicker::Uniform(Uniform::new(3)))],
+            1,
+        )
+        .unwrap_err();
+        assert!(matches!(
+            mismatch,
+            PointEstimateError::LightCountMismatch {
+                expected: 2,
+                got: 3,
+                ..
+            }
+        ));
+    }
+
+    #[test]
+    fn series_is_sparse_and_ends_at_the_latest_sample() {
+        let mut e = PointEstimator::seed_example(3);
+        e.advance(100_000);
+        let s = e.lanes()[0].series();
+        assert!(s.len() < 400, "{}", s.len());
+        assert_eq!(s.last().map(|p| p.samples), Some(100_000));
+        assert!(s.windows(2).all(|w| w[0].samples < w[1].samples));
+    }
+}
