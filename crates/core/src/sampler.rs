@@ -1,6 +1,8 @@
 //! One interface over the light-selection schemes: each returns a light and the
 //! probability with which it was picked, which is all an estimator `f/p` needs.
 
+use std::sync::Arc;
+
 use crate::alias::{AliasTable, Construction};
 use crate::cdf::CdfTable;
 use crate::powers::LightPowers;
@@ -128,10 +130,11 @@ pub struct NeedsShadingPoint(pub Scheme);
 pub enum Sampler {
     /// See [`Scheme::Uniform`].
     Uniform(Uniform),
-    /// See [`Scheme::Alias`].
-    Alias(AliasTable),
+    /// See [`Scheme::Alias`]. The table is shared (`Arc`): the app hands one table to the
+    /// table panel, the histograms and every renderer.
+    Alias(Arc<AliasTable>),
     /// See [`Scheme::AliasOneRandom`].
-    AliasOneRandom(AliasTable),
+    AliasOneRandom(Arc<AliasTable>),
     /// See [`Scheme::Cdf`].
     Cdf(CdfTable),
 }
@@ -162,7 +165,7 @@ impl Sampler {
         powers: &LightPowers,
         construction: Construction,
     ) -> Result<Self, NeedsShadingPoint> {
-        let table = || AliasTable::build_with(powers, construction);
+        let table = || Arc::new(AliasTable::build_with(powers, construction));
         Ok(match scheme {
             Scheme::Uniform => Sampler::Uniform(Uniform::new(powers.len() as u32)),
             Scheme::Alias => Sampler::Alias(table()),

@@ -1,6 +1,7 @@
 //! The progressive-image engine: three renderers (uniform, importance and spatial) over the
-//! last valid scene, their reference, errors, timings and convergence series. The spatial
-//! lane's light tree (`O(N log N)`) is built with the job, on the worker thread.
+//! last valid scene, their reference, errors, timings and convergence series. The lanes
+//! share the scene's alias table and spatial sampler ([`SceneSamplers`], built once per
+//! scene generation with the app's `Built`) rather than building their own.
 //!
 //! It runs on its own thread in the app (so rendering never blocks the window) or inline
 //! (`threaded = false`, for tests: every step is deterministic and timings are virtual).
@@ -12,9 +13,9 @@ use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
-use lightpick_core::Scheme;
 use lightpick_core::render::{CpuRenderer, Reference, mean_variance_per_sample, tonemap_rgba8};
 use lightpick_core::scene::Scene;
+use lightpick_core::{SceneSamplers, Scheme};
 
 use super::colors;
 use super::state::BudgetMode;
@@ -47,8 +48,8 @@ pub enum Command {
     Reset {
         /// The scene generation (from `Built`).
         generation: u64,
-        /// The scene.
-        scene: Arc<Scene>,
+        /// The scene with its shared table and spatial sampler.
+        samplers: SceneSamplers,
     },
     /// New settings (exposure re-tonemaps at once, even while paused).
     Config(EngineConfig),
@@ -157,9 +158,9 @@ struct Lane {
 }
 
 impl Lane {
-    fn new(scene: &Scene, scheme: Scheme, seed: u64) -> Self {
+    fn new(samplers: &SceneSamplers, scheme: Scheme, seed: u64) -> Self {
         Self {
-            renderer: CpuRenderer::new(scene, scheme, seed),
+            renderer: CpuRenderer::from_samplers(samplers, scheme, seed),
             seconds: 0.0,
             last_frame_seconds: 0.0,
             series: Vec::new(),
@@ -181,6 +182,7 @@ impl Lane {
 /// The state of one scene's rendering.
 struct Job {
     generation: u64,
+    samplers: SceneSamplers,
     scene: Arc<Scene>,
     uniform: Lane,
     importance: Lane,
@@ -191,13 +193,15 @@ struct Job {
 }
 
 impl Job {
-    fn new(generation: u64, scene: Arc<Scene>, seed: u64) -> Self {
+    fn new(generation: u64, samplers: SceneSamplers, seed: u64) -> Self {
+        let scene = Arc::clone(samplers.scene());
         let (reference, reference_note) = reference(&scene);
         Self {
             generation,
-            uniform: Lane::new(&scene, Scheme::Uniform, seed),
-            importance: Lane::new(&scene, Scheme::Alias, seed),
-            spatial: Lane::new(&scene, Scheme::Spatial, seed),
+            uniform: Lane::new(&samplers, Scheme::Uniform, seed),
+            importance: Lane::new(&samplers, Scheme::Alias, seed),
+            spatial: Lane::new(&samplers, Scheme::Spatial, seed),
+            samplers,
             scene,
             reference,
             reference_note,
@@ -418,15 +422,16 @@ impl Engine {
         matches!(self.mode, Mode::Threaded { .. })
     }
 
-    /// Restarts on `scene` when its generation differs from the current one (or `force`).
-    pub fn sync_scene(&mut self, generation: u64, scene: &Arc<Scene>, force: bool) {
+    /// Restarts on the scene of `samplers` (its table and spatial sampler shared, not
+    /// rebuilt) when its generation differs from the current one (or `force`).
+    pub fn sync_scene(&mut self, generation: u64, samplers: &SceneSamplers, force: bool) {
         if !force && self.generation == Some(generation) {
             return;
         }
         self.generation = Some(generation);
         self.send(Command::Reset {
             generation,
-            scene: Arc::clone(scene),
+            samplers: samplers.clone(),
         });
     }
 
@@ -509,16 +514,19 @@ fn handle(
     virtual_time: bool,
 ) -> bool {
     match command {
-        Command::Reset { generation, scene } => {
+        Command::Reset {
+            generation,
+            samplers,
+        } => {
             let seed = config.map_or(1, |c| c.seed);
-            *job = Some(Job::new(generation, scene, seed));
+            *job = Some(Job::new(generation, samplers, seed));
             false
         }
         Command::Config(new) => {
             let reseed = config.is_some_and(|old| old.seed != new.seed);
             *config = Some(new);
             if reseed && let Some(old) = job.take() {
-                *job = Some(Job::new(old.generation, old.scene, new.seed));
+                *job = Some(Job::new(old.generation, old.samplers, new.seed));
             }
             false
         }

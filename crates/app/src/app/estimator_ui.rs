@@ -58,9 +58,7 @@ pub fn estimator_window(ctx: &egui::Context, state: &mut AppState) {
 pub fn estimator_ui(ui: &mut Ui, state: &mut AppState) {
     let built = std::sync::Arc::clone(&state.built);
     let spatial = match state.estimator.point {
-        EstimatorPoint::Pixel(_) => state
-            .inspector
-            .spatial_sampler(built.generation, &built.scene),
+        EstimatorPoint::Pixel(_) => Some(std::sync::Arc::clone(built.samplers.spatial())),
         EstimatorPoint::Seed => None,
     };
     let seed = state.settings.seed;

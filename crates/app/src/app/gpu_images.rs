@@ -14,10 +14,10 @@ use std::sync::{Arc, mpsc};
 use std::time::Instant;
 
 use eframe::egui_wgpu::{self, wgpu};
-use lightpick_core::Scheme;
 use lightpick_core::gpu::{GpuContext, GpuRenderer};
 use lightpick_core::render::{Reference, mean_variance_per_sample};
 use lightpick_core::scene::Scene;
+use lightpick_core::{SceneSamplers, Scheme};
 
 use super::engine::{self, ConvergencePoint, EngineConfig, Published, SchemeImage};
 use super::frame_budget::{self, FrameBudget, LaneWork};
@@ -64,20 +64,23 @@ impl Lanes {
 /// The three renderers of a scene: uniform, importance, spatial.
 type Trio = (GpuRenderer, GpuRenderer, GpuRenderer);
 
-/// Every renderer of a scene (`O(N)` alias tables and uploads, `O(N log N)` light tree).
-fn build_trio(ctx: &GpuContext, scene: &Scene, seed: u64) -> Result<Trio, String> {
-    let uniform = GpuRenderer::new(ctx, scene, Scheme::Uniform, seed).map_err(|e| e.to_string())?;
-    let importance =
-        GpuRenderer::new(ctx, scene, Scheme::Alias, seed).map_err(|e| e.to_string())?;
-    let spatial = GpuRenderer::new(ctx, scene, Scheme::Spatial, seed).map_err(|e| e.to_string())?;
-    Ok((uniform, importance, spatial))
+/// Every renderer of a scene: `O(N)` uploads of the scene's shared table and light data,
+/// and of its shared light tree (nothing is built again here).
+fn build_trio(ctx: &GpuContext, samplers: &SceneSamplers, seed: u64) -> Result<Trio, String> {
+    let build =
+        |scheme| GpuRenderer::from_samplers(ctx, samplers, scheme, seed).map_err(|e| e.to_string());
+    Ok((
+        build(Scheme::Uniform)?,
+        build(Scheme::Alias)?,
+        build(Scheme::Spatial)?,
+    ))
 }
 
 /// Renderers being built on a worker thread.
 struct PendingBuild {
     generation: u64,
     seed: u64,
-    scene: Arc<Scene>,
+    samplers: SceneSamplers,
     receiver: mpsc::Receiver<Result<Trio, String>>,
 }
 
@@ -190,7 +193,7 @@ impl GpuImages {
     pub fn frame(
         &mut self,
         generation: u64,
-        scene: &Arc<Scene>,
+        samplers: &SceneSamplers,
         config: &EngineConfig,
         reset: bool,
         step: bool,
@@ -201,7 +204,7 @@ impl GpuImages {
             .as_ref()
             .is_none_or(|l| l.generation != generation || l.seed != config.seed);
         if stale {
-            self.request(generation, scene, config.seed)?;
+            self.request(generation, samplers, config.seed)?;
         } else if reset && let Some(lanes) = self.lanes.as_mut() {
             for lane in lanes.each_mut() {
                 lane.renderer.reset();
@@ -210,7 +213,7 @@ impl GpuImages {
             lanes.frame = 0;
             self.exposure = None;
         }
-        self.poll_pending(generation, scene, config.seed)?;
+        self.poll_pending(generation, samplers, config.seed)?;
         let current = self
             .lanes
             .as_ref()
@@ -404,7 +407,12 @@ impl GpuImages {
     /// Starts building the renderers of `scene` (on the UI thread for small scenes, so the
     /// images restart within the frame; on a worker for large ones, so the window never
     /// waits for an `O(N)` upload). One build at a time: the newest request wins.
-    fn request(&mut self, generation: u64, scene: &Arc<Scene>, seed: u64) -> Result<(), String> {
+    fn request(
+        &mut self,
+        generation: u64,
+        samplers: &SceneSamplers,
+        seed: u64,
+    ) -> Result<(), String> {
         if self
             .pending
             .as_ref()
@@ -412,10 +420,10 @@ impl GpuImages {
         {
             return Ok(());
         }
-        if scene.light_count() <= SYNC_BUILD_LIMIT {
-            let trio = build_trio(&self.ctx, scene, seed)?;
+        if samplers.scene().light_count() <= SYNC_BUILD_LIMIT {
+            let trio = build_trio(&self.ctx, samplers, seed)?;
             self.pending = None;
-            self.lanes = Some(self.install(generation, seed, scene, trio));
+            self.lanes = Some(self.install(generation, seed, samplers.scene(), trio));
             self.exposure = None;
             return Ok(());
         }
@@ -424,7 +432,7 @@ impl GpuImages {
             return Ok(());
         }
         let (sender, receiver) = mpsc::channel();
-        let (ctx, for_build) = (self.ctx.clone(), Arc::clone(scene));
+        let (ctx, for_build) = (self.ctx.clone(), samplers.clone());
         std::thread::Builder::new()
             .name("lightpick-gpu-upload".to_owned())
             .spawn(move || {
@@ -434,7 +442,7 @@ impl GpuImages {
         self.pending = Some(PendingBuild {
             generation,
             seed,
-            scene: Arc::clone(scene),
+            samplers: samplers.clone(),
             receiver,
         });
         Ok(())
@@ -444,7 +452,7 @@ impl GpuImages {
     fn poll_pending(
         &mut self,
         generation: u64,
-        scene: &Arc<Scene>,
+        samplers: &SceneSamplers,
         seed: u64,
     ) -> Result<(), String> {
         let Some(pending) = &self.pending else {
@@ -458,13 +466,16 @@ impl GpuImages {
                 return Err("the GPU upload thread stopped".to_owned());
             }
         };
-        let (built_generation, built_seed, built_scene) =
-            (pending.generation, pending.seed, Arc::clone(&pending.scene));
+        let (built_generation, built_seed, built_scene) = (
+            pending.generation,
+            pending.seed,
+            Arc::clone(pending.samplers.scene()),
+        );
         self.pending = None;
         self.lanes = Some(self.install(built_generation, built_seed, &built_scene, trio));
         self.exposure = None;
         if built_generation != generation || built_seed != seed {
-            self.request(generation, scene, seed)?;
+            self.request(generation, samplers, seed)?;
         }
         Ok(())
     }

@@ -1,8 +1,8 @@
 //! The per-pixel inspector: click a pixel of any image to see, at that point of the plane,
 //! each light's pick probability under power and under spatial sampling beside its true
 //! share of the irradiance there, and the variance per sample that follows
-//! (`Var/E² = Σ s_i²/q_i − 1`, see [`lightpick_core::inspect`]). The spatial sampler
-//! (`O(N log N)` for a light tree) is built once per scene, on a worker thread.
+//! (`Var/E² = Σ s_i²/q_i − 1`, see [`lightpick_core::inspect`]). The spatial sampler is the
+//! scene's own, shared (`SceneSamplers`), not a second light tree.
 
 use egui::{Color32, Rect, Response, Sense, Ui, vec2};
 use egui_plot::{Bar, BarChart, Legend, Plot};
@@ -78,7 +78,7 @@ pub fn inspector_ui(ui: &mut Ui, state: &mut AppState) {
         ui.label("Click a pixel of any image to inspect it.");
         return;
     };
-    let Some(inspection) = state.inspector.inspection(built.generation, &built.scene) else {
+    let Some(inspection) = state.inspector.inspection(&built) else {
         ui.label("The selected pixel is outside the image; click a pixel of any image.");
         return;
     };

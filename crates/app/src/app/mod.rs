@@ -106,15 +106,23 @@ pub fn run() -> anyhow::Result<()> {
 fn wgpu_options() -> eframe::egui_wgpu::WgpuConfiguration {
     use eframe::egui_wgpu::{WgpuConfiguration, WgpuSetup, WgpuSetupCreateNew};
     let mut setup = WgpuSetupCreateNew::without_display_handle();
-    setup.device_descriptor = std::sync::Arc::new(|adapter| eframe::wgpu::DeviceDescriptor {
-        label: Some("lightpick device"),
-        // Timestamps, when the adapter has them: the images' pass times come from the GPU.
-        required_features: adapter.features() & lightpick_core::gpu::GpuContext::TIMING_FEATURES,
-        required_limits: adapter.limits(),
-        ..Default::default()
-    });
+    setup.device_descriptor = std::sync::Arc::new(device_descriptor);
     WgpuConfiguration {
         wgpu_setup: WgpuSetup::CreateNew(setup),
+        ..Default::default()
+    }
+}
+
+/// The device the app asks of `adapter`: its own limits (large storage buffers, compute on
+/// GL) and, when it has them, timestamp queries, so the images' pass times come from the
+/// GPU's clock. Tests ask the same of kittest's adapter.
+pub fn device_descriptor(
+    adapter: &eframe::wgpu::Adapter,
+) -> eframe::wgpu::DeviceDescriptor<'static> {
+    eframe::wgpu::DeviceDescriptor {
+        label: Some("lightpick device"),
+        required_features: adapter.features() & lightpick_core::gpu::GpuContext::TIMING_FEATURES,
+        required_limits: adapter.limits(),
         ..Default::default()
     }
 }
@@ -229,7 +237,6 @@ impl LightpickApp {
     pub fn with_state(mut state: AppState, threaded: bool) -> Self {
         state.trade.inline = !threaded;
         state.precision.inline = !threaded;
-        state.inspector.spatial.inline = !threaded;
         Self {
             state,
             engine: None,
@@ -558,14 +565,14 @@ impl LightpickApp {
         });
         let reset = std::mem::take(&mut self.state.reset_requested);
         let built = Arc::clone(&self.state.built);
-        engine.sync_scene(built.generation, &built.scene, reset);
+        engine.sync_scene(built.generation, &built.samplers, reset);
         if reset {
             self.state.restart_sampling();
         }
         let step = std::mem::take(&mut self.state.step_requested);
         if use_gpu {
             if let Some(gpu) = self.gpu.as_mut()
-                && let Err(e) = gpu.frame(built.generation, &built.scene, &config, reset, step)
+                && let Err(e) = gpu.frame(built.generation, &built.samplers, &config, reset, step)
             {
                 self.state
                     .message(format!("GPU renderer stopped: {e}"), MessageKind::Error);

@@ -353,11 +353,7 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
         Some(alias_rebuild),
         batch_sample,
     );
-    let sampler = Sampler::Alias(table);
-    let Sampler::Alias(table) = sampler else {
-        unreachable!("built as alias above")
-    };
-    let sampler = Sampler::AliasOneRandom(table);
+    let sampler = Sampler::AliasOneRandom(std::sync::Arc::clone(&table));
     push(
         "alias-one-random",
         "pcg",
@@ -365,9 +361,6 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
         None,
         time_picks(&sampler, seed, reps, samples),
     );
-    let Sampler::AliasOneRandom(table) = sampler else {
-        unreachable!("built as alias-one-random above")
-    };
     // The same table drawing from SmallRng, for the comparison with the peers.
     let mut small = SmallRng::seed_from_u64(seed);
     let alias_small = median_ns(reps, samples, |_| {
@@ -436,7 +429,7 @@ struct ConstructionTimes {
     build: f64,
     rebuild: f64,
     sample: f64,
-    table: AliasTable,
+    table: std::sync::Arc<AliasTable>,
 }
 
 /// Times a construction: build (allocating), rebuild in place (alternating `other` and
@@ -460,11 +453,9 @@ fn time_construction(
         table.len()
     });
     table.rebuild(powers);
-    let sampler = Sampler::Alias(table);
+    let table = std::sync::Arc::new(table);
+    let sampler = Sampler::Alias(std::sync::Arc::clone(&table));
     let sample = time_picks(&sampler, seed, reps, samples);
-    let Sampler::Alias(table) = sampler else {
-        unreachable!("built as alias above")
-    };
     ConstructionTimes {
         build,
         rebuild,
@@ -764,6 +755,7 @@ fn gpu_renders(presets: &[String], seed: u64, quick: bool) -> Vec<GpuPresetRende
                     &scene,
                     scheme,
                     seed,
+                    1,
                     min_seconds,
                     GPU_RENDER_MAX_SPP,
                 ) {

@@ -64,14 +64,15 @@ fn step_until_measured(harness: &mut Harness<'static, LightpickApp>, frames: u32
     }
 }
 
-/// The RMSE the CPU renderer reaches with the app's scene and seed at `spp`, per scheme.
+/// The RMSE the CPU renderer reaches with the app's scene, its shared table and tree (the
+/// table the panels show) and seed at `spp`, per scheme.
 fn cpu_rmses(harness: &Harness<'static, LightpickApp>, spp: u32) -> impl Fn(Scheme) -> f64 {
     let app = harness.state();
-    let scene = app.state.built.scene.clone();
+    let samplers = app.state.built.samplers.clone();
     let seed = app.state.settings.seed;
-    let reference = Reference::compute(&scene);
+    let reference = Reference::compute(samplers.scene());
     move |scheme| {
-        let mut r = CpuRenderer::new(&scene, scheme, seed);
+        let mut r = CpuRenderer::from_samplers(&samplers, scheme, seed);
         r.accumulate(spp);
         rmse(r.accumulator(), &reference)
     }

@@ -28,24 +28,31 @@ pub struct GpuPassMeasurement {
 }
 
 /// Renders `scene` with `scheme` on `ctx`: one untimed warm-up pass (pipeline and light tree
-/// upload), then one pass at a time until the passes took `min_seconds` or `max_spp` passes
-/// were made. The variance comes from the same passes' sums.
+/// upload), then passes of `spp_per_pass` samples per pixel (one dispatch each, as the app
+/// adds its samples per frame: 1 by default), at least one, until they took `min_seconds`
+/// or reached `max_spp`. Each pass's fixed cost (submission, completion) is part of `T`,
+/// spread over `spp_per_pass` samples. The variance comes from the same passes' sums.
 pub fn measure_passes(
     ctx: &GpuContext,
     scene: &Scene,
     scheme: Scheme,
     seed: u64,
+    spp_per_pass: u32,
     min_seconds: f64,
     max_spp: u32,
 ) -> Result<GpuPassMeasurement, GpuError> {
+    let spp_per_pass = spp_per_pass.max(1);
     let mut renderer = GpuRenderer::new(ctx, scene, scheme, seed)?;
     renderer.accumulate(1)?;
     renderer.take_pass_seconds()?;
     renderer.reset();
     let mut seconds = 0.0;
-    while renderer.samples_per_pixel() < max_spp.max(1) && seconds < min_seconds {
-        renderer.accumulate(1)?;
+    loop {
+        renderer.accumulate(spp_per_pass)?;
         seconds += renderer.take_pass_seconds()?;
+        if renderer.samples_per_pixel() >= max_spp || seconds >= min_seconds {
+            break;
+        }
     }
     let acc = renderer.readback()?;
     let (width, height) = renderer.size();

@@ -7,7 +7,7 @@ use super::spatial::SpatialGpu;
 use super::{GpuContext, GpuError, PICK_WGSL};
 use crate::render::Accumulator;
 use crate::scene::Scene;
-use crate::{AliasTable, LightPowers, Scheme};
+use crate::{Construction, LightPowers, SceneSamplers, Scheme};
 
 pub(crate) const RENDER_WGSL: &str = include_str!("render.wgsl");
 pub(crate) const TONEMAP_WGSL: &str = include_str!("tonemap.wgsl");
@@ -83,8 +83,9 @@ pub struct GpuRenderer {
     seed: u64,
     width: u32,
     height: u32,
-    positions: Vec<[f64; 3]>,
-    powers: LightPowers,
+    /// The scene, its alias table and its spatial sampler, shared with whoever else renders
+    /// or shows the scene (no copy of the positions or powers of its own).
+    samplers: SceneSamplers,
     spatial: Option<SpatialGpu>,
     total_power: f64,
     samples_per_pixel: u32,
@@ -107,18 +108,40 @@ pub struct GpuRenderer {
 
 impl GpuRenderer {
     /// Uploads `scene` (positions, normalized powers, alias table) and prepares an empty
-    /// accumulation with `scheme` and `seed`.
-    ///
-    /// Refuses [`Scheme::Cdf`] ([`GpuError::UnsupportedScheme`]), an empty image or one
-    /// beyond the device's texture size ([`GpuError::ImageSize`]), a scene the `f32` upload
-    /// cannot hold ([`GpuRenderer::check_scene`], [`GpuError::BeyondF32`]), and buffers
-    /// beyond its limits ([`GpuError::BufferTooLarge`]).
+    /// accumulation with `scheme` and `seed`: [`GpuRenderer::from_samplers`] over a copy of
+    /// the scene and its integer-built table.
     pub fn new(
         ctx: &GpuContext,
         scene: &Scene,
         scheme: Scheme,
         seed: u64,
     ) -> Result<Self, GpuError> {
+        if scene.positions.len() != scene.powers.len() {
+            return Err(GpuError::LightCountMismatch {
+                expected: scene.positions.len(),
+                got: scene.powers.len(),
+            });
+        }
+        let samplers =
+            SceneSamplers::new(std::sync::Arc::new(scene.clone()), Construction::default());
+        Self::from_samplers(ctx, &samplers, scheme, seed)
+    }
+
+    /// Uploads the scene of `samplers` with its own alias table (the one the app's panels
+    /// show) and, for [`Scheme::Spatial`], its spatial sampler, sharing them rather than
+    /// building its own; then prepares an empty accumulation with `scheme` and `seed`.
+    ///
+    /// Refuses [`Scheme::Cdf`] ([`GpuError::UnsupportedScheme`]), an empty image or one
+    /// beyond the device's texture size ([`GpuError::ImageSize`]), a scene the `f32` upload
+    /// cannot hold ([`GpuRenderer::check_scene`], [`GpuError::BeyondF32`]), and buffers
+    /// beyond its limits ([`GpuError::BufferTooLarge`]).
+    pub fn from_samplers(
+        ctx: &GpuContext,
+        samplers: &SceneSamplers,
+        scheme: Scheme,
+        seed: u64,
+    ) -> Result<Self, GpuError> {
+        let scene: &Scene = samplers.scene();
         super::scheme_code(scheme)?;
         let (width, height) = (scene.plane.width, scene.plane.height);
         let limits = ctx.device().limits();
@@ -146,8 +169,6 @@ impl GpuRenderer {
             (plane.max[0] - plane.min[0]) as f32,
             (plane.max[1] - plane.min[1]) as f32,
         ];
-        let positions = scene.positions.clone();
-
         let lights = super::zeroed_storage_buffer(
             ctx,
             "lights (positions, powers, alias table)",
@@ -237,8 +258,7 @@ impl GpuRenderer {
             seed,
             width,
             height,
-            positions,
-            powers: scene.powers.clone(),
+            samplers: samplers.clone(),
             spatial: None,
             total_power: 0.0,
             samples_per_pixel: 0,
@@ -256,7 +276,7 @@ impl GpuRenderer {
             output_view,
             timer: PassTimer::new(ctx),
         };
-        renderer.set_powers(&scene.powers)?;
+        renderer.upload_lights()?;
         Ok(renderer)
     }
 
@@ -296,20 +316,31 @@ impl GpuRenderer {
     }
 
     /// Replaces the light powers (same number of lights): rebuilds the alias table
-    /// (`O(N)`), uploads it and the normalized powers, and restarts the accumulation.
+    /// (`O(N)`, integer construction), uploads it and the normalized powers, and restarts the
+    /// accumulation. The renderer's samplers are then its own (the scene changed).
     pub fn set_powers(&mut self, powers: &LightPowers) -> Result<(), GpuError> {
-        if powers.len() != self.positions.len() {
+        let n = self.samplers.scene().light_count();
+        if powers.len() != n {
             return Err(GpuError::LightCountMismatch {
-                expected: self.positions.len(),
+                expected: n,
                 got: powers.len(),
             });
         }
-        let table = AliasTable::build(powers);
-        let lights: Vec<[u32; 6]> = self
+        let mut scene = Scene::clone(self.samplers.scene());
+        scene.powers = powers.clone();
+        self.samplers = SceneSamplers::new(std::sync::Arc::new(scene), Construction::default());
+        self.upload_lights()
+    }
+
+    /// Uploads the positions, normalized powers and packed alias entries of the scene's
+    /// lights, and restarts the accumulation.
+    fn upload_lights(&mut self) -> Result<(), GpuError> {
+        let scene = self.samplers.scene();
+        let lights: Vec<[u32; 6]> = scene
             .positions
             .iter()
-            .zip(powers.pmf())
-            .zip(table.packed())
+            .zip(scene.powers.pmf())
+            .zip(self.samplers.table().packed())
             .map(|((p, pmf), e)| {
                 [
                     (p[0] as f32).to_bits(),
@@ -321,15 +352,13 @@ impl GpuRenderer {
                 ]
             })
             .collect();
-        drop(table);
         super::scoped(&self.ctx, "uploading the lights", || {
             self.ctx
                 .queue()
                 .write_buffer(&self.lights, 0, bytemuck::cast_slice(&lights));
             Ok(())
         })?;
-        self.total_power = powers.total();
-        self.powers = powers.clone();
+        self.total_power = scene.powers.total();
         self.spatial = None;
         if self.scheme == Scheme::Spatial {
             self.ensure_spatial()?;
@@ -338,13 +367,13 @@ impl GpuRenderer {
         Ok(())
     }
 
-    /// Builds and uploads the spatial sampler (`O(N log N)`) unless it is there already.
+    /// Uploads the spatial sampler (built by the first of the scene's users) unless it is
+    /// there already.
     fn ensure_spatial(&mut self) -> Result<(), GpuError> {
         if self.spatial.is_none() {
             self.spatial = Some(SpatialGpu::new(
                 &self.ctx,
-                &self.positions,
-                &self.powers,
+                self.samplers.spatial(),
                 [&self.params, &self.lights, &self.sums],
             )?);
         }
@@ -501,13 +530,13 @@ impl GpuRenderer {
             k_count,
             width: self.width,
             height: self.height,
-            n_lights: self.positions.len() as u32,
+            n_lights: self.samplers.scene().light_count() as u32,
             scheme,
             plane_min_x: self.plane[0],
             plane_max_y: self.plane[1],
             plane_extent_x: self.plane[2],
             plane_extent_y: self.plane[3],
-            n_f32: self.positions.len() as f32,
+            n_f32: self.samplers.scene().light_count() as f32,
             tree_leaves,
             row_begin: rows.start,
             row_end: rows.end,
@@ -726,7 +755,7 @@ impl GpuRenderer {
     /// with the spatial light tree uploaded, 36 more (a 32-byte internal node per light but
     /// one, and the leaf's 4-byte scene index), rounded up.
     pub fn gpu_bytes_per_light(&self) -> u64 {
-        let n = self.positions.len() as u64;
+        let n = self.samplers.scene().light_count() as u64;
         let tree = self.spatial.as_ref().map_or(0, |s| s.bytes);
         BYTES_PER_LIGHT + tree.div_ceil(n.max(1))
     }
@@ -736,7 +765,7 @@ impl GpuRenderer {
     pub fn gpu_bytes(&self) -> u64 {
         let pixels = u64::from(self.width) * u64::from(self.height);
         let tree = self.spatial.as_ref().map_or(0, |s| s.bytes);
-        self.positions.len() as u64 * BYTES_PER_LIGHT + tree + pixels * 12
+        self.samplers.scene().light_count() as u64 * BYTES_PER_LIGHT + tree + pixels * 12
     }
 
     /// The context the renderer runs on.

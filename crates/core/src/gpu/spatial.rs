@@ -2,7 +2,6 @@
 //! and the `accumulate_spatial` pipeline (`spatial.wgsl`), built only when the scheme is used.
 
 use super::{GpuContext, GpuError, PICK_WGSL};
-use crate::powers::LightPowers;
 use crate::spatial::SpatialSampler;
 
 pub(crate) const SPATIAL_WGSL: &str = include_str!("spatial.wgsl");
@@ -31,16 +30,14 @@ pub(crate) struct SpatialGpu {
 }
 
 impl SpatialGpu {
-    /// Builds the spatial sampler over `positions` (`f64`, as the CPU does, so both descend
-    /// the same tree) and uploads it beside the renderer's `params`, `lights` and `sums`.
+    /// Uploads the spatial sampler (built in `f64` on the CPU, as the CPU renderer's, so both
+    /// descend the same tree) beside the renderer's `params`, `lights` and `sums`.
     pub(crate) fn new(
         ctx: &GpuContext,
-        positions: &[[f64; 3]],
-        powers: &LightPowers,
+        sampler: &SpatialSampler,
         buffers: [&wgpu::Buffer; 3],
     ) -> Result<Self, GpuError> {
-        let sampler = SpatialSampler::build(positions, powers);
-        let (code, node_words, order): (u32, Vec<[u32; 8]>, Vec<u32>) = match &sampler {
+        let (code, node_words, order): (u32, Vec<[u32; 8]>, Vec<u32>) = match sampler {
             SpatialSampler::Exact(_) => (SCHEME_SPATIAL_EXACT, Vec::new(), Vec::new()),
             SpatialSampler::Tree(tree) => (
                 SCHEME_SPATIAL_TREE,
@@ -63,7 +60,6 @@ impl SpatialGpu {
                 tree.order().to_vec(),
             ),
         };
-        drop(sampler);
         let bytes = node_words.len() as u64 * BYTES_PER_NODE + order.len() as u64 * BYTES_PER_LEAF;
         // A binding holds at least one node: a placeholder for the exact pick and one leaf.
         let placeholder = [[0u32; 8]];

@@ -5,6 +5,8 @@
 //! the thread count and however the samples are split into passes (`accumulate(2)` twice
 //! equals `accumulate(4)` once).
 
+use std::sync::Arc;
+
 use rayon::prelude::*;
 
 use super::Accumulator;
@@ -12,6 +14,7 @@ use crate::rng::Rng;
 use crate::sampler::{Sampler, Scheme};
 use crate::scene::{ReceiverPlane, Scene, geometry_term, pixel_center};
 use crate::spatial::SpatialSampler;
+use crate::{Construction, SceneSamplers};
 
 /// How lights are picked: a point-free [`Sampler`], or by contribution at the pixel.
 #[derive(Clone, Debug)]
@@ -19,7 +22,7 @@ enum Picker {
     /// A power-only (or uniform) sampler: `ê = w_i · G_i(x)`.
     Power(Sampler),
     /// [`Scheme::Spatial`]: `ê = p_i·G_i(x) / P(i | x)` ([`SpatialSampler`]).
-    Spatial(SpatialSampler),
+    Spatial(Arc<SpatialSampler>),
 }
 
 /// What a sample needs of light `i`, in one 32-byte record (a single cache line access):
@@ -65,11 +68,37 @@ impl CpuRenderer {
         }
     }
 
-    /// A [`Scheme::Spatial`] renderer with a spatial sampler already built over the scene.
+    /// A renderer of `scheme` over a scene whose samplers are already built and shared: the
+    /// alias schemes take `samplers`' table, the spatial scheme its spatial sampler (built
+    /// now if no one has yet), uniform and CDF build their own (`O(1)`, `O(N)`).
+    pub fn from_samplers(samplers: &SceneSamplers, scheme: Scheme, seed: u64) -> Self {
+        let scene = samplers.scene();
+        match scheme {
+            Scheme::Alias => {
+                Self::with_sampler(scene, Sampler::Alias(Arc::clone(samplers.table())), seed)
+            }
+            Scheme::AliasOneRandom => Self::with_sampler(
+                scene,
+                Sampler::AliasOneRandom(Arc::clone(samplers.table())),
+                seed,
+            ),
+            Scheme::Spatial => Self::with_spatial(scene, Arc::clone(samplers.spatial()), seed),
+            Scheme::Uniform | Scheme::Cdf => {
+                match Sampler::try_build_with(scheme, &scene.powers, Construction::default()) {
+                    Ok(sampler) => Self::with_sampler(scene, sampler, seed),
+                    Err(_) => unreachable!("uniform and cdf need no shading point"),
+                }
+            }
+        }
+    }
+
+    /// A [`Scheme::Spatial`] renderer with a spatial sampler already built over the scene
+    /// (owned, or shared through an `Arc`).
     ///
     /// # Panics
     /// If the sampler's light count differs from the scene's.
-    pub fn with_spatial(scene: &Scene, spatial: SpatialSampler, seed: u64) -> Self {
+    pub fn with_spatial(scene: &Scene, spatial: impl Into<Arc<SpatialSampler>>, seed: u64) -> Self {
+        let spatial = spatial.into();
         assert_eq!(
             spatial.light_count(),
             scene.light_count(),

@@ -339,7 +339,7 @@ fn check_large(n: usize) {
         .max_buffer_size
         .min(limits.max_storage_buffer_binding_size);
     let zero: Vec<bool> = powers.as_slice().iter().map(|&x| x == 0.0).collect();
-    let sampler = Sampler::Alias(table);
+    let sampler = Sampler::Alias(std::sync::Arc::new(table));
     eprintln!(
         "N = {n}: storage binding limit {limit} bytes on {}",
         ctx.description()

@@ -355,7 +355,7 @@ fn default_sampler_is_the_raw_map_on_the_accepted_draw_and_the_next() {
     let table = AliasTable::build_exact(&powers(Distribution::Pareto, 1_000_003, 7));
     let t = table.rejection_threshold();
     let n = table.len() as u64;
-    let sampler = Sampler::Alias(table.clone());
+    let sampler = Sampler::Alias(std::sync::Arc::new(table.clone()));
     let mut rejections = 0;
     for k in 0..200_000u64 {
         let mut draws = Rng::new(3, k);

@@ -3,7 +3,7 @@
 use std::sync::Arc;
 
 use lightpick_core::scene::Scene;
-use lightpick_core::{AliasTable, Construction};
+use lightpick_core::{AliasTable, Construction, SceneSamplers};
 
 /// The last valid state: the scene, its alias table and display helpers.
 #[derive(Debug)]
@@ -12,9 +12,12 @@ pub struct Built {
     pub generation: u64,
     /// The validated scene.
     pub scene: Arc<Scene>,
-    /// Its alias table, shared with whatever samples by power (histograms, the estimator
-    /// view).
+    /// Its alias table, shared with whatever samples by power (histograms, the renderers,
+    /// the estimator view).
     pub table: Arc<AliasTable>,
+    /// The scene, its table and its spatial sampler, built once here and shared with the
+    /// renderers (CPU or GPU), the pixel inspector and the estimator view.
+    pub samplers: SceneSamplers,
     /// `Σ Φ` when every power is a small integer (exact fractions), else `None`.
     pub denominator: Option<u64>,
     /// `Σ Φ` (for display).
@@ -36,18 +39,23 @@ pub fn construction_for(n: usize) -> Construction {
 }
 
 impl Built {
-    /// Builds the table of a validated scene (`O(N)`).
+    /// Builds the table (`O(N)`) and the spatial sampler (`O(N log N)`) of a validated
+    /// scene: on the UI thread up to `SYNC_BUILD_LIMIT` lights, on a worker beyond.
     pub fn new(generation: u64, scene: Scene) -> Self {
         let table = Arc::new(AliasTable::build_with(
             &scene.powers,
             construction_for(scene.powers.len()),
         ));
+        let scene = Arc::new(scene);
+        let samplers = SceneSamplers::with_table(Arc::clone(&scene), Arc::clone(&table));
+        samplers.spatial();
         let denominator = lightpick_core::draw::fraction_denominator(&scene.powers);
         let total_power = scene.powers.as_slice().iter().sum();
         Self {
             generation,
-            scene: Arc::new(scene),
+            scene,
             table,
+            samplers,
             denominator,
             total_power,
         }
