@@ -94,7 +94,7 @@ pub fn convergence_ui(
         });
     let x_label = match axis {
         ConvergenceAxis::Spp => "samples per pixel (log scale)",
-        ConvergenceAxis::Seconds => "seconds (log scale)",
+        ConvergenceAxis::Seconds => "render seconds, as T counts them (log scale)",
     };
     let dark = state.dark();
     log_axes::log_log_plot(Plot::new(("convergence", *axis == ConvergenceAxis::Spp)))

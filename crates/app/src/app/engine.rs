@@ -11,9 +11,11 @@
 
 use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
-use lightpick_core::render::{CpuRenderer, Reference, mean_variance_per_sample, tonemap_rgba8};
+use lightpick_core::render::{
+    CpuRenderer, Reference, mean_variance_per_sample, pool_core_seconds, tonemap_rgba8,
+};
 use lightpick_core::scene::Scene;
 use lightpick_core::{SceneSamplers, Scheme};
 
@@ -22,6 +24,11 @@ use super::state::BudgetMode;
 
 /// Compute time each scheme gets per frame in equal-time mode.
 pub(crate) const EQUAL_TIME_SLICE_S: f64 = 0.012;
+
+/// The worker renders passes of every scheme for about this long per frame the window shows.
+const WORKER_BATCH_S: f64 = 0.012;
+/// The longest rest after a long batch (a pass of the light tree on `million`).
+const MAX_REST_S: f64 = 0.5;
 
 /// Virtual seconds per pixel sample in inline mode (deterministic timings for tests).
 const VIRTUAL_SECONDS_PER_SAMPLE: f64 = 1.0e-8;
@@ -167,14 +174,15 @@ impl Lane {
         }
     }
 
-    /// Adds `spp` samples per pixel; returns the seconds spent (real or virtual).
+    /// Adds `spp` samples per pixel; returns the core seconds spent: the CPU time of the
+    /// render threads in the pass ([`pool_core_seconds`]), which neither the window sharing
+    /// the cores nor the pool's size changes (virtual in tests).
     fn run(&mut self, spp: u32, virtual_time: bool, pixels: usize) -> f64 {
-        let start = Instant::now();
-        self.renderer.accumulate(spp);
         if virtual_time {
+            self.renderer.accumulate(spp);
             f64::from(spp) * pixels as f64 * VIRTUAL_SECONDS_PER_SAMPLE
         } else {
-            start.elapsed().as_secs_f64()
+            pool_core_seconds(|| self.renderer.accumulate(spp)).1
         }
     }
 }
@@ -211,6 +219,21 @@ impl Job {
 
     fn pixels(&self) -> usize {
         self.scene.plane.pixel_count()
+    }
+
+    /// The worker's frame: [`Job::advance`] again while the batch took less than
+    /// [`WORKER_BATCH_S`] (equal samples; an equal-time frame is one advance), so cheap
+    /// scenes gain several samples per pixel for each frame the window shows. Returns the
+    /// seconds the batch took.
+    fn advance_batch(&mut self, config: &EngineConfig) -> f64 {
+        let started = Instant::now();
+        loop {
+            self.advance(config, false);
+            let elapsed = started.elapsed().as_secs_f64();
+            if config.budget == BudgetMode::EqualTime || elapsed >= WORKER_BATCH_S {
+                return elapsed;
+            }
+        }
     }
 
     /// Accumulates one frame of every scheme.
@@ -289,8 +312,9 @@ impl Job {
                 "virtual time (inline test engine: 10 ns per pixel sample)".to_owned()
             } else {
                 format!(
-                    "CPU pass time per pixel sample (wall clock of each scheme's pass on {} \
-                     render threads), excluding tonemap and error maps",
+                    "CPU core time per pixel sample: the CPU time of the {} render thread(s) in \
+                     each scheme's pass (not the window's), excluding tonemap and error maps; \
+                     `lightpick bench`'s \"core ns\"",
                     rayon::current_num_threads()
                 )
             },
@@ -540,16 +564,17 @@ fn handle(
     }
 }
 
-/// The worker loop: waits for commands while paused; while running renders one frame at a
-/// time, each after the UI has taken the previous one, on a rayon pool of every core.
+/// The worker loop: waits for commands while paused; while running renders one batch at a
+/// time ([`Job::advance_batch`]), each after the UI has taken the previous frame, on a rayon
+/// pool that leaves one core to the window (whose frame, drawn by lavapipe on a machine
+/// without a GPU, needs it).
 fn worker(
     receiver: &mpsc::Receiver<Command>,
     shared: &Mutex<Option<Arc<Published>>>,
     ctx: &egui::Context,
 ) {
-    // Every core: the UI thread mostly waits for its frame, and the bench renders with every
-    // core too, so the two measure the same time per sample.
-    let threads = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
+    let threads =
+        std::thread::available_parallelism().map_or(1, |n| n.get().saturating_sub(1).max(1));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .thread_name(|i| format!("lightpick-render-{i}"))
@@ -559,15 +584,29 @@ fn worker(
     let mut config: Option<EngineConfig> = None;
     // Whether the UI has taken the last published frame.
     let mut shown = true;
+    // After a long batch the worker rests as long, so the window keeps half the cores.
+    let mut rest_until: Option<Instant> = None;
     loop {
         let running = job.is_some() && config.is_some_and(|c| c.running);
-        // Block unless a frame is due; then take whatever else arrived.
+        // Block unless a frame is due (waiting out a rest for commands only); then take
+        // whatever else arrived.
         let mut commands = Vec::new();
-        if !(running && shown) {
-            match receiver.recv() {
-                Ok(c) => commands.push(c),
-                Err(_) => return,
-            }
+        let resting = rest_until.filter(|t| *t > Instant::now());
+        if !(running && shown) || resting.is_some() {
+            let received = match resting {
+                Some(until) if running && shown => {
+                    match receiver.recv_timeout(until - Instant::now()) {
+                        Ok(c) => Some(c),
+                        Err(mpsc::RecvTimeoutError::Timeout) => None,
+                        Err(mpsc::RecvTimeoutError::Disconnected) => return,
+                    }
+                }
+                _ => match receiver.recv() {
+                    Ok(c) => Some(c),
+                    Err(_) => return,
+                },
+            };
+            commands.extend(received);
         }
         loop {
             match receiver.try_recv() {
@@ -606,12 +645,15 @@ fn worker(
             }
         }
         let running = job.is_some() && config.is_some_and(|c| c.running);
+        let rested = rest_until.is_none_or(|t| t <= Instant::now());
         if let (Some(job), Some(cfg)) = (job.as_mut(), config.as_ref()) {
-            if running && shown {
-                match &pool {
-                    Some(pool) => pool.install(|| job.advance(cfg, false)),
-                    None => job.advance(cfg, false),
-                }
+            if running && shown && rested {
+                let worked = match &pool {
+                    Some(pool) => pool.install(|| job.advance_batch(cfg)),
+                    None => job.advance_batch(cfg),
+                };
+                rest_until = (worked > 2.0 * WORKER_BATCH_S && threads > 1)
+                    .then(|| Instant::now() + Duration::from_secs_f64(worked.min(MAX_REST_S)));
                 changed = true;
             }
             if changed {

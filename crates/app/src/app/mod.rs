@@ -194,6 +194,8 @@ struct FrameLog {
     start: Instant,
     frames: u32,
     ui_seconds: f64,
+    /// The mean samples per pixel of the three images when the interval started.
+    spp: Option<f64>,
 }
 
 impl LightpickApp {
@@ -250,6 +252,7 @@ impl LightpickApp {
                 start: Instant::now(),
                 frames: 0,
                 ui_seconds: 0.0,
+                spp: None,
             }),
             gpu: None,
             gpu_error: None,
@@ -633,13 +636,30 @@ impl LightpickApp {
             };
         }
         self.last_frame = Some(now);
+        if self.frame_log.is_none() {
+            return;
+        }
+        let spp = self.published().map(|p| {
+            [&p.uniform, &p.importance, &p.spatial]
+                .iter()
+                .map(|s| f64::from(s.spp) + f64::from(s.pass_progress))
+                .sum::<f64>()
+                / 3.0
+        });
+        let note = self.placement_note();
         if let Some(log) = &mut self.frame_log {
             log.frames += 1;
             log.ui_seconds += (now - started).as_secs_f64();
             let elapsed = log.start.elapsed().as_secs_f64();
             if elapsed >= 2.0 {
+                let rate = match (log.spp, spp) {
+                    (Some(a), Some(b)) if b >= a => {
+                        format!("{:.2} spp/s per image", (b - a) / elapsed)
+                    }
+                    _ => "images restarted".to_owned(),
+                };
                 eprintln!(
-                    "lightpick frames: {:.1} fps, {:.2} ms/frame, ui() {:.2} ms/frame, {} lights",
+                    "lightpick frames: {:.1} fps, {:.2} ms/frame, ui() {:.2} ms/frame, {} lights, {rate}; {note}",
                     f64::from(log.frames) / elapsed,
                     elapsed * 1e3 / f64::from(log.frames),
                     log.ui_seconds * 1e3 / f64::from(log.frames),
@@ -649,6 +669,7 @@ impl LightpickApp {
                     start: Instant::now(),
                     frames: 0,
                     ui_seconds: 0.0,
+                    spp,
                 };
             }
         }

@@ -74,8 +74,8 @@ pub fn trade_ui(ui: &mut Ui, state: &mut AppState) {
         "virtual timings (test mode)".to_owned()
     } else {
         format!(
-            "T = wall time of the sample passes per pixel sample on {} threads, as `lightpick \
-             bench` times its CPU renders",
+            "T = core time per pixel sample (the CPU time of the {} render threads in the \
+             passes), as `lightpick bench`'s \"core ns\"",
             m.threads
         )
     };
@@ -185,7 +185,7 @@ fn plot_ui(ui: &mut Ui, m: &TradeMeasurement, spp_per_frame: u32, dark: bool) {
         .legend(Legend::default())
         .show_background(false)
         .height(ui.available_height().max(160.0))
-        .x_axis_label("seconds (render time, log scale)")
+        .x_axis_label("core seconds (render threads' CPU time, log scale)")
         .y_axis_label("RMSE (irradiance, log scale)")
         .show(ui, |plot_ui| {
             let largest = largest_variance(m);

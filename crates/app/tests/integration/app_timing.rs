@@ -153,3 +153,58 @@ fn the_apps_time_per_sample_is_the_benchs() {
     }
     panic!("the app's time per sample disagrees with the bench's: {last}");
 }
+
+/// The CPU images' engine (its worker thread and render pool, as in the app) measures the
+/// core time per sample that `lightpick bench`'s "as the app renders it" rows measure
+/// (`measure_cpu_passes`: the render threads' CPU clocks), on the same scene and table.
+#[test]
+fn the_cpu_engines_time_per_sample_is_the_benchs() {
+    use lightpick::app::engine::{Engine, EngineConfig};
+    use lightpick::app::state::{BudgetMode, Built};
+    use lightpick_core::render::measure_cpu_passes;
+
+    let scene = lightpick_core::scene::Scene::preset("heavy-tail").expect("preset");
+    let built = Built::new(1, scene);
+    let pixels = built.scene.plane.pixel_count() as f64;
+    let ctx = egui::Context::default();
+    let mut engine = Engine::threaded(&ctx);
+    assert!(engine.is_threaded());
+    engine.sync_config(EngineConfig {
+        spp_per_frame: 1,
+        budget: BudgetMode::EqualSamples,
+        exposure: 1.0,
+        seed: 1,
+        running: true,
+    });
+    engine.sync_scene(built.generation, &built.samplers, false);
+    let mut last = String::new();
+    for attempt in 1..=ATTEMPTS {
+        // Let the engine render at least 8 samples per pixel more, then read its T.
+        let deadline = std::time::Instant::now() + std::time::Duration::from_mins(2);
+        let start_spp = engine.latest().map_or(0, |p| p.spatial.spp);
+        let published = loop {
+            std::thread::sleep(std::time::Duration::from_millis(20));
+            if let Some(p) = engine.latest()
+                && p.spatial.spp >= start_spp + 8
+            {
+                break p;
+            }
+            assert!(std::time::Instant::now() < deadline, "the engine stalled");
+        };
+        let app_t = [
+            &published.uniform,
+            &published.importance,
+            &published.spatial,
+        ]
+        .map(|image| image.seconds_per_sample(pixels as usize));
+        let bench_t = SCHEMES.map(|scheme| {
+            measure_cpu_passes(&built.samplers, scheme, 1, 1, 0.0, 8).core_seconds_per_sample
+        });
+        eprintln!("attempt {attempt}: CPU core T per sample (s), app {app_t:?}, bench {bench_t:?}");
+        match disagreement(app_t, bench_t) {
+            None => return,
+            Some(why) => last = why,
+        }
+    }
+    panic!("the CPU engine's time per sample disagrees with the bench's: {last}");
+}

@@ -29,8 +29,8 @@ pub struct GpuPassMeasurement {
 
 /// Renders `scene` with `scheme` on `ctx`: one untimed warm-up pass (pipeline and light tree
 /// upload), then passes of `spp_per_pass` samples per pixel (one dispatch each, as the app
-/// adds its samples per frame: 1 by default), at least one, until they took `min_seconds`
-/// or reached `max_spp`. Each pass's fixed cost (submission, completion) is part of `T`,
+/// adds its samples per frame: 1 by default) until they took `min_seconds` or reached
+/// `max_spp`, with at least two samples per pixel (for the variance). Each pass's fixed cost (submission, completion) is part of `T`,
 /// spread over `spp_per_pass` samples. The variance comes from the same passes' sums.
 pub fn measure_passes(
     ctx: &GpuContext,
@@ -50,7 +50,9 @@ pub fn measure_passes(
     loop {
         renderer.accumulate(spp_per_pass)?;
         seconds += renderer.take_pass_seconds()?;
-        if renderer.samples_per_pixel() >= max_spp || seconds >= min_seconds {
+        // At least two samples per pixel: one has no variance.
+        let spp = renderer.samples_per_pixel();
+        if spp >= max_spp.max(2) || (spp >= 2 && seconds >= min_seconds) {
             break;
         }
     }

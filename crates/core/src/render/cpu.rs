@@ -283,6 +283,28 @@ fn render_row(
 ) {
     let end = k0 + spp;
     let mut picks = [0u32; BATCH];
+    if (spp as usize) < BATCH {
+        // Few samples per pixel (the app adds one per frame): batch across pixels instead,
+        // so the random loads still overlap. Each pixel still adds its samples in increasing
+        // `k`, so the sums are bit for bit those of the per-pixel loop below.
+        let row_start = u64::from(py) * u64::from(plane.width);
+        for first in (0..sum_row.len()).step_by(BATCH) {
+            let count = (sum_row.len() - first).min(BATCH);
+            for k in k0..end {
+                let batch = &mut picks[..count];
+                pick_batch_across(sampler, seed, row_start + first as u64, k, batch);
+                for (j, &i) in batch.iter().enumerate() {
+                    let px = first + j;
+                    let light = lights[i as usize];
+                    let x = pixel_center(plane, px as u32, py);
+                    let e = light.weight * geometry_term(light.position, x);
+                    sum_row[px] += e;
+                    sq_row[px] += e * e;
+                }
+            }
+        }
+        return;
+    }
     for_each_pixel(plane, py, sum_row, sq_row, |x, p, s, q| {
         let mut k = k0;
         while k < end {
@@ -329,6 +351,29 @@ fn render_row_spatial(
 #[inline]
 fn pick_batch(sampler: &Sampler, seed: u64, p: u64, k: u32, out: &mut [u32]) {
     let stream = |j: usize| (u64::from(k + j as u32) << 32) | p;
+    if let Sampler::Alias(table) = sampler {
+        let mut draws = [(0usize, 0u32); BATCH];
+        for (j, d) in draws[..out.len()].iter_mut().enumerate() {
+            let mut rng = Rng::new(seed, stream(j));
+            let column = table.pick_column(&mut rng);
+            *d = (column, rng.next_u32());
+        }
+        for (o, &(column, r2)) in out.iter_mut().zip(&draws) {
+            *o = table.resolve(column, r2);
+        }
+    } else {
+        for (j, o) in out.iter_mut().enumerate() {
+            *o = sampler.pick_light(&mut Rng::new(seed, stream(j)));
+        }
+    }
+}
+
+/// `out[j]` = the light of sample `k` of pixel `p0 + j`: exactly
+/// `sampler.pick_light(&mut Rng::new(seed, (k << 32) | (p0 + j)))`, the alias table's
+/// column picks and keep draws first and its lookups after (as [`pick_batch`]).
+#[inline]
+fn pick_batch_across(sampler: &Sampler, seed: u64, p0: u64, k: u32, out: &mut [u32]) {
+    let stream = |j: usize| (u64::from(k) << 32) | (p0 + j as u64);
     if let Sampler::Alias(table) = sampler {
         let mut draws = [(0usize, 0u32); BATCH];
         for (j, d) in draws[..out.len()].iter_mut().enumerate() {

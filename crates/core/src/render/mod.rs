@@ -29,13 +29,17 @@
 //! `Φ_total`; the one-random option adds up to `1.5·N·2^-32` in total variation.
 
 mod accumulator;
+mod core_clock;
 mod cpu;
+mod measure;
 mod metrics;
 mod reference;
 mod tonemap;
 
 pub use accumulator::Accumulator;
+pub use core_clock::pool_core_seconds;
 pub use cpu::CpuRenderer;
+pub use measure::{CpuPassMeasurement, measure_cpu_passes};
 pub use metrics::{
     Efficiency, ErrorMetrics, ProgressiveRenderer, REL_MSE_EPSILON, SchemeSeries, SeriesPoint,
     ZERO_VARIANCE_RTOL, convergence_series, cpu_convergence, efficiency, error_metrics,

@@ -414,3 +414,41 @@ fn convergence_series_follows_the_exact_mse() {
         assert!(series.windows(2).all(|w| w[0].seconds <= w[1].seconds));
     }
 }
+
+/// One sample per pass (batched across pixels, as the app renders) gives bit for bit the
+/// sums of one pass of many samples (batched within each pixel), for every power scheme.
+#[test]
+fn passes_of_one_sample_equal_one_pass_of_many_bit_for_bit() {
+    let mut scene = Scene::preset("heavy-tail").unwrap();
+    scene.plane.width = 37; // not a multiple of the batch
+    scene.plane.height = 5;
+    for scheme in [
+        Scheme::Uniform,
+        Scheme::Alias,
+        Scheme::AliasOneRandom,
+        Scheme::Cdf,
+    ] {
+        let mut one_by_one = CpuRenderer::new(&scene, scheme, 3);
+        for _ in 0..20 {
+            one_by_one.accumulate(1);
+        }
+        let mut at_once = CpuRenderer::new(&scene, scheme, 3);
+        at_once.accumulate(20);
+        let (a, b) = (one_by_one.accumulator(), at_once.accumulator());
+        assert_eq!(a.samples_per_pixel, b.samples_per_pixel);
+        assert!(
+            a.sum
+                .iter()
+                .zip(&b.sum)
+                .all(|(x, y)| x.to_bits() == y.to_bits()),
+            "{scheme}: sums differ"
+        );
+        assert!(
+            a.sum_sq
+                .iter()
+                .zip(&b.sum_sq)
+                .all(|(x, y)| x.to_bits() == y.to_bits()),
+            "{scheme}: sums of squares differ"
+        );
+    }
+}

@@ -9,6 +9,7 @@
 use lightpick_core::Scheme;
 use lightpick_core::render::{
     CpuRenderer, Efficiency, Reference, SeriesPoint, convergence_series, efficiency,
+    pool_core_seconds,
 };
 use lightpick_core::scene::Scene;
 
@@ -93,20 +94,30 @@ pub fn measure(generation: u64, scene: &Scene, virtual_time: bool) -> TradeMeasu
         .iter()
         .map(|&scheme| {
             let mut renderer = CpuRenderer::new(&small, scheme, 1);
-            let mut series = convergence_series(&mut renderer, &reference, TRADE_MAX_SPP);
+            let (mut series, mut core) =
+                pool_core_seconds(|| convergence_series(&mut renderer, &reference, TRADE_MAX_SPP));
             // The same (deterministic) series again: the fastest time of each point, so a
             // cold cache or a busy core does not bend one curve.
             for _ in 1..TRADE_REPEATS {
                 renderer.reset();
-                let again = convergence_series(&mut renderer, &reference, TRADE_MAX_SPP);
+                let (again, again_core) = pool_core_seconds(|| {
+                    convergence_series(&mut renderer, &reference, TRADE_MAX_SPP)
+                });
+                core = core.min(again_core);
                 for (p, q) in series.iter_mut().zip(&again) {
                     p.seconds = p.seconds.min(q.seconds);
                 }
             }
-            if virtual_time {
-                for p in &mut series {
-                    p.seconds = f64::from(p.spp) * pixels * VIRTUAL_SECONDS_PER_SAMPLE;
-                }
+            // Core seconds, as the CPU images and `lightpick bench`'s "core ns" count them:
+            // the series' wall times scaled to the passes' measured CPU time.
+            let wall = series.last().map_or(0.0, |p| p.seconds);
+            let to_core = if wall > 0.0 { core / wall } else { 1.0 };
+            for p in &mut series {
+                p.seconds = if virtual_time {
+                    f64::from(p.spp) * pixels * VIRTUAL_SECONDS_PER_SAMPLE
+                } else {
+                    p.seconds * to_core
+                };
             }
             let seconds = series.last().map_or(0.0, |p| p.seconds);
             TradeRow {
