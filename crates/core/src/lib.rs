@@ -18,6 +18,8 @@
 //!   explanation's steps with live numbers, and Vose's construction recorded step by step.
 //! * [`spatial`] picks lights by their contribution at a shading point (exact for few
 //!   lights, a light tree for many): the render-only scheme [`Scheme::Spatial`].
+//! * [`SceneSamplers`]: a scene with its alias table and spatial sampler, built once and
+//!   shared (`Arc`) by every renderer and view of it.
 //! * [`scene`], [`render`] and [`gpu`]: scenes of point lights over a receiver plane,
 //!   progressive renderers on the CPU (rayon) and the GPU (wgpu compute), error metrics.
 //! * [`draw`] renders the diagrams, plots and image sheets headless (tiny-skia → PNG).

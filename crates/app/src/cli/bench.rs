@@ -14,7 +14,13 @@
 //!   interpolated log-log on its convergence series). The spatial (contribution-aware)
 //!   scheme is one of them; each row also gives the sampler's build time (the light tree's
 //!   `O(N log N)` for spatial). A zero-variance row (the exact spatial pick, `N ≤ 16`) has an
-//!   infinite efficiency, written `null` in the JSON.
+//!   infinite efficiency, written `null` in the JSON. Beside `T` (wall time on rayon's
+//!   threads) each row has the core time (the threads' CPU time, `render::pool_core_seconds`).
+//! * The app's figures (`app_renders`, `gpu_renders`): each preset at its own resolution, in
+//!   passes of one sample per pixel as the app's images render it, uniform, alias and
+//!   spatial: on the CPU the core time per sample (`render::measure_cpu_passes`), on the GPU
+//!   the pass time per sample from the device's timestamps or the pass alone on an idle
+//!   queue (`gpu::measure_passes`). These are the figures the app's Convergence table shows.
 //!
 //! A timing is the median of several repetitions, each timing a batch of many operations
 //! (`std::time::Instant`, results through `std::hint::black_box`).
