@@ -24,7 +24,7 @@ use std::sync::Arc;
 
 use crate::moments::{EstimatorMoments, analytic_moments};
 use crate::spatial::SpatialSampler;
-use crate::{AliasTable, Rng, Uniform, Welford};
+use crate::{AliasTable, Rng, Scheme, Uniform, Welford};
 
 /// How one lane picks a light at the shading point.
 #[derive(Clone, Debug)]
@@ -111,6 +111,15 @@ pub struct EstimateLane {
 }
 
 impl EstimateLane {
+    /// The scheme the lane's rule realizes: uniform, power (the alias table) or spatial.
+    pub fn scheme(&self) -> Scheme {
+        match self.picker {
+            PointPicker::Uniform(_) => Scheme::Uniform,
+            PointPicker::Table(_) => Scheme::Alias,
+            PointPicker::Spatial { .. } => Scheme::Spatial,
+        }
+    }
+
     /// The running mean and variance of the samples so far.
     pub fn running(&self) -> &Welford {
         &self.running

@@ -13,8 +13,7 @@
 
 use egui::{RichText, Ui};
 use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints};
-use lightpick_core::Scheme;
-use lightpick_core::point_estimate::{EstimateLane, PointEstimator, samples_for_relative_error};
+use lightpick_core::point_estimate::{PointEstimator, samples_for_relative_error};
 
 use super::colors;
 use super::fractions;
@@ -24,15 +23,6 @@ use super::state::estimator::{EstimatorPoint, seed_point_uses_scene};
 
 /// The relative standard error the table's sample counts aim at.
 const TARGET_RELATIVE_ERROR: f64 = 0.01;
-
-/// The scheme a lane realizes (for its colour).
-fn lane_scheme(lane: &EstimateLane) -> Scheme {
-    match lane.name {
-        "uniform" => Scheme::Uniform,
-        "spatial" => Scheme::Spatial,
-        _ => Scheme::Alias,
-    }
-}
 
 /// The estimator window (View menu, the walkthrough's last step, the pixel inspector).
 pub fn estimator_window(ctx: &egui::Context, state: &mut AppState) {
@@ -233,7 +223,7 @@ fn figures_ui(ui: &mut Ui, estimator: &PointEstimator) {
             ui.end_row();
             for lane in estimator.lanes() {
                 let w = lane.running();
-                ui.colored_label(colors::scheme(lane_scheme(lane)), lane.name);
+                ui.colored_label(colors::scheme(lane.scheme()), lane.name);
                 if w.count() == 0 {
                     ui.label("–");
                     ui.label("–");
@@ -302,7 +292,7 @@ fn plot_ui(ui: &mut Ui, estimator: &PointEstimator, dark: bool) {
                 .width(1.5),
             );
             for lane in estimator.lanes() {
-                let color = colors::scheme(lane_scheme(lane));
+                let color = colors::scheme(lane.scheme());
                 let series = lane.series();
                 let at = |p: &lightpick_core::point_estimate::EstimatePoint, k: f64| {
                     [(p.samples as f64).log10(), p.mean + k * p.std_error]
