@@ -149,6 +149,16 @@ pub struct Published {
 }
 
 impl Published {
+    /// The mean samples per pixel of the three images, with the fraction of a pass in
+    /// progress (row bands).
+    pub fn mean_spp(&self) -> f64 {
+        [&self.uniform, &self.importance, &self.spatial]
+            .iter()
+            .map(|s| f64::from(s.spp) + f64::from(s.pass_progress))
+            .sum::<f64>()
+            / 3.0
+    }
+
     /// Whether the spatial image is the exact contribution pick (few lights): zero variance
     /// by construction, so its measured variance and RMSE are rounding only.
     pub fn spatial_is_exact(&self) -> bool {
@@ -191,7 +201,6 @@ impl Lane {
 struct Job {
     generation: u64,
     samplers: SceneSamplers,
-    scene: Arc<Scene>,
     uniform: Lane,
     importance: Lane,
     spatial: Lane,
@@ -202,15 +211,13 @@ struct Job {
 
 impl Job {
     fn new(generation: u64, samplers: SceneSamplers, seed: u64) -> Self {
-        let scene = Arc::clone(samplers.scene());
-        let (reference, reference_note) = reference(&scene);
+        let (reference, reference_note) = reference(samplers.scene());
         Self {
             generation,
             uniform: Lane::new(&samplers, Scheme::Uniform, seed),
             importance: Lane::new(&samplers, Scheme::Alias, seed),
             spatial: Lane::new(&samplers, Scheme::Spatial, seed),
             samplers,
-            scene,
             reference,
             reference_note,
             frame: 0,
@@ -218,7 +225,7 @@ impl Job {
     }
 
     fn pixels(&self) -> usize {
-        self.scene.plane.pixel_count()
+        self.samplers.scene().plane.pixel_count()
     }
 
     /// The worker's frame: [`Job::advance`] again while the batch took less than
@@ -299,9 +306,9 @@ impl Job {
         Published {
             generation: self.generation,
             frame: self.frame,
-            width: self.scene.plane.width,
-            height: self.scene.plane.height,
-            light_count: self.scene.light_count(),
+            width: self.samplers.scene().plane.width,
+            height: self.samplers.scene().plane.height,
+            light_count: self.samplers.scene().light_count(),
             uniform: scheme_image(&self.uniform),
             importance: scheme_image(&self.importance),
             spatial: scheme_image(&self.spatial),

@@ -608,13 +608,7 @@ impl LightpickApp {
         };
         let total_spp = published
             .filter(|p| p.generation == self.state.built.generation)
-            .map(|p| {
-                [&p.uniform, &p.importance, &p.spatial]
-                    .iter()
-                    .map(|s| f64::from(s.spp) + f64::from(s.pass_progress))
-                    .sum::<f64>()
-                    / 3.0
-            });
+            .map(Published::mean_spp);
         self.placement.observe(
             self.state.settings.device,
             self.adapter(),
@@ -639,13 +633,7 @@ impl LightpickApp {
         if self.frame_log.is_none() {
             return;
         }
-        let spp = self.published().map(|p| {
-            [&p.uniform, &p.importance, &p.spatial]
-                .iter()
-                .map(|s| f64::from(s.spp) + f64::from(s.pass_progress))
-                .sum::<f64>()
-                / 3.0
-        });
+        let spp = self.published().map(|p| p.mean_spp());
         let note = self.placement_note();
         if let Some(log) = &mut self.frame_log {
             log.frames += 1;

@@ -760,11 +760,7 @@ fn app_cpu_renders(
                 std::sync::Arc::new(Scene::preset(name).with_context(|| format!("preset {name}"))?);
             let samplers = lightpick_core::SceneSamplers::new(
                 std::sync::Arc::clone(&scene),
-                if scene.light_count() <= 1 << 16 {
-                    Construction::Exact
-                } else {
-                    Construction::Integer
-                },
+                crate::app::state::construction_for(scene.light_count()),
             );
             let exact_pick = lightpick_core::spatial::uses_exact_pick(scene.light_count());
             let mut schemes: Vec<AppSchemeRender> = GPU_RENDER_SCHEMES

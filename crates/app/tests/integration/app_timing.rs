@@ -23,14 +23,6 @@ use lightpick_core::gpu::{self, GpuContext};
 
 const ROUNDS: usize = 7;
 
-fn skip() -> bool {
-    let skip = std::env::var("LIGHTPICK_SKIP_GPU_TESTS").as_deref() == Ok("1");
-    if skip {
-        eprintln!("GPU test skipped: LIGHTPICK_SKIP_GPU_TESTS=1");
-    }
-    skip
-}
-
 /// The app on kittest's adapter with the device the app itself asks for (timestamps
 /// included when the adapter has them), paused on `heavy-tail`.
 fn app_on_heavy_tail() -> Harness<'static, LightpickApp> {
@@ -120,7 +112,7 @@ fn disagreement(app_t: [f64; 3], bench_t: [f64; 3]) -> Option<String> {
 
 #[test]
 fn the_apps_time_per_sample_is_the_benchs() {
-    if skip() {
+    if !crate::common::gpu_expected() {
         return;
     }
     let mut app = app_on_heavy_tail();

@@ -343,37 +343,31 @@ fn render_row_spatial(
 }
 
 /// `out[j]` = the light of sample `k + j` of pixel `p`: exactly
-/// `sampler.pick_light(&mut Rng::new(seed, ((k + j) << 32) | p))`. For the alias table the
-/// column pick and the keep draw of every sample are made first and the table lookups after:
-/// the same [`crate::AliasTable::pick_column`] (Lemire's rejection, redrawing from the
-/// sample's own stream) and the same next draw that [`crate::AliasTable::sample`] uses, so
-/// the same picks.
+/// `sampler.pick_light(&mut Rng::new(seed, ((k + j) << 32) | p))` ([`pick_streams`]).
 #[inline]
 fn pick_batch(sampler: &Sampler, seed: u64, p: u64, k: u32, out: &mut [u32]) {
-    let stream = |j: usize| (u64::from(k + j as u32) << 32) | p;
-    if let Sampler::Alias(table) = sampler {
-        let mut draws = [(0usize, 0u32); BATCH];
-        for (j, d) in draws[..out.len()].iter_mut().enumerate() {
-            let mut rng = Rng::new(seed, stream(j));
-            let column = table.pick_column(&mut rng);
-            *d = (column, rng.next_u32());
-        }
-        for (o, &(column, r2)) in out.iter_mut().zip(&draws) {
-            *o = table.resolve(column, r2);
-        }
-    } else {
-        for (j, o) in out.iter_mut().enumerate() {
-            *o = sampler.pick_light(&mut Rng::new(seed, stream(j)));
-        }
-    }
+    pick_streams(sampler, seed, |j| (u64::from(k + j as u32) << 32) | p, out);
 }
 
 /// `out[j]` = the light of sample `k` of pixel `p0 + j`: exactly
-/// `sampler.pick_light(&mut Rng::new(seed, (k << 32) | (p0 + j)))`, the alias table's
-/// column picks and keep draws first and its lookups after (as [`pick_batch`]).
+/// `sampler.pick_light(&mut Rng::new(seed, (k << 32) | (p0 + j)))` ([`pick_streams`]).
 #[inline]
 fn pick_batch_across(sampler: &Sampler, seed: u64, p0: u64, k: u32, out: &mut [u32]) {
-    let stream = |j: usize| (u64::from(k) << 32) | (p0 + j as u64);
+    pick_streams(
+        sampler,
+        seed,
+        |j| (u64::from(k) << 32) | (p0 + j as u64),
+        out,
+    );
+}
+
+/// `out[j]` = `sampler.pick_light(&mut Rng::new(seed, stream(j)))`. For the alias table the
+/// column pick and the keep draw of every pick are made first and the table lookups after:
+/// the same [`crate::AliasTable::pick_column`] (Lemire's rejection, redrawing from the
+/// pick's own stream) and the same next draw that [`crate::AliasTable::sample`] uses, so the
+/// same picks, with the batch's random loads independent of each other.
+#[inline]
+fn pick_streams(sampler: &Sampler, seed: u64, stream: impl Fn(usize) -> u64, out: &mut [u32]) {
     if let Sampler::Alias(table) = sampler {
         let mut draws = [(0usize, 0u32); BATCH];
         for (j, d) in draws[..out.len()].iter_mut().enumerate() {
