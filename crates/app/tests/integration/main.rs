@@ -12,7 +12,6 @@ mod app_interaction;
 mod app_lights;
 mod app_snapshots;
 mod app_spatial;
-mod app_timing;
 mod app_trade_precision;
 mod cli_bench_precision;
 mod cli_device;

@@ -4,8 +4,8 @@
 //! the ratios between schemes within 1.3× (the issue that asked for this saw spatial look
 //! 4× more efficient than importance in the app while the bench measured 0.3×).
 //!
-//! Timing on a shared machine is noisy (the tests of this binary run in parallel on two
-//! cores), so both sides take the fastest of several frames of 8 samples per pixel,
+//! Timing on a shared machine is noisy, so these tests have a test binary of their own and
+//! take the machine in turn (`crate::machine`); both sides take the fastest of several frames of 32 samples per pixel (a uniform pass of ~40 ms: long against lavapipe's thread wake-ups),
 //! interleaved (a busy moment slows both), after the app's reference (computed on a worker
 //! thread) has arrived; and a measurement outside the bounds is taken again, up to three
 //! times in all: a busy moment passes, a clock that measures the wrong thing does not. The
@@ -44,7 +44,7 @@ fn app_frame_t(image: &SchemeImage, pixels: f64, spp: u32) -> f64 {
 }
 
 /// Samples per pixel each lane adds per frame (and the bench per measurement).
-const SPP: u32 = 8;
+const SPP: u32 = 32;
 /// Measurements of the whole comparison before the bounds are declared missed.
 const ATTEMPTS: usize = 3;
 
@@ -115,6 +115,7 @@ fn the_apps_time_per_sample_is_the_benchs() {
     if !crate::common::gpu_expected() {
         return;
     }
+    let _machine = crate::machine();
     let mut app = app_on_heavy_tail();
     app.state_mut().state.settings.spp_per_frame = SPP;
     let ctx = GpuContext::new().expect("a wgpu adapter (lavapipe in CI)");
@@ -155,6 +156,7 @@ fn the_cpu_engines_time_per_sample_is_the_benchs() {
     use lightpick::app::state::{BudgetMode, Built};
     use lightpick_core::render::measure_cpu_passes;
 
+    let _machine = crate::machine();
     let scene = lightpick_core::scene::Scene::preset("heavy-tail").expect("preset");
     let built = Built::new(1, scene);
     let pixels = built.scene.plane.pixel_count() as f64;
