@@ -5,7 +5,9 @@
 //! 4× more efficient than importance in the app while the bench measured 0.3×).
 //!
 //! Timing on a shared machine is noisy, so these tests have a test binary of their own and
-//! take the machine in turn (`crate::machine`); both sides take the fastest of several frames of 32 samples per pixel (a uniform pass of ~40 ms: long against lavapipe's thread wake-ups),
+//! take the machine in turn (`crate::machine`); both sides take the fastest of several
+//! frames of 32 samples per pixel (a uniform pass of ~40 ms: long against lavapipe's thread
+//! wake-ups),
 //! interleaved (a busy moment slows both), after the app's reference (computed on a worker
 //! thread) has arrived; and a measurement outside the bounds is taken again, up to three
 //! times in all: a busy moment passes, a clock that measures the wrong thing does not. The
