@@ -7,9 +7,8 @@
 //! Timing on a shared machine is noisy, so these tests have a test binary of their own and
 //! take the machine in turn (`crate::machine`); both sides take the fastest of several
 //! frames of 32 samples per pixel (a uniform pass of ~40 ms: long against lavapipe's thread
-//! wake-ups),
-//! interleaved (a busy moment slows both), after the app's reference (computed on a worker
-//! thread) has arrived; and a measurement outside the bounds is taken again, up to three
+//! wake-ups), interleaved (a busy moment slows both), after the app's reference (computed on
+//! a worker thread) has arrived; and a measurement outside the bounds is taken again, up to three
 //! times in all: a busy moment passes, a clock that measures the wrong thing does not. The
 //! scene is `heavy-tail` (10^4 lights, 256×256), where a spatial pass costs ~20 uniform ones:
 //! a clock that counted other queued work would move the ratios far outside the bounds.
