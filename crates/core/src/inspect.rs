@@ -20,6 +20,8 @@
 //! Everything is computed in normalized units (`p_i·G_i` instead of `Φ_i·G_i`), so powers
 //! near `f64::MAX` or 1e-300 neither overflow nor underflow where their shares matter.
 
+use glam::DVec2;
+
 use crate::scene::{Scene, geometry_term};
 use crate::spatial::SpatialSampler;
 
@@ -59,7 +61,7 @@ pub struct OtherLights {
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PointInspection {
     /// The point `(x, y)` on `z = 0`.
-    pub x: [f64; 2],
+    pub x: DVec2,
     /// The exact irradiance `E(x) = Σ Φ_i·G_i(x)`.
     pub irradiance: f64,
     /// Every light when there are at most `2·LISTED_PER_RANKING`, else the
@@ -81,7 +83,7 @@ pub struct PointInspection {
 
 impl PointInspection {
     /// Inspects `scene` at the point `x` in `O(N)` (power and uniform picking).
-    pub fn at(scene: &Scene, x: [f64; 2]) -> Self {
+    pub fn at(scene: &Scene, x: DVec2) -> Self {
         Self::compute(scene, x, None)
     }
 
@@ -90,7 +92,7 @@ impl PointInspection {
     ///
     /// # Panics
     /// If `spatial` was built for a different number of lights.
-    pub fn at_with_spatial(scene: &Scene, x: [f64; 2], spatial: &SpatialSampler) -> Self {
+    pub fn at_with_spatial(scene: &Scene, x: DVec2, spatial: &SpatialSampler) -> Self {
         assert_eq!(
             spatial.light_count(),
             scene.light_count(),
@@ -99,7 +101,7 @@ impl PointInspection {
         Self::compute(scene, x, Some(&spatial.pdfs(x)))
     }
 
-    fn compute(scene: &Scene, x: [f64; 2], spatial: Option<&[f64]>) -> Self {
+    fn compute(scene: &Scene, x: DVec2, spatial: Option<&[f64]>) -> Self {
         let pmf = scene.powers.pmf();
         let n = pmf.len();
         // Normalized contributions p_i·G_i(x): E(x)/ΣΦ.
@@ -238,17 +240,18 @@ mod tests {
     use crate::LightPowers;
     use crate::analytic_moments;
     use crate::scene::{ReceiverPlane, Scene};
+    use glam::{DVec3, dvec2};
 
     fn scene(positions: Vec<[f64; 3]>, powers: &[f64]) -> Scene {
         Scene {
             name: "test".into(),
             plane: ReceiverPlane {
-                min: [-1.0, -1.0],
-                max: [1.0, 1.0],
+                min: dvec2(-1.0, -1.0),
+                max: dvec2(1.0, 1.0),
                 width: 8,
                 height: 8,
             },
-            positions,
+            positions: positions.into_iter().map(DVec3::from).collect(),
             powers: LightPowers::new(powers.to_vec()).unwrap(),
         }
     }
@@ -259,7 +262,7 @@ mod tests {
             vec![[-0.5, 0.2, 0.3], [0.4, -0.1, 0.8], [0.0, 0.9, 0.1]],
             &[2.0, 5.0, 20.0],
         );
-        let x = [0.1, -0.3];
+        let x = dvec2(0.1, -0.3);
         let inspection = PointInspection::at(&s, x);
         let total_share: f64 = inspection.lights.iter().map(|l| l.share).sum();
         assert!((total_share - 1.0).abs() < 1e-15, "{total_share}");
@@ -296,7 +299,7 @@ mod tests {
     fn power_sampling_is_ideal_where_the_geometry_is_equal() {
         // Lights straight above x at the same height: equal G, so shares equal the pmf.
         let s = scene(vec![[0.0, 0.0, 1.0]; 3], &[2.0, 5.0, 20.0]);
-        let inspection = PointInspection::at(&s, [0.0, 0.0]);
+        let inspection = PointInspection::at(&s, dvec2(0.0, 0.0));
         assert!(inspection.power_relative_variance < 1e-14);
         assert!(inspection.total_variation < 1e-15);
         // Uniform: N·Σp² − 1 = 3·(4 + 25 + 400)/729 − 1.
@@ -307,7 +310,7 @@ mod tests {
     #[test]
     fn no_light_above_the_plane_means_zero_irradiance_and_no_variance() {
         let s = scene(vec![[0.0, 0.0, -1.0], [0.5, 0.5, 0.0]], &[1.0, 3.0]);
-        let inspection = PointInspection::at(&s, [0.0, 0.0]);
+        let inspection = PointInspection::at(&s, dvec2(0.0, 0.0));
         assert_eq!(inspection.irradiance, 0.0);
         assert_eq!(inspection.uniform_relative_variance, 0.0);
         assert_eq!(inspection.power_relative_variance, 0.0);
@@ -325,7 +328,7 @@ mod tests {
             .collect();
         let powers: Vec<f64> = (0..n).map(|i| 1.0 + (i % 17) as f64).collect();
         let s = scene(positions, &powers);
-        let inspection = PointInspection::at(&s, [0.3, -0.2]);
+        let inspection = PointInspection::at(&s, dvec2(0.3, -0.2));
         assert!(inspection.lights.len() <= 2 * LISTED_PER_RANKING);
         assert!(inspection.lights.len() >= LISTED_PER_RANKING);
         assert_eq!(inspection.others.count, n - inspection.lights.len());
@@ -336,7 +339,7 @@ mod tests {
         // The largest share overall is listed first.
         let best = (0..n)
             .max_by(|&a, &b| {
-                let g = |i: usize| powers[i] * geometry_term(s.positions[i], [0.3, -0.2]);
+                let g = |i: usize| powers[i] * geometry_term(s.positions[i], dvec2(0.3, -0.2));
                 g(a).total_cmp(&g(b))
             })
             .unwrap();
@@ -349,7 +352,7 @@ mod tests {
             vec![[0.0, 0.0, 1.0], [0.5, 0.0, 0.2], [0.0, 0.5, 0.5]],
             &[1e-300, f64::MAX, 1e300],
         );
-        let inspection = PointInspection::at(&s, [0.2, 0.1]);
+        let inspection = PointInspection::at(&s, dvec2(0.2, 0.1));
         assert!(inspection.irradiance.is_finite() && inspection.irradiance > 0.0);
         assert!(inspection.power_relative_variance.is_finite());
         assert!(inspection.uniform_relative_variance.is_finite());

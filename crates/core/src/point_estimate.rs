@@ -25,6 +25,7 @@ use std::sync::Arc;
 use crate::moments::{EstimatorMoments, analytic_moments};
 use crate::spatial::SpatialSampler;
 use crate::{AliasTable, Rng, Scheme, Uniform, Welford};
+use glam::DVec2;
 
 /// How one lane picks a light at the shading point.
 #[derive(Clone, Debug)]
@@ -40,7 +41,7 @@ pub enum PointPicker {
         /// The scene's spatial sampler.
         sampler: Arc<SpatialSampler>,
         /// The shading point `x` on the plane `z = 0`.
-        point_on_plane: [f64; 2],
+        point_on_plane: DVec2,
     },
 }
 

@@ -5,6 +5,7 @@
 
 use std::path::Path;
 
+use glam::{DVec3, dvec2, dvec3};
 use lightpick_core::scene::{ReceiverPlane, Scene};
 use lightpick_core::{LightPowers, Rng};
 
@@ -28,12 +29,16 @@ fn fallback_seed_scene() -> Scene {
     Scene {
         name: "seed".to_owned(),
         plane: ReceiverPlane {
-            min: [-2.0, -2.0],
-            max: [2.0, 2.0],
+            min: dvec2(-2.0, -2.0),
+            max: dvec2(2.0, 2.0),
             width: 256,
             height: 256,
         },
-        positions: vec![[-1.2, 0.8, 0.8], [1.0, 1.0, 1.0], [0.0, -1.0, 1.5]],
+        positions: vec![
+            dvec3(-1.2, 0.8, 0.8),
+            dvec3(1.0, 1.0, 1.0),
+            dvec3(0.0, -1.0, 1.5),
+        ],
         powers: lightpick_core::SeedExample::powers(),
     }
 }
@@ -118,15 +123,15 @@ pub fn random_powers(count: usize, dist: PowerDistribution, scale: f64, seed: u6
 
 /// `count` light positions scattered above `plane` (heights between 5% and 40% of the
 /// plane's extent), deterministic in `seed`.
-pub fn random_positions(count: usize, plane: &ReceiverPlane, seed: u64) -> Vec<[f64; 3]> {
-    let extent = (plane.max[0] - plane.min[0]).max(plane.max[1] - plane.min[1]);
+pub fn random_positions(count: usize, plane: &ReceiverPlane, seed: u64) -> Vec<DVec3> {
+    let extent = (plane.max - plane.min).max_element();
     (0..count)
         .map(|i| {
             let mut rng = Rng::new(seed ^ 0x05ee_d0f1_1167, i as u64);
-            let x = plane.min[0] + rng.next_unit() * (plane.max[0] - plane.min[0]);
-            let y = plane.min[1] + rng.next_unit() * (plane.max[1] - plane.min[1]);
+            let x = plane.min.x + rng.next_unit() * (plane.max.x - plane.min.x);
+            let y = plane.min.y + rng.next_unit() * (plane.max.y - plane.min.y);
             let z = extent * (0.05 + 0.35 * rng.next_unit());
-            [x, y, z]
+            dvec3(x, y, z)
         })
         .collect()
 }
@@ -135,7 +140,7 @@ pub fn random_positions(count: usize, plane: &ReceiverPlane, seed: u64) -> Vec<[
 pub fn assemble(
     name: &str,
     plane: ReceiverPlane,
-    positions: Vec<[f64; 3]>,
+    positions: Vec<DVec3>,
     powers: LightPowers,
 ) -> Scene {
     Scene {

@@ -11,6 +11,8 @@ pub struct GpuContext {
     device: wgpu::Device,
     queue: wgpu::Queue,
     info: wgpu::AdapterInfo,
+    /// A lower binding limit than the device's, for tests of split arrays.
+    binding_limit: Option<u64>,
 }
 
 impl GpuContext {
@@ -70,6 +72,7 @@ impl GpuContext {
             device,
             queue,
             info,
+            binding_limit: None,
         })
     }
 
@@ -112,7 +115,28 @@ impl GpuContext {
             device,
             queue,
             info,
+            binding_limit: None,
         }
+    }
+
+    /// The most bytes one storage binding may hold here: the device's
+    /// `max_storage_buffer_binding_size` (and `max_buffer_size`, if lower). Arrays beyond it
+    /// are split over several bindings ([`crate::gpu`] § Limits).
+    pub fn storage_binding_limit(&self) -> u64 {
+        let limits = self.device.limits();
+        let device = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        self.binding_limit.map_or(device, |l| l.min(device))
+    }
+
+    /// The same device with a smaller binding limit (at least 16 bytes), so that tests can
+    /// split arrays over several bindings without allocating hundreds of megabytes.
+    #[doc(hidden)]
+    #[must_use]
+    pub fn with_storage_binding_limit(mut self, bytes: u64) -> Self {
+        self.binding_limit = Some(bytes.max(16));
+        self
     }
 
     /// The logical device.

@@ -48,6 +48,20 @@ pub enum GpuError {
         /// The device's limit.
         limit: u64,
     },
+    /// A kernel would need more storage bindings than the device offers per shader stage
+    /// (arrays beyond one binding are split over several, [`crate::gpu`] § Limits).
+    #[error(
+        "{what} needs {needed} storage bindings but the device allows at most {limit} per \
+         shader stage"
+    )]
+    TooManyBindings {
+        /// What the kernel computes.
+        what: &'static str,
+        /// The storage bindings it needs.
+        needed: u32,
+        /// The device's `max_storage_buffers_per_shader_stage`.
+        limit: u32,
+    },
     /// The image is empty or larger than a texture (or a dispatch) may be.
     #[error("image of {width}×{height} pixels is not supported: each side must be in 1..={max}")]
     ImageSize {

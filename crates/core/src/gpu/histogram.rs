@@ -1,9 +1,37 @@
 //! The histogram of light picks, computed on the GPU.
 
+use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
 use super::{GpuContext, GpuError, PICK_WGSL, WORKGROUP_SIZE};
 use crate::{LightSampler as _, PackedAliasEntry, Sampler};
 
 pub(crate) const HISTOGRAM_WGSL: &str = include_str!("histogram.wgsl");
+
+/// The split-array layouts of the histogram kernel: the packed table and the counts.
+pub(crate) const TABLE_LAYOUT: ArrayLayout = ArrayLayout {
+    name: "alias_table",
+    element: "vec2<u32>",
+    bytes: 8,
+};
+pub(crate) const COUNTS_LAYOUT: ArrayLayout = ArrayLayout {
+    name: "counts",
+    element: "atomic<u32>",
+    bytes: 4,
+};
+
+/// The source of the histogram kernel for a table and counts split as given.
+pub(crate) fn histogram_source(table: SplitShape, counts: SplitShape) -> String {
+    super::shader_source(&[
+        PICK_WGSL,
+        &declarations(TABLE_LAYOUT, table, 1, Access::Read),
+        &declarations(
+            COUNTS_LAYOUT,
+            counts,
+            1 + table.chunks as u32,
+            Access::AtomicAdd,
+        ),
+        HISTOGRAM_WGSL,
+    ])
+}
 
 /// Samples per dispatch: bins are `u32` and one dispatch adds at most this many counts, so
 /// no bin can wrap; the CPU sums the dispatches in `u64`. Also keeps `k + stride` in `u32`.
@@ -31,7 +59,8 @@ struct HistogramParams {
 /// [`Sampler::pick_light`], so the counts equal the CPU loop's counts, bin for bin.
 ///
 /// Counts are `u32` atomics on the GPU (in workgroup memory first when there are at most
-/// 2048 lights); the work is split into dispatches of at most `2^31` samples so no bin can
+/// 2048 lights); the table (8 bytes per light) and the counts (4) are split over as many
+/// storage bindings as the device's binding limit requires (`crate::gpu` § Limits); the work is split into dispatches of at most `2^31` samples so no bin can
 /// wrap, and the dispatches are summed in `u64`. The 64-bit sample index is
 /// `base + local` with the carry propagated in WGSL. [`Sampler::Cdf`] is refused with
 /// [`GpuError::UnsupportedScheme`].
@@ -82,31 +111,43 @@ pub fn histogram_range_split(
     if count == 0 {
         return Ok(totals);
     }
-    let count_bytes = n as u64 * 4;
     let table_words: Vec<[u32; 2]> = table.iter().map(|e| [e.threshold, e.alias]).collect();
-    let table_buffer = super::storage_buffer(
+    let table_buffer = SplitArray::with_contents(
         ctx,
         "alias table",
+        TABLE_LAYOUT,
         bytemuck::cast_slice(&table_words),
         wgpu::BufferUsages::empty(),
     )?;
     drop(table_words);
-    let counts_buffer = super::zeroed_storage_buffer(
+    let counts_buffer = SplitArray::zeroed(
         ctx,
         "histogram counts",
-        count_bytes,
+        COUNTS_LAYOUT,
+        n as u64,
         wgpu::BufferUsages::COPY_SRC,
     )?;
+    let storage = (table_buffer.buffers().len() + counts_buffer.buffers().len()) as u32;
+    check_bindings(ctx, "the histogram kernel", storage)?;
     let params_buffer = super::uniform_buffer(ctx, "histogram params", 32);
-    let pipeline =
-        super::compute_pipeline(ctx, "histogram", &[PICK_WGSL, HISTOGRAM_WGSL], "histogram")?;
+    let pipeline = super::compute_pipeline_from_source(
+        ctx,
+        "histogram",
+        histogram_source(table_buffer.shape(), counts_buffer.shape()),
+        "histogram",
+    )?;
     let bind_group = super::scoped(ctx, "binding the histogram buffers", || {
-        Ok(super::bind_buffers(
-            ctx,
-            "histogram",
-            &pipeline,
-            &[&params_buffer, &table_buffer, &counts_buffer],
-        ))
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: params_buffer.as_entire_binding(),
+        }];
+        entries.extend(table_buffer.entries(1));
+        entries.extend(counts_buffer.entries(1 + table_buffer.buffers().len() as u32));
+        Ok(ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("histogram"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        }))
     })?;
 
     let mut done = 0u64;
@@ -134,7 +175,7 @@ pub fn histogram_range_split(
                     .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                         label: Some("histogram"),
                     });
-            encoder.clear_buffer(&counts_buffer, 0, None);
+            counts_buffer.clear(&mut encoder);
             {
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("histogram"),
@@ -147,7 +188,7 @@ pub fn histogram_range_split(
             ctx.queue().submit([encoder.finish()]);
             Ok(())
         })?;
-        let bytes = super::read_buffer(ctx, "histogram counts", &counts_buffer, count_bytes)?;
+        let bytes = counts_buffer.read(ctx, "histogram counts")?;
         let counts: Vec<u32> = super::words(&bytes);
         for (total, c) in totals.iter_mut().zip(counts) {
             *total += u64::from(c);

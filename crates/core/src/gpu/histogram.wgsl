@@ -1,6 +1,8 @@
 // histogram.wgsl: counts the lights picked by samples base .. base + count − 1, where
 // sample k draws from Rng::new(seed, k) exactly as Sampler::pick_light does on the CPU.
-// Needs the RNG prelude and pick.wgsl.
+// Needs the RNG prelude, pick.wgsl and the split arrays (split.rs) `alias_table`
+// (vec2<u32> per column, read through alias_table_at) and `counts` (atomic<u32> per light,
+// added to through counts_add), bound from binding 1 on.
 
 struct HistogramParams {
     seed_lo: u32,
@@ -17,11 +19,8 @@ struct HistogramParams {
 }
 
 @group(0) @binding(0) var<uniform> params: HistogramParams;
-@group(0) @binding(1) var<storage, read> alias_table: array<vec2<u32>>;
-@group(0) @binding(2) var<storage, read_write> counts: array<atomic<u32>>;
-
 fn alias_entry(column: u32) -> vec2<u32> {
-    return alias_table[column];
+    return alias_table_at(column);
 }
 
 // Few lights: count in workgroup memory first, then add each non-zero bin once per
@@ -55,12 +54,12 @@ fn histogram(
         for (var b = lid; b < params.n_lights; b += 256u) {
             let c = atomicLoad(&shared_counts[b]);
             if c != 0u {
-                atomicAdd(&counts[b], c);
+                counts_add(b, c);
             }
         }
     } else {
         for (var k = gid.x; k < params.count; k += params.stride) {
-            atomicAdd(&counts[sample_light(k)], 1u);
+            counts_add(sample_light(k), 1u);
         }
     }
 }

@@ -42,6 +42,7 @@ mod pass_timer;
 mod probe;
 mod renderer;
 mod spatial;
+mod split;
 
 pub use context::GpuContext;
 pub use error::GpuError;
@@ -95,10 +96,7 @@ pub(crate) fn check_storage_size(
     what: &'static str,
     bytes: u64,
 ) -> Result<(), GpuError> {
-    let limits = ctx.device().limits();
-    let limit = limits
-        .max_buffer_size
-        .min(limits.max_storage_buffer_binding_size);
+    let limit = ctx.storage_binding_limit();
     if bytes > limit {
         return Err(GpuError::BufferTooLarge { what, bytes, limit });
     }
@@ -160,12 +158,22 @@ pub(crate) fn compute_pipeline(
     parts: &[&str],
     entry_point: &str,
 ) -> Result<wgpu::ComputePipeline, GpuError> {
+    compute_pipeline_from_source(ctx, label, shader_source(parts), entry_point)
+}
+
+/// Creates a compute pipeline (automatic layout) from a whole WGSL `source`.
+pub(crate) fn compute_pipeline_from_source(
+    ctx: &GpuContext,
+    label: &'static str,
+    source: String,
+    entry_point: &str,
+) -> Result<wgpu::ComputePipeline, GpuError> {
     scoped(ctx, label, || {
         let module = ctx
             .device()
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(label),
-                source: wgpu::ShaderSource::Wgsl(shader_source(parts).into()),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
             });
         Ok(ctx
             .device()
@@ -322,22 +330,30 @@ pub(crate) fn words(bytes: &[u8]) -> Vec<u32> {
 mod tests {
     use super::*;
 
-    /// Every kernel parses and validates with naga, without needing a device.
+    /// Every kernel parses and validates with naga, without needing a device, with its
+    /// arrays in one binding and split over three.
     #[test]
     fn every_kernel_validates_with_naga() {
-        let kernels: [(&str, &[&str]); 6] = [
-            (
-                "spatial",
-                &[PICK_WGSL, renderer::RENDER_WGSL, spatial::SPATIAL_WGSL],
-            ),
-            ("probe", &[probe::PROBE_WGSL]),
-            ("histogram", &[PICK_WGSL, histogram::HISTOGRAM_WGSL]),
-            ("render", &[PICK_WGSL, renderer::RENDER_WGSL]),
-            ("tonemap", &[renderer::TONEMAP_WGSL]),
-            ("rng alone", &[]),
+        use split::SplitShape;
+        let one = SplitShape {
+            chunks: 1,
+            shift: 31,
+        };
+        let three = SplitShape {
+            chunks: 3,
+            shift: 20,
+        };
+        let mut kernels: Vec<(&str, String)> = vec![
+            ("probe", shader_source(&[probe::PROBE_WGSL])),
+            ("tonemap", shader_source(&[renderer::TONEMAP_WGSL])),
+            ("rng alone", shader_source(&[])),
         ];
-        for (name, parts) in kernels {
-            let source = shader_source(parts);
+        for (label, shape) in [("one binding", one), ("three bindings", three)] {
+            kernels.push((label, spatial::spatial_source(shape, shape)));
+            kernels.push((label, histogram::histogram_source(shape, shape)));
+            kernels.push((label, renderer::render_source(shape)));
+        }
+        for (name, source) in kernels {
             let module = wgpu::naga::front::wgsl::parse_str(&source)
                 .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&source)));
             wgpu::naga::valid::Validator::new(

@@ -2,14 +2,18 @@
 
 use std::ops::Range;
 
+use glam::{UVec2, Vec3};
+
 use super::pass_timer::{PassClock, PassTimer};
 use super::spatial::SpatialGpu;
+use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
 use super::{GpuContext, GpuError, PICK_WGSL};
 use crate::render::Accumulator;
 use crate::scene::Scene;
 use crate::{Construction, LightPowers, SceneSamplers, Scheme};
 
 pub(crate) const RENDER_WGSL: &str = include_str!("render.wgsl");
+pub(crate) const RENDER_COMMON_WGSL: &str = include_str!("render_common.wgsl");
 pub(crate) const TONEMAP_WGSL: &str = include_str!("tonemap.wgsl");
 
 /// Workgroups are 16×16 pixels.
@@ -20,6 +24,32 @@ const SAMPLES_PER_DISPATCH: u64 = 1 << 24;
 /// Per-light GPU storage: `(x, y, z, p_i)` as four `f32` and the packed alias entry
 /// `(threshold, alias)` as two `u32`, interleaved (`Light` in `render.wgsl`).
 const BYTES_PER_LIGHT: u64 = 24;
+/// The split-array layout of the lights: `fn lights_at(i: u32) -> Light` in `render.wgsl`.
+pub(crate) const LIGHTS_LAYOUT: ArrayLayout = ArrayLayout {
+    name: "lights",
+    element: "Light",
+    bytes: BYTES_PER_LIGHT,
+};
+
+/// One light as `render.wgsl` reads it (`Light`): position and `p_i` as `f32`, then the
+/// packed alias entry `(threshold, alias)` of its column.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuLight {
+    position: Vec3,
+    power: f32,
+    entry: UVec2,
+}
+
+/// The source of the accumulate kernel for lights split as `lights`.
+pub(crate) fn render_source(lights: SplitShape) -> String {
+    super::shader_source(&[
+        PICK_WGSL,
+        RENDER_COMMON_WGSL,
+        &declarations(LIGHTS_LAYOUT, lights, 2, Access::Read),
+        RENDER_WGSL,
+    ])
+}
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -37,7 +67,7 @@ struct RenderParams {
     plane_extent_x: f32,
     plane_extent_y: f32,
     n_f32: f32,
-    tree_leaves: u32,
+    spatial_root: u32,
     row_begin: u32,
     row_end: u32,
 }
@@ -94,7 +124,7 @@ pub struct GpuRenderer {
     band_row: u32,
     plane: [f32; 4],
     params: wgpu::Buffer,
-    lights: wgpu::Buffer,
+    lights: SplitArray,
     sums: wgpu::Buffer,
     accumulate_pipeline: wgpu::ComputePipeline,
     accumulate_bind_group: wgpu::BindGroup,
@@ -169,12 +199,14 @@ impl GpuRenderer {
             (plane.max[0] - plane.min[0]) as f32,
             (plane.max[1] - plane.min[1]) as f32,
         ];
-        let lights = super::zeroed_storage_buffer(
+        let lights = SplitArray::zeroed(
             ctx,
             "lights (positions, powers, alias table)",
-            n * BYTES_PER_LIGHT,
+            LIGHTS_LAYOUT,
+            n,
             wgpu::BufferUsages::empty(),
         )?;
+        check_bindings(ctx, "the render kernel", 1 + lights.buffers().len() as u32)?;
         let sums = super::zeroed_storage_buffer(
             ctx,
             "pixel sums",
@@ -191,10 +223,10 @@ impl GpuRenderer {
             "tonemap params",
             std::mem::size_of::<TonemapParams>() as u64,
         );
-        let accumulate_pipeline = super::compute_pipeline(
+        let accumulate_pipeline = super::compute_pipeline_from_source(
             ctx,
             "render accumulate",
-            &[PICK_WGSL, RENDER_WGSL],
+            render_source(lights.shape()),
             "accumulate",
         )?;
         let tonemap_pipeline =
@@ -219,12 +251,23 @@ impl GpuRenderer {
                     view_formats: &[],
                 });
                 let output_view = output.create_view(&wgpu::TextureViewDescriptor::default());
-                let accumulate_bind_group = super::bind_buffers(
-                    ctx,
-                    "render accumulate",
-                    &accumulate_pipeline,
-                    &[&params, &lights, &sums],
-                );
+                let mut entries = vec![
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: params.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: sums.as_entire_binding(),
+                    },
+                ];
+                entries.extend(lights.entries(2));
+                let accumulate_bind_group =
+                    ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("render accumulate"),
+                        layout: &accumulate_pipeline.get_bind_group_layout(0),
+                        entries: &entries,
+                    });
                 let tonemap_bind_group =
                     ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
                         label: Some("render tonemap"),
@@ -308,7 +351,7 @@ impl GpuRenderer {
             }
         }
         for (i, p) in scene.positions.iter().enumerate() {
-            if let Some(k) = p.iter().position(|&v| !fits(v)) {
+            if let Some(k) = p.to_array().iter().position(|&v| !fits(v)) {
                 return Err(refuse(format!("lights[{i}].position[{k}]"), p[k]));
             }
         }
@@ -336,28 +379,22 @@ impl GpuRenderer {
     /// lights, and restarts the accumulation.
     fn upload_lights(&mut self) -> Result<(), GpuError> {
         let scene = self.samplers.scene();
-        let lights: Vec<[u32; 6]> = scene
+        let lights: Vec<GpuLight> = scene
             .positions
             .iter()
             .zip(scene.powers.pmf())
             .zip(self.samplers.table().packed())
-            .map(|((p, pmf), e)| {
-                [
-                    (p[0] as f32).to_bits(),
-                    (p[1] as f32).to_bits(),
-                    (p[2] as f32).to_bits(),
-                    (pmf as f32).to_bits(),
-                    e.threshold,
-                    e.alias,
-                ]
+            .map(|((p, pmf), e)| GpuLight {
+                position: p.as_vec3(),
+                power: pmf as f32,
+                entry: UVec2::new(e.threshold, e.alias),
             })
             .collect();
-        super::scoped(&self.ctx, "uploading the lights", || {
-            self.ctx
-                .queue()
-                .write_buffer(&self.lights, 0, bytemuck::cast_slice(&lights));
-            Ok(())
-        })?;
+        self.lights.write(
+            &self.ctx,
+            "uploading the lights",
+            bytemuck::cast_slice(&lights),
+        )?;
         self.total_power = scene.powers.total();
         self.spatial = None;
         if self.scheme == Scheme::Spatial {
@@ -374,7 +411,7 @@ impl GpuRenderer {
             self.spatial = Some(SpatialGpu::new(
                 &self.ctx,
                 self.samplers.spatial(),
-                [&self.params, &self.lights, &self.sums],
+                [&self.params, &self.sums],
             )?);
         }
         Ok(())
@@ -512,9 +549,9 @@ impl GpuRenderer {
         if self.scheme == Scheme::Spatial {
             self.ensure_spatial()?;
         }
-        let (pipeline, bind_group, tree_leaves, scheme) = match &self.spatial {
+        let (pipeline, bind_group, spatial_root, scheme) = match &self.spatial {
             Some(s) if self.scheme == Scheme::Spatial => {
-                (&s.pipeline, &s.bind_group, s.leaves, s.code)
+                (&s.pipeline, &s.bind_group, s.root, s.code)
             }
             _ => (
                 &self.accumulate_pipeline,
@@ -537,7 +574,7 @@ impl GpuRenderer {
             plane_extent_x: self.plane[2],
             plane_extent_y: self.plane[3],
             n_f32: self.samplers.scene().light_count() as f32,
-            tree_leaves,
+            spatial_root,
             row_begin: rows.start,
             row_end: rows.end,
         };

@@ -1,8 +1,11 @@
 //! The GPU side of [`Scheme::Spatial`](crate::Scheme::Spatial): the light tree's buffers
 //! and the `accumulate_spatial` pipeline (`spatial.wgsl`), built only when the scheme is used.
 
-use super::{GpuContext, GpuError, PICK_WGSL};
-use crate::spatial::SpatialSampler;
+use glam::{UVec4, Vec4};
+
+use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
+use super::{GpuContext, GpuError};
+use crate::spatial::{SpatialLight, SpatialSampler};
 
 pub(crate) const SPATIAL_WGSL: &str = include_str!("spatial.wgsl");
 
@@ -10,94 +13,141 @@ pub(crate) const SPATIAL_WGSL: &str = include_str!("spatial.wgsl");
 pub(crate) const SCHEME_SPATIAL_EXACT: u32 = 3;
 /// Scheme word of the light-tree descent.
 pub(crate) const SCHEME_SPATIAL_TREE: u32 = 4;
-/// GPU bytes per internal tree node: `min.xyz, Φ, max.xyz, pad` as `f32`.
-pub(crate) const BYTES_PER_NODE: u64 = 32;
-/// GPU bytes per leaf: its scene index.
-pub(crate) const BYTES_PER_LEAF: u64 = 4;
+/// GPU bytes per contributing light: `(x, y, z, p_i)` as `f32`, in leaf order.
+pub(crate) const BYTES_PER_LIGHT: u64 = 16;
+/// GPU bytes per tree node: four `(c.xyz, Φ)` as `f32` and four child words.
+pub(crate) const BYTES_PER_NODE: u64 = 80;
 
-/// The uploaded spatial sampler: tree nodes and leaf order (one-word placeholders for the
-/// exact pick, which reads only the lights), and the pipeline bound to them.
+/// A tree node as `spatial.wgsl` reads it.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuNode {
+    lane: [Vec4; 4],
+    child: UVec4,
+}
+
+/// The uploaded spatial sampler: its lights in leaf order and its nodes (a one-node
+/// placeholder for the exact pick), and the pipeline bound to them.
 #[derive(Debug)]
 pub(crate) struct SpatialGpu {
     /// [`SCHEME_SPATIAL_EXACT`] or [`SCHEME_SPATIAL_TREE`].
     pub(crate) code: u32,
-    /// Leaves of the tree (0 for the exact pick).
-    pub(crate) leaves: u32,
-    /// GPU bytes of the nodes and the leaf order.
+    /// `params.spatial_root`: the tree's root child word, or the exact pick's light count.
+    pub(crate) root: u32,
+    /// GPU bytes of the lights and the nodes.
     pub(crate) bytes: u64,
     pub(crate) pipeline: wgpu::ComputePipeline,
     pub(crate) bind_group: wgpu::BindGroup,
 }
 
+/// `(x, y, z, p_i)` as `f32`.
+fn light_vec4(l: &SpatialLight) -> Vec4 {
+    l.position_in_world.as_vec3().extend(l.power as f32)
+}
+
+/// The source of the spatial kernel for lights and nodes split as given.
+pub(crate) fn spatial_source(lights: SplitShape, nodes: SplitShape) -> String {
+    let lights_wgsl = declarations(LIGHTS_LAYOUT, lights, 2, Access::Read);
+    let nodes_wgsl = declarations(NODES_LAYOUT, nodes, 2 + lights.chunks as u32, Access::Read);
+    super::shader_source(&[
+        super::renderer::RENDER_COMMON_WGSL,
+        &lights_wgsl,
+        &nodes_wgsl,
+        SPATIAL_WGSL,
+    ])
+}
+
+/// The split-array layouts of the spatial kernel.
+pub(crate) const LIGHTS_LAYOUT: ArrayLayout = ArrayLayout {
+    name: "spatial_lights",
+    element: "vec4<f32>",
+    bytes: BYTES_PER_LIGHT,
+};
+pub(crate) const NODES_LAYOUT: ArrayLayout = ArrayLayout {
+    name: "spatial_nodes",
+    element: "SpatialNode",
+    bytes: BYTES_PER_NODE,
+};
+
 impl SpatialGpu {
     /// Uploads the spatial sampler (built in `f64` on the CPU, as the CPU renderer's, so both
-    /// descend the same tree) beside the renderer's `params`, `lights` and `sums`.
+    /// descend the same tree) beside the renderer's `params` and `sums`.
     pub(crate) fn new(
         ctx: &GpuContext,
         sampler: &SpatialSampler,
-        buffers: [&wgpu::Buffer; 3],
+        [params, sums]: [&wgpu::Buffer; 2],
     ) -> Result<Self, GpuError> {
-        let (code, node_words, order): (u32, Vec<[u32; 8]>, Vec<u32>) = match sampler {
-            SpatialSampler::Exact(_) => (SCHEME_SPATIAL_EXACT, Vec::new(), Vec::new()),
+        let (code, root, lights, nodes): (u32, u32, Vec<Vec4>, Vec<GpuNode>) = match sampler {
+            SpatialSampler::Exact(exact) => {
+                let lights: Vec<Vec4> = exact.lights().iter().map(|(_, l)| light_vec4(l)).collect();
+                (
+                    SCHEME_SPATIAL_EXACT,
+                    lights.len() as u32,
+                    lights,
+                    Vec::new(),
+                )
+            }
             SpatialSampler::Tree(tree) => (
                 SCHEME_SPATIAL_TREE,
+                tree.root().bits(),
+                tree.lights().iter().map(light_vec4).collect(),
                 tree.nodes()
                     .iter()
-                    .map(|n| {
-                        let f = |v: f64| (v as f32).to_bits();
-                        [
-                            f(n.min[0]),
-                            f(n.min[1]),
-                            f(n.min[2]),
-                            f(n.power),
-                            f(n.max[0]),
-                            f(n.max[1]),
-                            f(n.max[2]),
-                            0,
-                        ]
+                    .map(|n| GpuNode {
+                        lane: std::array::from_fn(|k| {
+                            n.centroid[k].as_vec3().extend(n.power[k] as f32)
+                        }),
+                        child: UVec4::from_array(n.child.map(|c| c.bits())),
                     })
                     .collect(),
-                tree.order().to_vec(),
             ),
         };
-        let bytes = node_words.len() as u64 * BYTES_PER_NODE + order.len() as u64 * BYTES_PER_LEAF;
-        // A binding holds at least one node: a placeholder for the exact pick and one leaf.
-        let placeholder = [[0u32; 8]];
-        let node_slice = if node_words.is_empty() {
-            &placeholder[..]
-        } else {
-            &node_words[..]
-        };
-        let nodes = super::storage_buffer(
+        let bytes = lights.len() as u64 * BYTES_PER_LIGHT + nodes.len() as u64 * BYTES_PER_NODE;
+        // Every binding holds at least one element (a zero placeholder when there is none).
+        let lights = SplitArray::with_contents(
+            ctx,
+            "spatial lights (leaf order)",
+            LIGHTS_LAYOUT,
+            bytemuck::cast_slice(&lights),
+            wgpu::BufferUsages::empty(),
+        )?;
+        let nodes = SplitArray::with_contents(
             ctx,
             "light tree nodes",
-            bytemuck::cast_slice(node_slice),
+            NODES_LAYOUT,
+            bytemuck::cast_slice(&nodes),
             wgpu::BufferUsages::empty(),
         )?;
-        let order_buffer = super::storage_buffer(
-            ctx,
-            "light tree leaf order",
-            bytemuck::cast_slice(&order),
-            wgpu::BufferUsages::empty(),
-        )?;
-        let pipeline = super::compute_pipeline(
+        let storage = 1 + (lights.buffers().len() + nodes.buffers().len()) as u32;
+        check_bindings(ctx, "the spatial render kernel", storage)?;
+        let pipeline = super::compute_pipeline_from_source(
             ctx,
             "render accumulate spatial",
-            &[PICK_WGSL, super::renderer::RENDER_WGSL, SPATIAL_WGSL],
+            spatial_source(lights.shape(), nodes.shape()),
             "accumulate_spatial",
         )?;
-        let [params, lights, sums] = buffers;
         let bind_group = super::scoped(ctx, "binding the light tree", || {
-            Ok(super::bind_buffers(
-                ctx,
-                "render accumulate spatial",
-                &pipeline,
-                &[params, lights, sums, &nodes, &order_buffer],
-            ))
+            let mut entries = vec![
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: sums.as_entire_binding(),
+                },
+            ];
+            entries.extend(lights.entries(2));
+            entries.extend(nodes.entries(2 + lights.buffers().len() as u32));
+            Ok(ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("render accumulate spatial"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &entries,
+            }))
         })?;
         Ok(Self {
             code,
-            leaves: order.len() as u32,
+            root,
             bytes,
             pipeline,
             bind_group,

@@ -1,99 +1,96 @@
-// spatial.wgsl: Scheme::Spatial on the GPU, the twin of crates/core/src/spatial (exact
-// contribution sampling for few lights, light-tree descent for many). Appended after
-// pick.wgsl and render.wgsl (it uses params, lights, sums, geometry_term, pixel_center).
+// spatial.wgsl: Scheme::Spatial on the GPU, the twin of crates/core/src/spatial (the exact
+// contribution pick for few lights, the 4-wide light tree with leaf clusters for many).
+// Needs the RNG prelude, render_common.wgsl and the split arrays (split.rs)
+// `spatial_lights` (vec4<f32>: x, y, z, p_i of the contributing lights, in leaf order) and
+// `spatial_nodes` (SpatialNode), read through spatial_lights_at and spatial_nodes_at.
 // Same streams as the CPU: sample k of pixel p draws from rng_new(seed, p, k); the exact
-// pick takes one draw (u = (r >> 8)·2^-24, exact in f32), the descent one draw per level,
-// r >> 8 compared with the branch threshold.
+// pick takes one draw (u = (r >> 8)·2^-24, exact in f32), the descent one draw per node and
+// one in the leaf cluster, r >> 8 against the cumulative grid masses.
 
-// An internal tree node (32 bytes): the box of its lights and their normalized power.
-// Children are implicit (depth-first order): left = node + 1, right = node + (mid − lo).
-struct TreeNode {
-    min_x: f32,
-    min_y: f32,
-    min_z: f32,
-    power: f32,
-    max_x: f32,
-    max_y: f32,
-    max_z: f32,
-    _pad: u32,
+// A tree node, 80 bytes: per lane, the child's power-weighted centroid (xyz) and power (w),
+// and the child word: a node index, or 1 << 31 | count << 27 | first (count 0: no child).
+struct SpatialNode {
+    lane: array<vec4<f32>, 4>,
+    child: vec4<u32>,
 }
-
-@group(0) @binding(3) var<storage, read> tree_nodes: array<TreeNode>;
-// Scene index of each leaf, in leaf order.
-@group(0) @binding(4) var<storage, read> tree_order: array<u32>;
 
 const SCHEME_SPATIAL_EXACT: u32 = 3u;
 const SCHEME_SPATIAL_TREE: u32 = 4u;
 const EXACT_MAX_LIGHTS: u32 = 16u;
-// f32::MAX / 4: importances are capped here so that two of them add without overflow.
-const IMPORTANCE_CAP: f32 = 8.507059e37;
-const MIN_NORMAL: f32 = 1.1754944e-38;
+const LEAF_SIZE: u32 = 8u;
+const LEAF_BIT: u32 = 0x80000000u;
+const COUNT_SHIFT: u32 = 27u;
+const FIRST_MASK: u32 = 0x07ffffffu;
+const GRID: u32 = 16777216u;
+const GRID_CELL: f32 = 5.9604645e-8;
+// spatial::importance::POWER_SHARE and IMPORTANCE_CAP (f32::MAX / 16).
+const POWER_SHARE: f32 = 0.03125;
+const IMPORTANCE_CAP: f32 = 2.1267647e37;
 
 fn unit24(r: u32) -> f32 {
     return f32(r >> 8u) * (1.0 / 16777216.0);
 }
 
-fn light_position(i: u32) -> vec3<f32> {
-    return vec3<f32>(lights[i].x, lights[i].y, lights[i].z);
+// spatial::importance::representative_importance: Φ·G(c, x), 0 unless positive, capped.
+fn representative_importance(lane: vec4<f32>, x: vec2<f32>) -> f32 {
+    let i = lane.w * geometry_term(lane.xyz, x);
+    return select(0.0, min(i, IMPORTANCE_CAP), i > 0.0);
 }
 
-// spatial::importance::node_importance in f32: Φ·cos_bound / (4π·max(|x − c|², h²)).
-fn node_importance(n: TreeNode, x: vec2<f32>) -> f32 {
-    if !(n.max_z > 0.0) || !(n.power > 0.0) {
-        return 0.0;
+// spatial::importance::grid_masses of one probability, before the remainder.
+fn floor_mass(p: f32) -> u32 {
+    if !(p > 0.0) {
+        return 0u;
     }
-    let gap_x = max(max(n.min_x - x.x, x.x - n.max_x), 0.0);
-    let gap_y = max(max(n.min_y - x.y, x.y - n.max_y), 0.0);
-    let rho2 = gap_x * gap_x + gap_y * gap_y;
-    // z_max / √(ρ² + z_max²) with inverseSqrt (no division; f32 keeps the two factors
-    // apart so that d²·√(ρ² + z²) cannot overflow for large scenes).
-    let cos_bound = n.max_z * inverseSqrt(rho2 + n.max_z * n.max_z);
-    let dx = 0.5 * (n.min_x + n.max_x) - x.x;
-    let dy = 0.5 * (n.min_y + n.max_y) - x.y;
-    let dz = 0.5 * (n.min_z + n.max_z);
-    let hx = 0.5 * (n.max_x - n.min_x);
-    let hy = 0.5 * (n.max_y - n.min_y);
-    let hz = 0.5 * (n.max_z - n.min_z);
-    let d2 = max(max(dx * dx + dy * dy + dz * dz, hx * hx + hy * hy + hz * hz), MIN_NORMAL);
-    let importance = n.power * cos_bound / (FOUR_PI * d2);
-    if !(importance > 0.0) {
-        return 0.0;
-    }
-    return min(importance, IMPORTANCE_CAP);
+    return clamp(u32(floor(p * 16777216.0)), 1u, GRID);
 }
 
-// (importance, power) of the child covering leaves [lo, hi), internal node `node` if wider
-// than one leaf; a single leaf has the exact importance p_i·G_i(x).
-fn child_importance(lo: u32, hi: u32, node: u32, x: vec2<f32>) -> vec2<f32> {
-    if hi - lo == 1u {
-        let i = tree_order[lo];
-        return vec2<f32>(lights[i].p * geometry_term(light_position(i), x), lights[i].p);
+// branch_probabilities then grid_masses for the four lanes of a node.
+fn node_masses(node: ptr<function, SpatialNode>, x: vec2<f32>) -> vec4<u32> {
+    var importance = vec4<f32>(0.0);
+    var power = vec4<f32>(0.0);
+    for (var k = 0u; k < 4u; k++) {
+        let lane = (*node).lane[k];
+        power[k] = lane.w;
+        importance[k] = representative_importance(lane, x);
     }
-    let n = tree_nodes[node];
-    return vec2<f32>(node_importance(n, x), n.power);
+    let total_importance = importance.x + importance.y + importance.z + importance.w;
+    let total_power = power.x + power.y + power.z + power.w;
+    if !(total_power > 0.0) {
+        return vec4<u32>(0u);
+    }
+    let by_power = 1.0 / total_power;
+    var p: vec4<f32>;
+    // The importances are capped at f32::MAX / 16: their sum is finite.
+    if total_importance > 0.0 {
+        let by_importance = (1.0 - POWER_SHARE) / total_importance;
+        let share = POWER_SHARE * by_power;
+        p = importance * by_importance + power * share;
+    } else {
+        p = power * by_power;
+    }
+    var m = vec4<u32>(floor_mass(p.x), floor_mass(p.y), floor_mass(p.z), floor_mass(p.w));
+    var largest = 0u;
+    for (var k = 1u; k < 4u; k++) {
+        if m[k] > m[largest] {
+            largest = k;
+        }
+    }
+    let sum = m.x + m.y + m.z + m.w;
+    m[largest] = u32(clamp(i32(m[largest]) + i32(GRID) - i32(sum), 1, i32(GRID)));
+    return m;
 }
 
-// spatial::importance::branch_probabilities: (P_left, P_right).
-fn branch_probabilities(l: vec2<f32>, r: vec2<f32>) -> vec2<f32> {
-    let s = l.x + r.x;
-    if s > 0.0 {
-        let inv = 1.0 / s;
-        return vec2<f32>(l.x * inv, r.x * inv);
+// spatial::importance::pick_on_grid over four lanes.
+fn pick_lane(m: vec4<u32>, u: u32) -> u32 {
+    var end = 0u;
+    for (var k = 0u; k < 3u; k++) {
+        end += m[k];
+        if u < end {
+            return k;
+        }
     }
-    let t = l.y + r.y;
-    if t > 0.0 {
-        return vec2<f32>(l.y / t, r.y / t);
-    }
-    return vec2<f32>(0.5, 0.5);
-}
-
-// spatial::importance::branch_threshold: y = P_left·2^24, clamped so that a branch of
-// positive probability stays reachable; left iff f32(r >> 8) < y (exact: r >> 8 < 2^24),
-// that is iff r >> 8 < t = ⌈y⌉, with probability exactly t/2^24 (f32(t) exact: t ≤ 2^24).
-fn branch_threshold(p: vec2<f32>) -> f32 {
-    let lo = select(0.0, 1.0, p.x > 0.0);
-    let hi = select(16777216.0, 16777215.0, p.y > 0.0);
-    return clamp(p.x * 16777216.0, lo, hi);
+    return 3u;
 }
 
 // v · 2^e for any i32 e, as two exact power-of-two scalings (each within pow2's range).
@@ -103,56 +100,80 @@ fn scale_pow2(v: f32, e: i32) -> f32 {
     return (v * pow2(half)) * pow2(c - half);
 }
 
-// LightTree::sample: one draw per level; ê = p_i·G_i(x)/pdf with the pdf kept as a
-// mantissa and a power of two (frexp after every level), so that neither a deep product of
-// small branch probabilities nor a tiny p_i under- or overflows before the final ratio.
+// LightTree::sample: one draw per node, one in the leaf cluster; ê = c_j / pdf with the pdf
+// kept as a mantissa and a power of two (frexp after every factor), so that neither a deep
+// product of small probabilities nor the final ratio under- or overflows early.
 fn spatial_tree_estimate(x: vec2<f32>, state: ptr<function, u32>) -> f32 {
-    let m = params.tree_leaves;
-    if m == 0u {
-        return 0.0;
-    }
-    var lo = 0u;
-    var hi = m;
-    var node = 0u;
+    var at = params.spatial_root;
     var pdf_m = 1.0;
     var pdf_e = 0i;
-    while hi - lo > 1u {
-        let mid = lo + (hi - lo) / 2u;
-        let left = child_importance(lo, mid, node + 1u, x);
-        let right = child_importance(mid, hi, node + (mid - lo), x);
-        let y = branch_threshold(branch_probabilities(left, right));
-        let t = ceil(y);
-        if f32(rng_next(state) >> 8u) < y {
-            pdf_m *= t * (1.0 / 16777216.0);
-            node = node + 1u;
-            hi = mid;
-        } else {
-            pdf_m *= (16777216.0 - t) * (1.0 / 16777216.0);
-            node = node + (mid - lo);
-            lo = mid;
-        }
-        let f = frexp(pdf_m);
+    var node: SpatialNode;
+    while (at & LEAF_BIT) == 0u {
+        node = spatial_nodes_at(at);
+        let m = node_masses(&node, x);
+        let lane = pick_lane(m, rng_next(state) >> 8u);
+        let f = frexp(pdf_m * (f32(m[lane]) * GRID_CELL));
         pdf_m = f.fract;
         pdf_e += f.exp;
+        at = node.child[lane];
     }
-    let i = tree_order[lo];
-    let g = geometry_term(light_position(i), x);
-    let pw = frexp(lights[i].p);
-    if !(g > 0.0) || !(pw.fract > 0.0) || !(pdf_m > 0.0) {
+    let count = min((at & ~LEAF_BIT) >> COUNT_SHIFT, LEAF_SIZE);
+    let first = at & FIRST_MASK;
+    if count == 0u {
         return 0.0;
     }
-    return scale_pow2(pw.fract * g / pdf_m, pw.exp - pdf_e);
+    // The leaf cluster: every c_j = p_j·G_j(x), then the pick by their grid masses.
+    var c: array<f32, 8>;
+    var total = 0.0;
+    for (var j = 0u; j < count; j++) {
+        let l = spatial_lights_at(first + j);
+        c[j] = l.w * geometry_term(l.xyz, x);
+        total += c[j];
+    }
+    let u = rng_next(state) >> 8u;
+    if !(total > 0.0) {
+        return 0.0;
+    }
+    let inv = 1.0 / total;
+    var m: array<u32, 8>;
+    var sum = 0u;
+    var largest = 0u;
+    for (var j = 0u; j < count; j++) {
+        m[j] = floor_mass(c[j] * inv);
+        sum += m[j];
+        if m[j] > m[largest] {
+            largest = j;
+        }
+    }
+    m[largest] = u32(clamp(i32(m[largest]) + i32(GRID) - i32(sum), 1, i32(GRID)));
+    var chosen = count - 1u;
+    var end = 0u;
+    for (var j = 0u; j < count; j++) {
+        end += m[j];
+        if u < end {
+            chosen = j;
+            break;
+        }
+    }
+    let f = frexp(pdf_m * (f32(m[chosen]) * GRID_CELL));
+    let cj = frexp(c[chosen]);
+    if !(cj.fract > 0.0) || !(f.fract > 0.0) {
+        return 0.0;
+    }
+    return scale_pow2(cj.fract / f.fract, cj.exp - pdf_e - f.exp);
 }
 
-// ExactSampler::sample: every c_j = p_j·G_j(x), one draw, the first light whose running sum
-// exceeds u·S; the estimate is S whichever light is picked (zero variance). The pick itself
-// is kept (its cost is part of the scheme) though without visibility nothing reads it.
+// ExactSampler::sample: every c_j = p_j·G_j(x) of the contributing lights (at most 16,
+// their count in params.spatial_root), one draw, the first light whose running sum exceeds
+// u·S; the estimate is S whichever light is picked (zero variance). The pick itself is kept
+// (its cost is part of the scheme) though without visibility nothing reads it.
 fn spatial_exact_estimate(x: vec2<f32>, state: ptr<function, u32>) -> f32 {
     var c: array<f32, 16>;
-    let n = min(params.n_lights, EXACT_MAX_LIGHTS);
+    let n = min(params.spatial_root, EXACT_MAX_LIGHTS);
     var total = 0.0;
     for (var j = 0u; j < n; j++) {
-        c[j] = lights[j].p * geometry_term(light_position(j), x);
+        let l = spatial_lights_at(j);
+        c[j] = l.w * geometry_term(l.xyz, x);
         total += c[j];
     }
     let u = unit24(rng_next(state));

@@ -7,6 +7,7 @@
 
 use std::sync::Arc;
 
+use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::Accumulator;
@@ -31,7 +32,7 @@ enum Picker {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(32))]
 struct LightRecord {
-    position: [f64; 3],
+    position: DVec3,
     weight: f64,
 }
 
@@ -252,7 +253,7 @@ fn for_each_pixel(
     py: u32,
     sum_row: &mut [f64],
     sq_row: &mut [f64],
-    mut pixel: impl FnMut([f64; 2], u64, &mut f64, &mut f64),
+    mut pixel: impl FnMut(DVec2, u64, &mut f64, &mut f64),
 ) {
     let row_start = u64::from(py) * u64::from(plane.width);
     for (px, (sum, sq)) in sum_row.iter_mut().zip(sq_row.iter_mut()).enumerate() {

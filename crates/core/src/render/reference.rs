@@ -26,6 +26,7 @@
 //! pixels are computed, so a pixel's value is identical bit for bit in a full and in a
 //! subset reference, and for any thread count.
 
+use glam::DVec2;
 use rayon::prelude::*;
 
 use crate::scene::{Scene, pixel_center};
@@ -79,8 +80,8 @@ impl LightArrays {
             c: Vec::new(),
         };
         for (pos, &p) in scene.positions.iter().zip(&pmf) {
-            if pos[2] > 0.0 && p > 0.0 {
-                arrays.push(pos[0], pos[1], pos[2], p * pos[2]);
+            if pos.z > 0.0 && p > 0.0 {
+                arrays.push(pos.x, pos.y, pos.z, p * pos.z);
             }
         }
         while !arrays.c.len().is_multiple_of(LANES) {
@@ -100,7 +101,7 @@ impl LightArrays {
 /// `Σ_i c_i / (r_i²·√(r_i²))` over one chunk (its length a multiple of [`LANES`]), in
 /// [`LANES`] partial sums added in a fixed order.
 #[inline]
-fn chunk_sum(x: &[f64], y: &[f64], z: &[f64], c: &[f64], at: [f64; 2]) -> f64 {
+fn chunk_sum(x: &[f64], y: &[f64], z: &[f64], c: &[f64], at: DVec2) -> f64 {
     let mut lanes = [0.0f64; LANES];
     for (((xs, ys), zs), cs) in x
         .chunks_exact(LANES)
@@ -109,8 +110,8 @@ fn chunk_sum(x: &[f64], y: &[f64], z: &[f64], c: &[f64], at: [f64; 2]) -> f64 {
         .zip(c.chunks_exact(LANES))
     {
         for l in 0..LANES {
-            let dx = xs[l] - at[0];
-            let dy = ys[l] - at[1];
+            let dx = xs[l] - at.x;
+            let dy = ys[l] - at.y;
             let r2 = dx * dx + dy * dy + zs[l] * zs[l];
             lanes[l] += cs[l] / (r2 * r2.sqrt());
         }
@@ -165,7 +166,7 @@ impl Reference {
             .par_chunks_mut(PIXEL_BLOCK)
             .zip(pixels.par_chunks(PIXEL_BLOCK))
             .for_each(|(out, block)| {
-                let centers: Vec<[f64; 2]> = block
+                let centers: Vec<DVec2> = block
                     .iter()
                     .map(|&p| pixel_center(plane, p % width, p / width))
                     .collect();

@@ -33,6 +33,7 @@
 //! power of light `index` by `factor` and exempts that light from zeroing: with a
 //! `constant` distribution, that light is exactly `factor` times each of the others.
 
+use glam::DVec3;
 use rayon::prelude::*;
 
 use super::error::SceneError;
@@ -296,10 +297,10 @@ impl Generator {
 
     /// Light `i`: its position and power, from the stream `Rng::new(seed, i)`.
     #[inline]
-    pub fn light(&self, i: u64) -> ([f64; 3], f64) {
+    pub fn light(&self, i: u64) -> (DVec3, f64) {
         let mut rng = Rng::new(self.seed, i);
         let (lo, hi) = (self.placement.min, self.placement.max);
-        let mut position = [0.0; 3];
+        let mut position = DVec3::ZERO;
         for axis in 0..3 {
             let u = rng.next_unit();
             position[axis] = lo[axis] + u * (hi[axis] - lo[axis]);
@@ -316,7 +317,7 @@ impl Generator {
     /// Validates the recipe and draws every light, in parallel (the result does not depend
     /// on the thread count). Returns positions and powers, not yet checked as
     /// [`crate::LightPowers`] (a dominant factor may overflow a power to infinity).
-    pub fn generate(&self) -> Result<(Vec<[f64; 3]>, Vec<f64>), SceneError> {
+    pub fn generate(&self) -> Result<(Vec<DVec3>, Vec<f64>), SceneError> {
         self.validate()?;
         // count ≤ MAX_LIGHTS = 2^24 fits usize (rayon indexes usize ranges, not u64 ones).
         Ok((0..self.count as usize)

@@ -29,6 +29,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use glam::{DVec2, DVec3};
+
 use super::error::SceneError;
 use super::generator::{Generator, MAX_LIGHTS};
 use super::{ReceiverPlane, Scene};
@@ -106,7 +108,7 @@ impl Scene {
     pub fn from_parts(
         name: impl Into<String>,
         plane: ReceiverPlane,
-        positions: Vec<[f64; 3]>,
+        positions: Vec<DVec3>,
         powers: Vec<f64>,
     ) -> Result<Scene, SceneError> {
         validate_plane(&plane)?;
@@ -190,8 +192,8 @@ impl SceneFile {
             }
         }
         let plane = ReceiverPlane {
-            min: p.min,
-            max: p.max,
+            min: DVec2::from_array(p.min),
+            max: DVec2::from_array(p.max),
             width: p.width as u32,
             height: p.height as u32,
         };
@@ -214,7 +216,10 @@ impl SceneFile {
                         MAX_LIGHTS,
                     ));
                 }
-                let (positions, powers) = lights.into_iter().map(|l| (l.position, l.power)).unzip();
+                let (positions, powers) = lights
+                    .into_iter()
+                    .map(|l| (DVec3::from_array(l.position), l.power))
+                    .unzip();
                 build_scene(self.name, plane, positions, powers, "lights")
             }
             (None, Some(generator)) => {
@@ -270,7 +275,7 @@ fn validate_plane(plane: &ReceiverPlane) -> Result<(), SceneError> {
 fn build_scene(
     name: String,
     plane: ReceiverPlane,
-    positions: Vec<[f64; 3]>,
+    positions: Vec<DVec3>,
     powers: Vec<f64>,
     source: &str,
 ) -> Result<Scene, SceneError> {
@@ -290,7 +295,7 @@ fn build_scene(
         }
     };
     for (i, pos) in positions.iter().enumerate() {
-        if let Some(axis) = pos.iter().position(|c| !c.is_finite()) {
+        if let Some(axis) = pos.to_array().iter().position(|c| !c.is_finite()) {
             return Err(SceneError::NotFinite {
                 field: light_field(i, &format!("position[{axis}]")),
                 value: pos[axis],

@@ -25,6 +25,8 @@ pub use geometry::{geometry_term, pixel_center};
 pub use json::{MAX_PIXELS, MAX_PLANE_SIDE};
 pub use presets::PRESET_NAMES;
 
+use glam::{DVec2, DVec3};
+
 use crate::powers::LightPowers;
 
 /// The receiving rectangle on `z = 0` and its pixel grid. Pixel `(0, 0)` is the top-left
@@ -32,10 +34,10 @@ use crate::powers::LightPowers;
 /// at `y = max[1]`.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ReceiverPlane {
-    /// Lower-left corner `(x, y)`.
-    pub min: [f64; 2],
-    /// Upper-right corner `(x, y)`.
-    pub max: [f64; 2],
+    /// Lower-left corner `(x, y)` on the plane.
+    pub min: DVec2,
+    /// Upper-right corner `(x, y)` on the plane.
+    pub max: DVec2,
     /// Pixel columns.
     pub width: u32,
     /// Pixel rows.
@@ -56,8 +58,8 @@ pub struct Scene {
     pub name: String,
     /// The receiving plane and its pixels.
     pub plane: ReceiverPlane,
-    /// Light positions `(x, y, z)`, one per power.
-    pub positions: Vec<[f64; 3]>,
+    /// Light positions `(x, y, z)` in the world (the plane is `z = 0`), one per power.
+    pub positions: Vec<DVec3>,
     /// Light powers `Φ_i`, validated.
     pub powers: LightPowers,
 }
@@ -69,11 +71,11 @@ impl Scene {
     }
 
     /// The exact irradiance `E(x) = Σ_i Φ_i · G_i(x)` at a point of the plane.
-    pub fn exact_irradiance(&self, x: [f64; 2]) -> f64 {
+    pub fn exact_irradiance(&self, point_on_plane: DVec2) -> f64 {
         self.positions
             .iter()
             .zip(self.powers.as_slice())
-            .map(|(&p, &phi)| phi * geometry_term(p, x))
+            .map(|(&light_in_world, &phi)| phi * geometry_term(light_in_world, point_on_plane))
             .sum()
     }
 }

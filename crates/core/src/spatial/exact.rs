@@ -1,9 +1,10 @@
 //! Exact contribution sampling for few lights: `P(i | x) = p_i·G_i(x) / Σ_j p_j·G_j(x)`.
 
+use glam::{DVec2, DVec3};
+
 use super::{EXACT_MAX_LIGHTS, SpatialLight, SpatialPick, contributing, unit24};
 use crate::powers::LightPowers;
 use crate::rng::Rng;
-use crate::scene::geometry_term;
 
 /// Picks light `i` at `x` with probability `c_i/S`, `c_i = p_i·G_i(x)`, `S = Σ_j c_j`, so the
 /// estimate `c_i / (c_i/S) = S` is the same for every pick: zero variance for the unoccluded
@@ -23,7 +24,7 @@ impl ExactSampler {
     ///
     /// # Panics
     /// If `positions` and `powers` have different lengths.
-    pub fn build(positions: &[[f64; 3]], powers: &LightPowers) -> Self {
+    pub fn build(positions: &[DVec3], powers: &LightPowers) -> Self {
         Self {
             lights: contributing(positions, powers),
             n: positions.len(),
@@ -37,17 +38,17 @@ impl ExactSampler {
 
     /// The pick at `x` (one draw), `None` when `S = 0`.
     #[inline]
-    pub fn sample(&self, x: [f64; 2], rng: &mut Rng) -> Option<SpatialPick> {
+    pub fn sample(&self, x: DVec2, rng: &mut Rng) -> Option<SpatialPick> {
         let mut c = [0.0f64; EXACT_MAX_LIGHTS];
         let mut total = 0.0;
         let small = self.lights.len() <= EXACT_MAX_LIGHTS;
         if small {
             for (ci, (_, l)) in c.iter_mut().zip(&self.lights) {
-                *ci = l[3] * geometry_term([l[0], l[1], l[2]], x);
+                *ci = l.contribution(x);
                 total += *ci;
             }
         } else {
-            total = self.lights.iter().map(|(_, l)| contribution(l, x)).sum();
+            total = self.lights.iter().map(|(_, l)| l.contribution(x)).sum();
         }
         let u = unit24(rng.next_u32());
         if total <= 0.0 {
@@ -56,7 +57,7 @@ impl ExactSampler {
         let target = u * total;
         let (mut running, mut chosen) = (0.0, None);
         for (k, (index, l)) in self.lights.iter().enumerate() {
-            let ck = if small { c[k] } else { contribution(l, x) };
+            let ck = if small { c[k] } else { l.contribution(x) };
             if ck > 0.0 {
                 chosen = Some((*index, ck));
                 running += ck;
@@ -73,14 +74,14 @@ impl ExactSampler {
     }
 
     /// `P(i | x) = c_i / S` (0 for a light that cannot contribute, or when `S = 0`).
-    pub fn pdf(&self, x: [f64; 2], light: usize) -> f64 {
-        let total: f64 = self.lights.iter().map(|(_, l)| contribution(l, x)).sum();
+    pub fn pdf(&self, x: DVec2, light: usize) -> f64 {
+        let total: f64 = self.lights.iter().map(|(_, l)| l.contribution(x)).sum();
         self.lights
             .iter()
             .find(|(i, _)| *i as usize == light)
             .map_or(0.0, |(_, l)| {
                 if total > 0.0 {
-                    contribution(l, x) / total
+                    l.contribution(x) / total
                 } else {
                     0.0
                 }
@@ -88,24 +89,19 @@ impl ExactSampler {
     }
 
     /// `P(i | x) = c_i / S` of every light of the scene, indexed by scene index (`O(N)`).
-    pub fn pdfs(&self, x: [f64; 2]) -> Vec<f64> {
+    pub fn pdfs(&self, x: DVec2) -> Vec<f64> {
         let mut out = vec![0.0; self.n];
-        let total: f64 = self.lights.iter().map(|(_, l)| contribution(l, x)).sum();
+        let total: f64 = self.lights.iter().map(|(_, l)| l.contribution(x)).sum();
         if total > 0.0 {
             for (i, l) in &self.lights {
-                out[*i as usize] = contribution(l, x) / total;
+                out[*i as usize] = l.contribution(x) / total;
             }
         }
         out
     }
 
-    /// The contributing lights as `(scene index, [x, y, z, p_i])`.
+    /// The contributing lights with their scene index.
     pub fn lights(&self) -> &[(u32, SpatialLight)] {
         &self.lights
     }
-}
-
-#[inline]
-fn contribution(l: &SpatialLight, x: [f64; 2]) -> f64 {
-    l[3] * geometry_term([l[0], l[1], l[2]], x)
 }

@@ -16,10 +16,12 @@
 //!   unoccluded model (with shadows it would no longer be). It costs `O(N)` per shading
 //!   point: all `N` contributions are evaluated, which is the exact answer already; the pick
 //!   matters only once visibility enters.
-//! * [`LightTree`] (larger `N`): a binary tree over the lights (Conty Estevez & Kulla 2018,
-//!   pbrt-v4's `BVHLightSampler`), descended stochastically from the root choosing a child
-//!   in proportion to a conservative importance ([`importance`]); `P(i | x)` is the product
-//!   of the branch probabilities on the root-to-leaf path. `O(log N)` per pick.
+//! * [`LightTree`] (larger `N`): a 4-wide tree over the lights with leaf clusters of up to
+//!   [`LEAF_SIZE`] lights, descended stochastically from the root choosing a child in
+//!   proportion to the importance of its representative light ([`importance`]: the child's
+//!   power at its power-weighted centroid, mixed with a share of plain power), then a light
+//!   of the leaf cluster in proportion to its exact contribution; `P(i | x)` is the product
+//!   of the realized branch probabilities. About `log4(N/8) + 1` draws per pick.
 //!
 //! [`SpatialSampler`] chooses between the two by `N`. Only lights that can contribute at all
 //! enter either sampler: power `> 0` and height `z > 0` (a light on or below the plane has
@@ -31,10 +33,13 @@ pub mod importance;
 mod tree;
 
 pub use exact::ExactSampler;
-pub use tree::{LightTree, TreeNode};
+pub use tree::{Child, ChildRef, LEAF_SIZE, LightTree, TREE_WIDTH, TreeNode};
+
+use glam::{DVec2, DVec3};
 
 use crate::powers::LightPowers;
 use crate::rng::Rng;
+use crate::scene::geometry_term;
 
 /// Up to this many lights [`SpatialSampler::build`] uses the exact sampler, beyond it the
 /// tree. The exact pick evaluates all `N` contributions; the tree evaluates two importances
@@ -61,8 +66,22 @@ pub struct SpatialPick {
     pub estimate: f64,
 }
 
-/// `(x, y, z, p_i)`: a light's position and normalized power, the data both samplers read.
-pub type SpatialLight = [f64; 4];
+/// A contributing light as both samplers read it: its position and normalized power.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpatialLight {
+    /// Where the light is, in the world (`z > 0`).
+    pub position_in_world: DVec3,
+    /// Its normalized power `p_i = Φ_i / Φ_total` (`> 0`).
+    pub power: f64,
+}
+
+impl SpatialLight {
+    /// `c_i(x) = p_i·G_i(x)`, its normalized contribution at `point_on_plane`.
+    #[inline]
+    pub fn contribution(&self, point_on_plane: DVec2) -> f64 {
+        self.power * geometry_term(self.position_in_world, point_on_plane)
+    }
+}
 
 /// A contribution-aware sampler: [`ExactSampler`] for few lights, [`LightTree`] for many.
 #[derive(Clone, Debug, PartialEq)]
@@ -79,7 +98,7 @@ impl SpatialSampler {
     ///
     /// # Panics
     /// If `positions` and `powers` have different lengths.
-    pub fn build(positions: &[[f64; 3]], powers: &LightPowers) -> Self {
+    pub fn build(positions: &[DVec3], powers: &LightPowers) -> Self {
         if uses_exact_pick(positions.len()) {
             SpatialSampler::Exact(ExactSampler::build(positions, powers))
         } else {
@@ -90,7 +109,7 @@ impl SpatialSampler {
     /// Picks a light for shading point `x` from the next draws of `rng`, or `None` when no
     /// light contributes at `x` (then `ê = 0`).
     #[inline]
-    pub fn sample(&self, x: [f64; 2], rng: &mut Rng) -> Option<SpatialPick> {
+    pub fn sample(&self, x: DVec2, rng: &mut Rng) -> Option<SpatialPick> {
         match self {
             SpatialSampler::Exact(s) => s.sample(x, rng),
             SpatialSampler::Tree(t) => t.sample(x, rng),
@@ -99,12 +118,12 @@ impl SpatialSampler {
 
     /// The normalized estimate `ê` of one pick (0 when nothing contributes).
     #[inline]
-    pub fn estimate(&self, x: [f64; 2], rng: &mut Rng) -> f64 {
+    pub fn estimate(&self, x: DVec2, rng: &mut Rng) -> f64 {
         self.sample(x, rng).map_or(0.0, |pick| pick.estimate)
     }
 
     /// `P(i | x)`, the probability that [`SpatialSampler::sample`] picks light `i` at `x`.
-    pub fn pdf(&self, x: [f64; 2], light: usize) -> f64 {
+    pub fn pdf(&self, x: DVec2, light: usize) -> f64 {
         match self {
             SpatialSampler::Exact(s) => s.pdf(x, light),
             SpatialSampler::Tree(t) => t.pdf(x, light),
@@ -114,7 +133,7 @@ impl SpatialSampler {
     /// `P(i | x)` of every light of the scene at once (indexed by scene index, 0 for a light
     /// that cannot contribute): `O(N)`, where calling [`SpatialSampler::pdf`] per light would
     /// cost `O(N²)` for the tree.
-    pub fn pdfs(&self, x: [f64; 2]) -> Vec<f64> {
+    pub fn pdfs(&self, x: DVec2) -> Vec<f64> {
         match self {
             SpatialSampler::Exact(s) => s.pdfs(x),
             SpatialSampler::Tree(t) => t.pdfs(x),
@@ -130,19 +149,27 @@ impl SpatialSampler {
     }
 }
 
-/// The lights that can contribute somewhere on the plane (`p_i > 0` and `z_i > 0`), as
-/// `(scene index, [x, y, z, p_i])`.
+/// The lights that can contribute somewhere on the plane (`p_i > 0` and `z_i > 0`), with
+/// their scene index.
 ///
 /// # Panics
 /// If `positions` and `powers` have different lengths.
-fn contributing(positions: &[[f64; 3]], powers: &LightPowers) -> Vec<(u32, SpatialLight)> {
+fn contributing(positions: &[DVec3], powers: &LightPowers) -> Vec<(u32, SpatialLight)> {
     assert_eq!(positions.len(), powers.len(), "one position per power");
     positions
         .iter()
         .zip(powers.pmf())
         .enumerate()
-        .filter(|(_, (pos, p))| *p > 0.0 && pos[2] > 0.0)
-        .map(|(i, (pos, p))| (i as u32, [pos[0], pos[1], pos[2], p]))
+        .filter(|(_, (position, p))| *p > 0.0 && position.z > 0.0)
+        .map(|(i, (&position_in_world, power))| {
+            (
+                i as u32,
+                SpatialLight {
+                    position_in_world,
+                    power,
+                },
+            )
+        })
         .collect()
 }
 

@@ -1,91 +1,232 @@
-//! The light tree: a binary tree over the contributing lights, descended stochastically.
+//! The light tree: a 4-wide tree over the contributing lights, with leaf clusters of up to
+//! [`LEAF_SIZE`] lights, descended stochastically.
 //!
 //! # Layout
-//! The `M` contributing lights are permuted into leaf order (`order[j]` = scene index of
-//! leaf `j`). A node covers a leaf range `[lo, hi)` and splits it at `mid = lo + (hi − lo)/2`
-//! (the median along the longest axis of the node's box, placed by `select_nth_unstable`):
-//! `O(N log N)` to build. Only the `M − 1` internal nodes are stored, in depth-first order:
-//! the left child of node `k` is `k + 1`, the right child `k + (mid − lo)` (the left subtree
-//! holds `mid − lo − 1` internal nodes); a child range of one leaf is that light itself. So a
-//! node is just its box and its power — no child pointers: 32 bytes on the GPU
-//! (`min.xyz, Φ, max.xyz, pad` as `f32`) plus 4 bytes of `order` per light.
+//! The `M` contributing lights are permuted into leaf order (`order[j]` = scene index of the
+//! `j`-th light). A range of more than [`LEAF_SIZE`] lights is one internal node whose up to
+//! four children split it: at the median along the longest axis of the range's box, then
+//! each half (if still larger than a leaf) at its own median along its own longest axis
+//! (`select_nth_unstable`, ties broken by scene index, so the build is deterministic). A
+//! range of at most [`LEAF_SIZE`] lights is a leaf cluster. A node holds, per child lane,
+//! the child's power-weighted centroid and power (the representative light of
+//! [`super::importance`]) and a [`ChildRef`]: an internal node, a leaf cluster (first light
+//! and count), or empty. Nodes are stored depth first, each node's subtrees after it in lane
+//! order, so the layout depends only on `M` and the subtrees build in parallel. On the GPU a
+//! node is 80 bytes (four `(c.xyz, Φ)` as `f32` and four child words); a 10^6-light tree has
+//! about 4.4·10^4 nodes, 3.5 bytes per light.
+//!
+//! Depth: about `log4(M / 8)` nodes (8–9 for 10^6 lights, against 20 levels of the binary
+//! tree this replaced), then one pick inside the leaf.
 //!
 //! # The pick and its pdf
-//! From the root, at each node both children get an importance
-//! ([`super::importance::node_importance`] for a subtree, the exact `p_i·G_i(x)` for a
-//! leaf), giving `P_left = I_L/(I_L+I_R)` ([`super::importance::branch_probabilities`]);
-//! the descent goes left iff `(r >> 8) < P_left·2^24` (clamped) for the level's draw `r`
-//! (one draw per level, depth `⌈log2 M⌉`; [`super::importance::branch_threshold`]), that is
-//! iff `(r >> 8) < t` with `t = ⌈P_left·2^24⌉`, so
-//! left is taken with probability exactly `t/2^24` and right with `(2^24 − t)/2^24`. The
-//! pick's probability is the product of these realized branch probabilities,
+//! From the root, each node's four children get the branch probabilities of
+//! [`super::importance::branch_probabilities`] and their grid masses, and one draw `r`
+//! (its top 24 bits) picks a lane ([`super::importance::pick_on_grid`]); at a leaf cluster
+//! every light's contribution `c_j = p_j·G_j(x)` is evaluated and one more draw picks light
+//! `j` with the grid masses of `c_j / Σ c`. The pick's probability is the product of the
+//! realized factors,
 //!
-//! `P(i | x) = Π_{levels} P_branch`,   each `P_branch` within `2^-24` of `I_child/(I_L+I_R)`,
+//! `P(i | x) = Π_nodes m_lane / 2^24 · m_j / 2^24`,
 //!
-//! and since the two branches of a level sum to exactly 1, summing over the leaves of any
-//! subtree gives 1 level by level: `Σ_i P(i | x) = 1`. A child holding a light with
-//! `p_i·G_i(x) > 0` has `I > 0` and a threshold that keeps it reachable, so `P(i | x) > 0`
-//! wherever the contribution is: the estimate `p_i·G_i(x)/P(i | x)` is unbiased, with no
-//! rounding term from the decisions (the pdf is what the integer comparisons realize).
+//! and since each node's (and the leaf's) masses sum to exactly `2^24`, `Σ_i P(i | x) = 1`.
+//! Every child holding power keeps a positive mass (the power share of the mixture), every
+//! light of a leaf with `c_j > 0` too, so `P(i | x) > 0` wherever `p_i·G_i(x) > 0`: the
+//! estimate `p_i·G_i(x) / P(i | x)` is unbiased, with no rounding term from the decisions.
+
+use glam::{DVec2, DVec3};
 
 use super::importance::{
-    branch_probabilities, branch_threshold, grid_probabilities, node_importance,
+    GRID_CELL, branch_probabilities, grid_masses, pick_on_grid, representative_importance,
 };
 use super::{SpatialLight, SpatialPick, contributing};
 use crate::powers::LightPowers;
 use crate::rng::Rng;
-use crate::scene::geometry_term;
 
-/// An internal node: the bounding box of its lights' positions and their total normalized
-/// power `Φ_node = Σ p_i`.
+/// Children per internal node.
+pub const TREE_WIDTH: usize = 4;
+
+/// The most lights in a leaf cluster, picked by their exact contributions.
+pub const LEAF_SIZE: usize = 8;
+
+/// Ranges of more lights than this build their subtrees in parallel.
+const PARALLEL_BUILD: usize = 1 << 13;
+
+/// What a child lane of a node holds, in one `u32` (the word the GPU reads too): an internal
+/// node's index (bit 31 clear), or a leaf cluster `1 << 31 | count << 27 | first` (its
+/// `count ≤ 8` lights from leaf-order index `first < 2^27`); an empty lane is the leaf
+/// cluster of no lights.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ChildRef(u32);
+
+/// A [`ChildRef`] decoded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Child {
+    /// An internal node, by index.
+    Node(usize),
+    /// A leaf cluster: lights `first .. first + count` in leaf order.
+    Leaf {
+        /// Leaf-order index of its first light.
+        first: usize,
+        /// Its number of lights, `1 ..=` [`LEAF_SIZE`].
+        count: usize,
+    },
+    /// No child.
+    Empty,
+}
+
+impl ChildRef {
+    const LEAF_BIT: u32 = 1 << 31;
+    const COUNT_SHIFT: u32 = 27;
+    const FIRST_MASK: u32 = (1 << Self::COUNT_SHIFT) - 1;
+
+    /// An empty lane.
+    pub const EMPTY: ChildRef = ChildRef(Self::LEAF_BIT);
+
+    /// The internal node `index` (`< 2^31`).
+    fn node(index: usize) -> Self {
+        debug_assert!(index < Self::LEAF_BIT as usize);
+        ChildRef(index as u32)
+    }
+
+    /// The leaf cluster of `count` lights from `first` (`count ≤ 8`, `first < 2^27`).
+    fn leaf(first: usize, count: usize) -> Self {
+        debug_assert!(count <= LEAF_SIZE && first <= Self::FIRST_MASK as usize);
+        ChildRef(Self::LEAF_BIT | (count as u32) << Self::COUNT_SHIFT | first as u32)
+    }
+
+    /// What the lane holds.
+    #[inline]
+    pub fn get(self) -> Child {
+        if self.0 & Self::LEAF_BIT == 0 {
+            return Child::Node(self.0 as usize);
+        }
+        let count = ((self.0 & !Self::LEAF_BIT) >> Self::COUNT_SHIFT) as usize;
+        if count == 0 {
+            Child::Empty
+        } else {
+            Child::Leaf {
+                first: (self.0 & Self::FIRST_MASK) as usize,
+                count,
+            }
+        }
+    }
+
+    /// The encoded word (uploaded as is to the GPU).
+    pub fn bits(self) -> u32 {
+        self.0
+    }
+}
+
+/// An internal node: per child lane, the representative light (power-weighted centroid and
+/// total normalized power of the child's lights) and what the lane holds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TreeNode {
-    /// Lower corner of the box.
-    pub min: [f64; 3],
-    /// Upper corner of the box.
-    pub max: [f64; 3],
-    /// `Σ p_i` over the node's lights.
-    pub power: f64,
+    /// `c = Σ p_i·y_i / Σ p_i` of each child's lights, in the world (clamped into the
+    /// child's box, so `c_z > 0`).
+    pub centroid: [DVec3; TREE_WIDTH],
+    /// `Φ_c = Σ p_i` of each child's lights (0 for an empty lane).
+    pub power: [f64; TREE_WIDTH],
+    /// Each lane's child.
+    pub child: [ChildRef; TREE_WIDTH],
+}
+
+impl TreeNode {
+    const EMPTY: TreeNode = TreeNode {
+        centroid: [DVec3::ZERO; TREE_WIDTH],
+        power: [0.0; TREE_WIDTH],
+        child: [ChildRef::EMPTY; TREE_WIDTH],
+    };
+
+    /// The grid masses of the four lanes at `point_on_plane` (summing to `2^24`, or all 0
+    /// when no lane has power).
+    #[inline]
+    pub fn masses(&self, point_on_plane: DVec2) -> [u32; TREE_WIDTH] {
+        let mut importance = [0.0; TREE_WIDTH];
+        for (i, (&c, &p)) in importance
+            .iter_mut()
+            .zip(self.centroid.iter().zip(&self.power))
+        {
+            *i = representative_importance(c, p, point_on_plane);
+        }
+        grid_masses(branch_probabilities(importance, self.power))
+    }
 }
 
 /// A light tree over the contributing lights of a scene; see the module docs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LightTree {
-    /// Internal nodes, depth-first (`M − 1` of them for `M ≥ 1` leaves).
+    /// Internal nodes, depth first (empty when the root is a leaf cluster or empty).
     nodes: Vec<TreeNode>,
-    /// Scene index of each leaf, in leaf order.
+    /// Leaf-order index of each node's first light (what [`LightTree::pdf`] descends by).
+    node_first: Vec<u32>,
+    /// The contributing lights in leaf order.
+    lights: Vec<SpatialLight>,
+    /// Scene index of each light, in leaf order.
     order: Vec<u32>,
-    /// `(x, y, z, p)` of each leaf, in leaf order.
-    leaves: Vec<SpatialLight>,
+    /// Node 0, a single leaf cluster (at most [`LEAF_SIZE`] lights) or empty.
+    root: ChildRef,
+    /// Draws of the longest pick: nodes on the deepest path, plus the leaf's.
+    depth: u32,
     /// Number of lights of the scene.
     n: usize,
 }
 
-/// One child during the descent: its leaf range and, when internal, its node index.
-#[derive(Clone, Copy)]
-struct Child {
-    lo: usize,
-    hi: usize,
-    node: usize,
-}
-
 impl LightTree {
-    /// Builds the tree over the lights with `p_i > 0` and `z_i > 0` (`O(N log N)`).
+    /// Builds the tree over the lights with `p_i > 0` and `z_i > 0` (`O(N log N)`, large
+    /// subtrees in parallel; the result does not depend on the thread count).
     ///
     /// # Panics
-    /// If `positions` and `powers` have different lengths.
-    pub fn build(positions: &[[f64; 3]], powers: &LightPowers) -> Self {
+    /// If `positions` and `powers` have different lengths, or the scene holds more than
+    /// `2^27` lights.
+    pub fn build(positions: &[DVec3], powers: &LightPowers) -> Self {
         let mut lights = contributing(positions, powers);
         let m = lights.len();
-        let mut nodes = Vec::with_capacity(m.saturating_sub(1));
-        if m >= 2 {
-            build_node(&mut lights, &mut nodes);
-        }
-        Self {
+        assert!(m < 1 << 27, "at most 2^27 lights");
+        let node_count = internal_nodes(m);
+        let mut nodes = vec![TreeNode::EMPTY; node_count];
+        let mut node_first = vec![0u32; node_count];
+        let root = if m == 0 {
+            ChildRef::EMPTY
+        } else if m <= LEAF_SIZE {
+            ChildRef::leaf(0, m)
+        } else {
+            let bounds = Bounds::of(&lights);
+            build_node(Job {
+                lights: &mut lights,
+                bounds,
+                index: 0,
+                first: 0,
+                nodes: &mut nodes,
+                node_first: &mut node_first,
+            });
+            ChildRef::node(0)
+        };
+        let mut tree = Self {
             nodes,
+            node_first,
             order: lights.iter().map(|(i, _)| *i).collect(),
-            leaves: lights.iter().map(|(_, l)| *l).collect(),
+            lights: lights.into_iter().map(|(_, l)| l).collect(),
+            root,
+            depth: 0,
             n: positions.len(),
+        };
+        tree.depth = tree.deepest(tree.root);
+        tree
+    }
+
+    /// Draws on the deepest path below `at` (one per node, one for the leaf).
+    fn deepest(&self, at: ChildRef) -> u32 {
+        match at.get() {
+            Child::Node(k) => {
+                1 + self.nodes[k]
+                    .child
+                    .iter()
+                    .map(|&c| self.deepest(c))
+                    .max()
+                    .unwrap_or(0)
+            }
+            Child::Leaf { .. } => 1,
+            Child::Empty => 0,
         }
     }
 
@@ -94,174 +235,352 @@ impl LightTree {
         self.n
     }
 
-    /// The internal nodes, depth-first.
+    /// The internal nodes, depth first.
     pub fn nodes(&self) -> &[TreeNode] {
         &self.nodes
     }
 
-    /// The scene index of each leaf, in leaf order.
+    /// The contributing lights, in leaf order.
+    pub fn lights(&self) -> &[SpatialLight] {
+        &self.lights
+    }
+
+    /// The scene index of each light, in leaf order.
     pub fn order(&self) -> &[u32] {
         &self.order
     }
 
-    /// The depth of the deepest leaf, `⌈log2 M⌉` (draws per pick).
+    /// The root: node 0, a single leaf cluster, or empty (no contributing light).
+    pub fn root(&self) -> ChildRef {
+        self.root
+    }
+
+    /// The most draws a pick takes: internal nodes on the deepest path, plus one for the
+    /// leaf cluster.
     pub fn depth(&self) -> u32 {
-        self.order.len().next_power_of_two().trailing_zeros()
+        self.depth
     }
 
+    /// The grid masses of the lights `first .. first + count` of a leaf cluster at `x`, by
+    /// their contributions `c_j = p_j·G_j(x)`, and the contributions themselves.
     #[inline]
-    fn importance(&self, c: Child, x: [f64; 2]) -> (f64, f64) {
-        if c.hi - c.lo == 1 {
-            let l = &self.leaves[c.lo];
-            (l[3] * geometry_term([l[0], l[1], l[2]], x), l[3])
-        } else {
-            let n = &self.nodes[c.node];
-            (node_importance(n.min, n.max, n.power, x), n.power)
+    fn leaf_masses(
+        &self,
+        first: usize,
+        count: usize,
+        x: DVec2,
+    ) -> ([u32; LEAF_SIZE], [f64; LEAF_SIZE]) {
+        let mut c = [0.0; LEAF_SIZE];
+        let mut total = 0.0;
+        for (cj, l) in c.iter_mut().zip(&self.lights[first..first + count]) {
+            *cj = l.contribution(x);
+            total += *cj;
         }
-    }
-
-    #[inline]
-    fn children(node: usize, lo: usize, hi: usize) -> (Child, Child) {
-        let mid = lo + (hi - lo) / 2;
-        (
-            Child {
-                lo,
-                hi: mid,
-                node: node + 1,
-            },
-            Child {
-                lo: mid,
-                hi,
-                node: node + (mid - lo),
-            },
-        )
-    }
-
-    /// Descends from the root with one draw per level; `None` when there is no
-    /// contributing light or the picked light's `p_i·G_i(x)` is 0 (then `ê = 0`).
-    #[inline]
-    pub fn sample(&self, x: [f64; 2], rng: &mut Rng) -> Option<SpatialPick> {
-        let m = self.order.len();
-        if m == 0 {
-            return None;
-        }
-        let mut at = Child {
-            lo: 0,
-            hi: m,
-            node: 0,
-        };
-        let mut pdf = 1.0;
-        // The chosen child's importance: at a leaf, exactly its contribution p_i·G_i(x).
-        let mut chosen = None;
-        while at.hi - at.lo > 1 {
-            let (left, right) = Self::children(at.node, at.lo, at.hi);
-            let (il, pl) = self.importance(left, x);
-            let (ir, pr) = self.importance(right, x);
-            let (p_left, p_right) = branch_probabilities(il, ir, pl, pr);
-            let y = branch_threshold(p_left, p_right);
-            let (g_left, g_right) = grid_probabilities(y);
-            if f64::from(rng.next_u32() >> 8) < y {
-                pdf *= g_left;
-                at = left;
-                chosen = Some(il);
-            } else {
-                pdf *= g_right;
-                at = right;
-                chosen = Some(ir);
+        let mut p = [0.0; LEAF_SIZE];
+        if total > 0.0 {
+            let inv = 1.0 / total;
+            for (pj, &cj) in p.iter_mut().zip(&c) {
+                *pj = cj * inv;
             }
         }
-        let contribution = chosen.unwrap_or_else(|| self.importance(at, x).0);
-        (contribution > 0.0 && pdf > 0.0).then(|| SpatialPick {
-            light: self.order[at.lo],
-            pdf,
-            estimate: contribution / pdf,
-        })
+        (grid_masses(p), c)
+    }
+
+    /// Descends from the root with one draw per node and one in the leaf cluster; `None`
+    /// when there is no contributing light or every contribution of the leaf reached is 0
+    /// (then `ê = 0`).
+    #[inline]
+    pub fn sample(&self, x: DVec2, rng: &mut Rng) -> Option<SpatialPick> {
+        let mut at = self.root;
+        let mut pdf = 1.0;
+        loop {
+            match at.get() {
+                Child::Node(k) => {
+                    let node = &self.nodes[k];
+                    let masses = node.masses(x);
+                    let lane = pick_on_grid(&masses, rng.next_u32() >> 8);
+                    pdf *= f64::from(masses[lane]) * GRID_CELL;
+                    at = node.child[lane];
+                }
+                Child::Leaf { first, count } => {
+                    let (masses, c) = self.leaf_masses(first, count, x);
+                    let j = pick_on_grid(&masses[..count], rng.next_u32() >> 8);
+                    pdf *= f64::from(masses[j]) * GRID_CELL;
+                    return (c[j] > 0.0 && pdf > 0.0).then(|| SpatialPick {
+                        light: self.order[first + j],
+                        pdf,
+                        estimate: c[j] / pdf,
+                    });
+                }
+                Child::Empty => return None,
+            }
+        }
     }
 
     /// `P(i | x)` of every light of the scene at once, indexed by scene index (0 for a light
-    /// outside the tree): one traversal with the branch probabilities of
-    /// [`LightTree::sample`], `O(N)` (two importances per internal node).
-    pub fn pdfs(&self, x: [f64; 2]) -> Vec<f64> {
+    /// outside the tree): one traversal with the masses of [`LightTree::sample`], `O(N)`.
+    pub fn pdfs(&self, x: DVec2) -> Vec<f64> {
         let mut out = vec![0.0; self.n];
-        let m = self.order.len();
-        if m == 0 {
-            return out;
-        }
-        let root = Child {
-            lo: 0,
-            hi: m,
-            node: 0,
-        };
-        let mut stack = vec![(root, 1.0f64)];
+        let mut stack = vec![(self.root, 1.0f64)];
         while let Some((at, pdf)) = stack.pop() {
-            if at.hi - at.lo == 1 {
-                out[self.order[at.lo] as usize] = pdf;
-                continue;
+            match at.get() {
+                Child::Node(k) => {
+                    let node = &self.nodes[k];
+                    for (lane, &m) in node.masses(x).iter().enumerate() {
+                        if m > 0 {
+                            stack.push((node.child[lane], pdf * (f64::from(m) * GRID_CELL)));
+                        }
+                    }
+                }
+                Child::Leaf { first, count } => {
+                    let (masses, _) = self.leaf_masses(first, count, x);
+                    for (j, &m) in masses[..count].iter().enumerate() {
+                        out[self.order[first + j] as usize] = pdf * (f64::from(m) * GRID_CELL);
+                    }
+                }
+                Child::Empty => {}
             }
-            let (left, right) = Self::children(at.node, at.lo, at.hi);
-            let (il, pl) = self.importance(left, x);
-            let (ir, pr) = self.importance(right, x);
-            let (p_left, p_right) = branch_probabilities(il, ir, pl, pr);
-            let (g_left, g_right) = grid_probabilities(branch_threshold(p_left, p_right));
-            stack.push((left, pdf * g_left));
-            stack.push((right, pdf * g_right));
         }
         out
     }
 
-    /// `P(i | x)`: the product of the branch probabilities on the path to light `i`'s leaf
-    /// (0 for a light outside the tree). `O(N)` to find the leaf: meant for tests.
-    pub fn pdf(&self, x: [f64; 2], light: usize) -> f64 {
-        let Some(leaf) = self.order.iter().position(|&i| i as usize == light) else {
+    /// `P(i | x)`: the product of the realized factors on the path to light `i` (0 for a
+    /// light outside the tree). `O(N)` to find the light: meant for tests and single lights.
+    pub fn pdf(&self, x: DVec2, light: usize) -> f64 {
+        let Some(j) = self.order.iter().position(|&i| i as usize == light) else {
             return 0.0;
         };
-        let mut at = Child {
-            lo: 0,
-            hi: self.order.len(),
-            node: 0,
-        };
+        let mut at = self.root;
         let mut pdf = 1.0;
-        while at.hi - at.lo > 1 {
-            let (left, right) = Self::children(at.node, at.lo, at.hi);
-            let (il, pl) = self.importance(left, x);
-            let (ir, pr) = self.importance(right, x);
-            let (p_left, p_right) = branch_probabilities(il, ir, pl, pr);
-            let (g_left, g_right) = grid_probabilities(branch_threshold(p_left, p_right));
-            if leaf < left.hi {
-                pdf *= g_left;
-                at = left;
-            } else {
-                pdf *= g_right;
-                at = right;
+        loop {
+            match at.get() {
+                Child::Node(k) => {
+                    let node = &self.nodes[k];
+                    let masses = node.masses(x);
+                    // The last lane whose range starts at or before j holds it.
+                    let lane = (0..TREE_WIDTH)
+                        .rev()
+                        .find(|&lane| self.first_of(node.child[lane]).is_some_and(|f| f <= j))
+                        .unwrap_or(0);
+                    pdf *= f64::from(masses[lane]) * GRID_CELL;
+                    at = node.child[lane];
+                }
+                Child::Leaf { first, count } => {
+                    let (masses, _) = self.leaf_masses(first, count, x);
+                    return pdf * (f64::from(masses[j - first]) * GRID_CELL);
+                }
+                Child::Empty => return 0.0,
             }
         }
-        pdf
+    }
+
+    /// The leaf-order index of the first light below `at` (`None` for an empty lane).
+    fn first_of(&self, at: ChildRef) -> Option<usize> {
+        match at.get() {
+            Child::Node(k) => Some(self.node_first[k] as usize),
+            Child::Leaf { first, .. } => Some(first),
+            Child::Empty => None,
+        }
     }
 }
 
-/// Appends the node of `lights` (at least 2) and, depth-first, its internal descendants.
-fn build_node(lights: &mut [(u32, SpatialLight)], nodes: &mut Vec<TreeNode>) {
-    let (mut min, mut max, mut power) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0.0);
-    for (_, l) in lights.iter() {
-        for a in 0..3 {
-            min[a] = min[a].min(l[a]);
-            max[a] = max[a].max(l[a]);
-        }
-        power += l[3];
+/// Internal nodes of a range of `m` lights: 0 for a leaf cluster, else one plus those of
+/// its parts ([`parts`]). Depends only on `m`, which fixes the depth-first layout.
+fn internal_nodes(m: usize) -> usize {
+    if m <= LEAF_SIZE {
+        return 0;
     }
-    nodes.push(TreeNode { min, max, power });
-    let axis = (0..3)
-        .max_by(|&a, &b| (max[a] - min[a]).total_cmp(&(max[b] - min[b])))
-        .unwrap_or(0);
+    1 + parts(m).iter().map(|&s| internal_nodes(s)).sum::<usize>()
+}
+
+/// The sizes of the children of a range of `m > LEAF_SIZE` lights, in lane order (0 for an
+/// unused lane): the halves `⌊m/2⌋`, `⌈m/2⌉`, each halved again when larger than a leaf.
+fn parts(m: usize) -> [usize; TREE_WIDTH] {
+    let halves = [m / 2, m - m / 2];
+    let mut out = [0; TREE_WIDTH];
+    let mut lane = 0;
+    for h in halves {
+        if h > LEAF_SIZE {
+            out[lane] = h / 2;
+            out[lane + 1] = h - h / 2;
+            lane += 2;
+        } else {
+            out[lane] = h;
+            lane += 1;
+        }
+    }
+    out
+}
+
+/// The box of a range of lights, in the world.
+#[derive(Clone, Copy)]
+struct Bounds {
+    min: DVec3,
+    max: DVec3,
+}
+
+impl Bounds {
+    fn of(lights: &[(u32, SpatialLight)]) -> Self {
+        lights.iter().fold(
+            Bounds {
+                min: DVec3::INFINITY,
+                max: DVec3::NEG_INFINITY,
+            },
+            |b, (_, l)| Bounds {
+                min: b.min.min(l.position_in_world),
+                max: b.max.max(l.position_in_world),
+            },
+        )
+    }
+
+    /// The axis of the largest extent (the first of equals).
+    fn longest_axis(&self) -> usize {
+        let e = self.max - self.min;
+        if e.x >= e.y && e.x >= e.z {
+            0
+        } else if e.y >= e.z {
+            1
+        } else {
+            2
+        }
+    }
+}
+
+/// Splits `lights` at the median along the longest axis of `bounds` (ties by scene index).
+fn split_at_median(lights: &mut [(u32, SpatialLight)], bounds: Bounds) -> usize {
+    let axis = bounds.longest_axis();
     let mid = lights.len() / 2;
     lights.select_nth_unstable_by(mid, |a, b| {
-        a.1[axis].total_cmp(&b.1[axis]).then(a.0.cmp(&b.0))
+        a.1.position_in_world[axis]
+            .total_cmp(&b.1.position_in_world[axis])
+            .then(a.0.cmp(&b.0))
     });
-    let (left, right) = lights.split_at_mut(mid);
-    if left.len() >= 2 {
-        build_node(left, nodes);
+    mid
+}
+
+/// `(Φ, centroid)` of a range: `Σ p_i`, and `Σ w_i·y_i / Σ w_i` with `w_i = p_i / max p`
+/// (no underflow however small the powers), clamped into `bounds`.
+fn representative(lights: &[(u32, SpatialLight)], bounds: Bounds) -> (f64, DVec3) {
+    let largest = lights.iter().map(|(_, l)| l.power).fold(0.0f64, f64::max);
+    let (mut power, mut weight, mut weighted) = (0.0, 0.0, DVec3::ZERO);
+    for (_, l) in lights {
+        power += l.power;
+        let w = l.power / largest;
+        weight += w;
+        weighted += w * l.position_in_world;
     }
-    if right.len() >= 2 {
-        build_node(right, nodes);
+    let centroid = (weighted / weight).clamp(bounds.min, bounds.max);
+    (power, centroid)
+}
+
+/// One subtree to build: its lights (more than [`LEAF_SIZE`]), their box, its node's index
+/// and leaf-order offset, and the node slots of the subtree (its own first).
+struct Job<'a> {
+    lights: &'a mut [(u32, SpatialLight)],
+    bounds: Bounds,
+    index: usize,
+    first: usize,
+    nodes: &'a mut [TreeNode],
+    node_first: &'a mut [u32],
+}
+
+/// Fills the job's node and, depth first, its subtrees (in parallel when large).
+fn build_node(job: Job<'_>) {
+    let Job {
+        lights,
+        bounds,
+        index,
+        first,
+        nodes,
+        node_first,
+    } = job;
+    // The parts in lane order: halves at the median, each halved again if larger than a leaf.
+    let mid = split_at_median(lights, bounds);
+    let (left, right) = lights.split_at_mut(mid);
+    let mut ranges: Vec<&mut [(u32, SpatialLight)]> = Vec::with_capacity(TREE_WIDTH);
+    for half in [left, right] {
+        if half.len() > LEAF_SIZE {
+            let quarter = split_at_median(half, Bounds::of(half));
+            let (a, b) = half.split_at_mut(quarter);
+            ranges.push(a);
+            ranges.push(b);
+        } else {
+            ranges.push(half);
+        }
+    }
+
+    let (this, mut below) = nodes.split_at_mut(1);
+    let (this_first, mut below_first) = node_first.split_at_mut(1);
+    this_first[0] = first as u32;
+    let mut node = TreeNode::EMPTY;
+    let mut jobs = Vec::with_capacity(TREE_WIDTH);
+    let (mut next_index, mut next_first) = (index + 1, first);
+    for (lane, range) in ranges.into_iter().enumerate() {
+        let range_bounds = Bounds::of(range);
+        let (power, centroid) = representative(range, range_bounds);
+        node.power[lane] = power;
+        node.centroid[lane] = centroid;
+        let count = internal_nodes(range.len());
+        let len = range.len();
+        if count == 0 {
+            node.child[lane] = ChildRef::leaf(next_first, len);
+        } else {
+            node.child[lane] = ChildRef::node(next_index);
+            let (slots, rest) = below.split_at_mut(count);
+            let (slots_first, rest_first) = below_first.split_at_mut(count);
+            below = rest;
+            below_first = rest_first;
+            jobs.push(Job {
+                lights: range,
+                bounds: range_bounds,
+                index: next_index,
+                first: next_first,
+                nodes: slots,
+                node_first: slots_first,
+            });
+        }
+        next_index += count;
+        next_first += len;
+    }
+    this[0] = node;
+    if jobs.iter().map(|j| j.lights.len()).sum::<usize>() > PARALLEL_BUILD {
+        rayon::scope(|s| {
+            for job in jobs {
+                s.spawn(move |_| build_node(job));
+            }
+        });
+    } else {
+        jobs.into_iter().for_each(build_node);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn child_words_round_trip() {
+        assert_eq!(ChildRef::node(12).get(), Child::Node(12));
+        assert_eq!(
+            ChildRef::leaf(1 << 26, 8).get(),
+            Child::Leaf {
+                first: 1 << 26,
+                count: 8
+            }
+        );
+        assert_eq!(ChildRef::EMPTY.get(), Child::Empty);
+    }
+
+    #[test]
+    fn parts_cover_the_range_and_node_counts_match_the_layout() {
+        for m in [9, 10, 16, 17, 33, 100, 1000, 12345] {
+            let p = parts(m);
+            assert_eq!(p.iter().sum::<usize>(), m);
+            assert!(p.iter().filter(|&&s| s > 0).count() >= 2);
+        }
+        assert_eq!(internal_nodes(8), 0);
+        assert_eq!(internal_nodes(9), 1);
+        assert_eq!(internal_nodes(32), 1);
+        assert_eq!(internal_nodes(33), 1 + 1);
     }
 }

@@ -4,6 +4,7 @@
 
 use std::sync::Arc;
 
+use glam::DVec2;
 use lightpick_core::point_estimate::{PointEstimator, PointPicker};
 use lightpick_core::scene::{Scene, geometry_term, pixel_center};
 use lightpick_core::spatial::SpatialSampler;
@@ -214,7 +215,7 @@ fn build(
 
 /// `f_i = Φ_i·G_i(x)` of every light at `point_on_plane`, refused when no light reaches it
 /// or when the irradiance leaves `f64`.
-fn pixel_contributions(scene: &Scene, point_on_plane: [f64; 2]) -> Result<Vec<f64>, String> {
+fn pixel_contributions(scene: &Scene, point_on_plane: DVec2) -> Result<Vec<f64>, String> {
     let contributions: Vec<f64> = scene
         .powers
         .as_slice()

@@ -13,6 +13,7 @@
 
 use std::sync::{Arc, mpsc};
 
+use glam::DVec3;
 use lightpick_core::scene::{ReceiverPlane, Scene};
 use lightpick_core::{ChiSquare, LightPowers, PowersError, Rng, Uniform, chi_square};
 
@@ -137,7 +138,7 @@ pub struct SceneEdit {
     /// The receiver plane and its pixel grid.
     pub plane: ReceiverPlane,
     /// Light positions.
-    pub positions: Vec<[f64; 3]>,
+    pub positions: Vec<DVec3>,
     /// Light powers as typed (may hold NaN or negatives until corrected).
     pub powers: Vec<f64>,
 }
@@ -482,12 +483,7 @@ impl AppState {
             return;
         }
         self.edit.powers.insert(i + 1, self.edit.powers[i]);
-        let pos = self
-            .edit
-            .positions
-            .get(i)
-            .copied()
-            .unwrap_or([0.0, 0.0, 1.0]);
+        let pos = self.edit.positions.get(i).copied().unwrap_or(DVec3::Z);
         self.edit.positions.insert(i + 1, pos);
         self.after_structure_change();
     }
