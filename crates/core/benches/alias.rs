@@ -7,6 +7,7 @@
 //! Run with `cargo bench -p lightpick-core --bench alias`; `LIGHTPICK_BENCH_SIZES=3,1000`
 //! restricts the sizes.
 
+use glam::{DVec2, DVec3, dvec2, dvec3};
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -33,25 +34,25 @@ fn powers(n: usize) -> Vec<f64> {
 }
 
 /// Light positions in `[-2, 2]² × [0.1, 1]`, reproducible.
-fn positions(n: usize) -> Vec<[f64; 3]> {
+fn positions(n: usize) -> Vec<DVec3> {
     let mut rng = Rng::new(2025, n as u64);
     (0..n)
         .map(|_| {
-            [
+            dvec3(
                 4.0 * rng.next_unit() - 2.0,
                 4.0 * rng.next_unit() - 2.0,
                 0.1 + 0.9 * rng.next_unit(),
-            ]
+            )
         })
         .collect()
 }
 
 /// 64 shading points on the plane, cycled through by the spatial pick benchmark.
-fn points() -> Vec<[f64; 2]> {
+fn points() -> Vec<DVec2> {
     (0..64)
         .map(|k| {
             let t = f64::from(k);
-            [(0.7 * t).sin() * 1.8, (0.3 * t).cos() * 1.8]
+            dvec2((0.7 * t).sin() * 1.8, (0.3 * t).cos() * 1.8)
         })
         .collect()
 }

@@ -193,7 +193,7 @@ fn the_cpu_engines_time_per_sample_is_the_benchs() {
         ]
         .map(|image| image.seconds_per_sample(pixels as usize));
         let bench_t = SCHEMES.map(|scheme| {
-            measure_cpu_passes(&built.samplers, scheme, 1, 1, 0.0, 8).core_seconds_per_sample
+            measure_cpu_passes(&built.samplers, scheme, 1, 1, 0.25, 256).core_seconds_per_sample
         });
         eprintln!("attempt {attempt}: CPU core T per sample (s), app {app_t:?}, bench {bench_t:?}");
         match disagreement(app_t, bench_t) {

@@ -2,6 +2,7 @@
 //! picks as the CPU for every (pixel, sample), and `f32` estimates within a derived bound.
 
 use crate::gpu_common;
+use glam::{DVec3, dvec2};
 
 use crate::gpu_common::SplitMix;
 use lightpick_core::gpu::{GpuError, GpuRenderer};
@@ -30,12 +31,13 @@ fn scene(n: usize, seed: u64, scale: f64, powers: Vec<f64>) -> Scene {
                 z * scale,
             ]
         })
+        .map(DVec3::from)
         .collect();
     Scene {
         name: format!("test-{n}"),
         plane: ReceiverPlane {
-            min: [-scale, -0.75 * scale],
-            max: [scale, 0.75 * scale],
+            min: dvec2(-scale, -0.75 * scale),
+            max: dvec2(scale, 0.75 * scale),
             width: 40,
             height: 30,
         },

@@ -8,6 +8,7 @@
 
 #![allow(clippy::unwrap_used)] // Tests unwrap: a failure is the test failing.
 
+use glam::{DVec2, DVec3, dvec2, dvec3};
 use lightpick_core::inspect::PointInspection;
 use lightpick_core::render::CpuRenderer;
 use lightpick_core::scene::{ReceiverPlane, Scene, geometry_term, pixel_center};
@@ -21,12 +22,16 @@ fn scene() -> Scene {
     Scene {
         name: "inspect".into(),
         plane: ReceiverPlane {
-            min: [-1.0, -1.0],
-            max: [1.0, 1.0],
+            min: dvec2(-1.0, -1.0),
+            max: dvec2(1.0, 1.0),
             width: 3,
             height: 2,
         },
-        positions: vec![[-0.6, 0.3, 0.4], [0.5, -0.4, 0.9], [0.1, 0.7, 0.15]],
+        positions: vec![
+            dvec3(-0.6, 0.3, 0.4),
+            dvec3(0.5, -0.4, 0.9),
+            dvec3(0.1, 0.7, 0.15),
+        ],
         powers: LightPowers::new(vec![2.0, 5.0, 20.0]).unwrap(),
     }
 }
@@ -45,7 +50,7 @@ fn moments(f: &[f64], q: &[f64]) -> (f64, f64, f64) {
 }
 
 /// `q_of(x)`: the scheme's pick pmf at the point `x`.
-fn check(scene: &Scene, scheme: Scheme, q_of: impl Fn([f64; 2]) -> Vec<f64>) {
+fn check(scene: &Scene, scheme: Scheme, q_of: impl Fn(DVec2) -> Vec<f64>) {
     let mut renderer = CpuRenderer::new(scene, scheme, 77);
     renderer.accumulate(SPP);
     let acc = renderer.accumulator();
@@ -117,6 +122,7 @@ fn spatial_sampling_variance_at_each_pixel_is_the_inspected_one() {
                 0.2 + 0.02 * t,
             ]
         })
+        .map(DVec3::from)
         .collect();
     s.powers = LightPowers::new((0..40).map(|k| 1.0 + f64::from(k % 7)).collect()).unwrap();
     let sampler = SpatialSampler::build(&s.positions, &s.powers);

@@ -12,6 +12,7 @@ mod gpu_histogram;
 mod gpu_render;
 mod gpu_rng;
 mod gpu_spatial;
+mod gpu_split;
 mod inspect;
 mod point_estimate;
 mod precision_lab;

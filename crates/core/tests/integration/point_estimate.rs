@@ -4,6 +4,7 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
+use glam::{DVec2, DVec3, dvec2, dvec3};
 use std::sync::Arc;
 
 use lightpick_core::point_estimate::{PointEstimator, PointPicker, samples_for_relative_error};
@@ -68,7 +69,7 @@ fn seed_point_converges_to_18_with_variances_366_and_14_85() {
 }
 
 /// A point of a scene with the three rules (the app's pixel estimator).
-fn pixel_estimator(scene: &Scene, x: [f64; 2], seed: u64) -> PointEstimator {
+fn pixel_estimator(scene: &Scene, x: DVec2, seed: u64) -> PointEstimator {
     let total: f64 = scene.powers.as_slice().iter().sum();
     let contributions = scene
         .positions
@@ -101,7 +102,7 @@ fn pixel_estimator(scene: &Scene, x: [f64; 2], seed: u64) -> PointEstimator {
 #[test]
 fn spatial_rule_is_exact_on_few_lights() {
     let scene = Scene::preset("seed").unwrap();
-    let mut e = pixel_estimator(&scene, [0.3, -0.2], 5);
+    let mut e = pixel_estimator(&scene, dvec2(0.3, -0.2), 5);
     e.advance(1000);
     let spatial = &e.lanes()[2];
     let exact = e.exact();
@@ -114,14 +115,14 @@ fn spatial_rule_is_exact_on_few_lights() {
 
 #[test]
 fn every_rule_is_unbiased_at_a_pixel_of_a_tree_scene() {
-    let positions: Vec<[f64; 3]> = (0..300)
+    let positions: Vec<DVec3> = (0..300)
         .map(|i| {
             let t = f64::from(i);
-            [
+            dvec3(
                 (t * 0.37).sin() * 3.0,
                 (t * 0.71).cos() * 3.0,
                 0.3 + (t * 0.13).sin().abs(),
-            ]
+            )
         })
         .collect();
     let powers = LightPowers::new((0..300).map(|i| 1.0 + f64::from(i % 17)).collect()).unwrap();
@@ -129,7 +130,7 @@ fn every_rule_is_unbiased_at_a_pixel_of_a_tree_scene() {
     scene.positions = positions;
     scene.powers = powers;
     let n = 100_000u64;
-    let mut e = pixel_estimator(&scene, [0.5, 0.25], 9);
+    let mut e = pixel_estimator(&scene, dvec2(0.5, 0.25), 9);
     e.advance(n);
     for lane in e.lanes() {
         let sd = (lane.analytic.variance / n as f64).sqrt();

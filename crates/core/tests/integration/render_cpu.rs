@@ -10,6 +10,7 @@
 
 #![allow(clippy::unwrap_used)] // Tests unwrap: a failure is the test failing.
 
+use glam::{DVec3, dvec2};
 use lightpick_core::render::{
     Accumulator, CpuRenderer, Reference, convergence_series, mean_variance_per_sample,
 };
@@ -137,8 +138,8 @@ fn batched_picks_equal_pick_light_through_rejected_draws() {
     let scene = Scene {
         name: "rejections".to_owned(),
         plane: ReceiverPlane {
-            min: [-1.0, -1.0],
-            max: [1.0, 1.0],
+            min: dvec2(-1.0, -1.0),
+            max: dvec2(1.0, 1.0),
             width: 48,
             height: 40,
         },
@@ -150,6 +151,7 @@ fn batched_picks_equal_pick_light_through_rejected_draws() {
                     0.5 + hash(i, 3),
                 ]
             })
+            .map(DVec3::from)
             .collect(),
         powers: lightpick_core::LightPowers::new(
             (0..n)

@@ -3,6 +3,7 @@
 
 #![allow(clippy::unwrap_used)] // Tests unwrap: a failure is the test failing.
 
+use glam::{dvec2, dvec3};
 use lightpick_core::Scheme;
 use lightpick_core::render::{
     Accumulator, CpuRenderer, MIN_REFERENCE_PIXELS, REL_MSE_EPSILON, Reference, SeriesPoint,
@@ -33,17 +34,17 @@ fn full_reference_is_the_sum_over_all_lights() {
     let scene = Scene::from_parts(
         "mixed",
         ReceiverPlane {
-            min: [-1.0, -1.0],
-            max: [1.0, 1.0],
+            min: dvec2(-1.0, -1.0),
+            max: dvec2(1.0, 1.0),
             width: 7,
             height: 5,
         },
         vec![
-            [0.2, 0.3, 0.5],
-            [-0.7, 0.1, 1.5],
-            [0.0, 0.0, -1.0],
-            [0.5, 0.5, 0.0],
-            [0.9, -0.9, 0.05],
+            dvec3(0.2, 0.3, 0.5),
+            dvec3(-0.7, 0.1, 1.5),
+            dvec3(0.0, 0.0, -1.0),
+            dvec3(0.5, 0.5, 0.0),
+            dvec3(0.9, -0.9, 0.05),
         ],
         vec![2.0, 5.0, 100.0, 100.0, 0.5],
     )
@@ -142,12 +143,12 @@ fn two_pixels() -> (Reference, Accumulator) {
     let scene = Scene::from_parts(
         "two",
         ReceiverPlane {
-            min: [0.0, 0.0],
-            max: [2.0, 1.0],
+            min: dvec2(0.0, 0.0),
+            max: dvec2(2.0, 1.0),
             width: 2,
             height: 1,
         },
-        vec![[0.5, 0.5, 1.0], [1.5, 0.5, 2.0]],
+        vec![dvec3(0.5, 0.5, 1.0), dvec3(1.5, 0.5, 2.0)],
         vec![3.0, 1.0],
     )
     .unwrap();
@@ -270,12 +271,12 @@ fn a_dark_scene_has_zero_error_not_nan() {
     let scene = Scene::from_parts(
         "dark",
         ReceiverPlane {
-            min: [0.0, 0.0],
-            max: [1.0, 1.0],
+            min: dvec2(0.0, 0.0),
+            max: dvec2(1.0, 1.0),
             width: 4,
             height: 4,
         },
-        vec![[0.5, 0.5, -1.0], [0.2, 0.2, -0.1]],
+        vec![dvec3(0.5, 0.5, -1.0), dvec3(0.2, 0.2, -0.1)],
         vec![1.0, 3.0],
     )
     .unwrap();

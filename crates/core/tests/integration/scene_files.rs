@@ -2,6 +2,7 @@
 
 #![allow(clippy::unwrap_used)] // Tests unwrap: a failure is the test failing.
 
+use glam::{DVec3, dvec2, dvec3};
 use lightpick_core::scene::{
     Generator, MAX_LIGHTS, PRESET_NAMES, Placement, PowerDistribution, ReceiverPlane, Scene,
     SceneError,
@@ -28,8 +29,8 @@ fn err(text: &str) -> SceneError {
 
 fn unit_plane() -> ReceiverPlane {
     ReceiverPlane {
-        min: [-1.0, -1.0],
-        max: [1.0, 1.0],
+        min: dvec2(-1.0, -1.0),
+        max: dvec2(1.0, 1.0),
         width: 4,
         height: 4,
     }
@@ -47,13 +48,16 @@ fn explicit_lights_parse_as_written() {
     assert_eq!(
         scene.plane,
         ReceiverPlane {
-            min: [-1.0, -1.0],
-            max: [1.0, 1.0],
+            min: dvec2(-1.0, -1.0),
+            max: dvec2(1.0, 1.0),
             width: 8,
             height: 4
         }
     );
-    assert_eq!(scene.positions, vec![[0.5, -0.25, 1.0], [0.0, 0.0, 2.0]]);
+    assert_eq!(
+        scene.positions,
+        vec![dvec3(0.5, -0.25, 1.0), dvec3(0.0, 0.0, 2.0)]
+    );
     assert_eq!(scene.powers.as_slice(), &[2.0, 0.0]);
 }
 
@@ -78,7 +82,10 @@ fn json_round_trip_keeps_awkward_values_and_names() {
     let scene = Scene::from_parts(
         "quote \" and \\ and ünïcode",
         unit_plane(),
-        vec![[0.1 + 0.2, -1e-300, 5e-324], [1e300, 1.0 / 3.0, 2.0]],
+        vec![
+            dvec3(0.1 + 0.2, -1e-300, 5e-324),
+            dvec3(1e300, 1.0 / 3.0, 2.0),
+        ],
         vec![f64::MIN_POSITIVE, 1e300],
     )
     .unwrap();
@@ -246,7 +253,7 @@ fn non_finite_values_are_named() {
     let e = Scene::from_parts(
         "nan",
         unit_plane(),
-        vec![[0.0, 0.0, 1.0], [0.0, f64::NAN, 1.0]],
+        vec![dvec3(0.0, 0.0, 1.0), dvec3(0.0, f64::NAN, 1.0)],
         vec![1.0, 1.0],
     )
     .unwrap_err();
@@ -254,12 +261,12 @@ fn non_finite_values_are_named() {
     assert_eq!(e.to_string(), "lights[1].position[1]: not finite (NaN)");
 
     let e =
-        Scene::from_parts("inf", unit_plane(), vec![[0.0; 3]], vec![f64::INFINITY]).unwrap_err();
+        Scene::from_parts("inf", unit_plane(), vec![DVec3::ZERO], vec![f64::INFINITY]).unwrap_err();
     assert_eq!(e.to_string(), "lights[0].power: not finite (inf)");
 
     let mut plane = unit_plane();
     plane.max[0] = f64::INFINITY;
-    let e = Scene::from_parts("p", plane, vec![[0.0; 3]], vec![1.0]).unwrap_err();
+    let e = Scene::from_parts("p", plane, vec![DVec3::ZERO], vec![1.0]).unwrap_err();
     assert_eq!(e.to_string(), "plane.max[0]: not finite (inf)");
 
     // JSON has no infinity: an overflowing literal is a parse error at its field.
@@ -335,7 +342,7 @@ fn structural_problems_are_invalid() {
         e.to_string(),
         "generator.power.max: must be at least min (1 < 10)"
     );
-    let e = Scene::from_parts("x", unit_plane(), vec![[0.0; 3]], vec![1.0, 2.0]).unwrap_err();
+    let e = Scene::from_parts("x", unit_plane(), vec![DVec3::ZERO], vec![1.0, 2.0]).unwrap_err();
     assert_eq!(e.to_string(), "lights: 1 positions but 2 powers");
 }
 
@@ -471,7 +478,7 @@ fn grid_preset_is_1024_unit_lights_low_over_a_16_by_16_plane() {
     assert_eq!(scene.light_count(), 1024);
     assert_eq!(
         (scene.plane.min, scene.plane.max),
-        ([-8.0, -8.0], [8.0, 8.0])
+        (dvec2(-8.0, -8.0), dvec2(8.0, 8.0))
     );
     assert_eq!((scene.plane.width, scene.plane.height), (256, 256));
     assert!(scene.powers.as_slice().iter().all(|&p| p == 1.0));
@@ -637,7 +644,7 @@ fn set_power_validates_and_leaves_the_scene_unchanged_on_error() {
     assert_eq!(e.to_string(), "lights[3]: no such light (3 lights)");
     assert_eq!(scene, before);
     let mut single =
-        Scene::from_parts("one", unit_plane(), vec![[0.0, 0.0, 1.0]], vec![1.0]).unwrap();
+        Scene::from_parts("one", unit_plane(), vec![dvec3(0.0, 0.0, 1.0)], vec![1.0]).unwrap();
     let e = single.set_power(0, 0.0).unwrap_err();
     assert_eq!(
         e.to_string(),

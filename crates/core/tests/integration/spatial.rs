@@ -1,6 +1,7 @@
 //! Contribution-aware (spatial) sampling: the light tree's pdf, unbiasedness, the exact
 //! scheme's zero variance, the gain over power sampling, and extremes.
 
+use glam::{DVec2, DVec3, dvec2, dvec3};
 use lightpick_core::render::{CpuRenderer, Reference, mean_variance_per_sample};
 use lightpick_core::scene::{ReceiverPlane, Scene, geometry_term, pixel_center};
 use lightpick_core::spatial::{EXACT_MAX_LIGHTS, ExactSampler, LightTree, SpatialSampler};
@@ -25,16 +26,16 @@ impl SplitMix {
 
 /// `n` lights in `[-2, 2]² × [0.1, 1]` (every 7th below the plane, every 5th at power 0),
 /// powers over `decades` decades.
-fn random_lights(n: usize, seed: u64, decades: f64) -> (Vec<[f64; 3]>, LightPowers) {
+fn random_lights(n: usize, seed: u64, decades: f64) -> (Vec<DVec3>, LightPowers) {
     let mut d = SplitMix(seed);
     let positions = (0..n)
         .map(|i| {
             let z = d.range(0.1, 1.0);
-            [
+            dvec3(
                 d.range(-2.0, 2.0),
                 d.range(-2.0, 2.0),
                 if i % 7 == 6 { -z } else { z },
-            ]
+            )
         })
         .collect();
     let mut powers: Vec<f64> = (0..n)
@@ -52,20 +53,20 @@ fn random_lights(n: usize, seed: u64, decades: f64) -> (Vec<[f64; 3]>, LightPowe
 
 fn plane(half: f64, pixels: u32) -> ReceiverPlane {
     ReceiverPlane {
-        min: [-half, -half],
-        max: [half, half],
+        min: dvec2(-half, -half),
+        max: dvec2(half, half),
         width: pixels,
         height: pixels,
     }
 }
 
-const POINTS: [[f64; 2]; 6] = [
-    [0.0, 0.0],
-    [1.9, -1.9],
-    [-0.37, 1.21],
-    [5.0, 5.0],
-    [-40.0, 3.0],
-    [0.5, 0.5],
+const POINTS: [DVec2; 6] = [
+    dvec2(0.0, 0.0),
+    dvec2(1.9, -1.9),
+    dvec2(-0.37, 1.21),
+    dvec2(5.0, 5.0),
+    dvec2(-40.0, 3.0),
+    dvec2(0.5, 0.5),
 ];
 
 /// The pdf summed over every light (each the product of the branch probabilities on its
@@ -112,7 +113,7 @@ fn tree_pdf_is_positive_exactly_where_the_light_contributes() {
 fn tree_picks_follow_their_pdf_and_report_it() {
     let (positions, powers) = random_lights(40, 11, 1.0);
     let tree = LightTree::build(&positions, &powers);
-    let x = [0.3, -0.4];
+    let x = dvec2(0.3, -0.4);
     let draws = 200_000u64;
     let mut counts = vec![0u64; positions.len()];
     for s in 0..draws {
@@ -197,7 +198,7 @@ fn exact_scheme_has_zero_variance_per_pixel() {
 fn exact_picks_follow_the_contributions() {
     let (positions, powers) = random_lights(12, 17, 1.0);
     let exact = ExactSampler::build(&positions, &powers);
-    let x = [0.2, 0.1];
+    let x = dvec2(0.2, 0.1);
     let total: f64 = (0..12).map(|i| exact.pdf(x, i)).sum();
     assert!((total - 1.0).abs() < 1e-14);
     let draws = 100_000u64;
@@ -224,10 +225,10 @@ fn exact_picks_follow_the_contributions() {
 /// per sample is at least 20× lower (measured: printed).
 #[test]
 fn spatial_beats_power_sampling_on_spread_out_equal_lights() {
-    let positions: Vec<[f64; 3]> = (0..32 * 32)
+    let positions: Vec<DVec3> = (0..32 * 32)
         .map(|k| {
             let (i, j) = (f64::from(k % 32), f64::from(k / 32));
-            [-7.75 + 0.5 * i, -7.75 + 0.5 * j, 0.25]
+            dvec3(-7.75 + 0.5 * i, -7.75 + 0.5 * j, 0.25)
         })
         .collect();
     let scene = Scene {
@@ -326,7 +327,7 @@ fn extremes_give_finite_images() {
     let one = Scene {
         name: "one".into(),
         plane: plane(2.0, 16),
-        positions: vec![[0.3, 0.2, 0.5]],
+        positions: vec![dvec3(0.3, 0.2, 0.5)],
         powers: LightPowers::new(vec![7.0]).expect("valid"),
     };
     let image = assert_finite_image(&one, 4);
@@ -338,7 +339,9 @@ fn extremes_give_finite_images() {
     let below = Scene {
         name: "below".into(),
         plane: plane(2.0, 16),
-        positions: (0..40).map(|i| [f64::from(i) * 0.1, 0.0, -0.5]).collect(),
+        positions: (0..40)
+            .map(|i| dvec3(f64::from(i) * 0.1, 0.0, -0.5))
+            .collect(),
         powers: LightPowers::new(vec![1.0; 40]).expect("valid"),
     };
     assert!(assert_finite_image(&below, 4).iter().all(|&v| v == 0.0));
@@ -358,11 +361,11 @@ fn zero_power_lights_are_never_picked() {
     let (positions, powers) = random_lights(200, 29, 1.0);
     let sampler = SpatialSampler::build(&positions, &powers);
     for s in 0..20_000u64 {
-        let x = [(s % 7) as f64 * 0.5 - 1.5, (s % 5) as f64 * 0.5 - 1.0];
+        let x = dvec2((s % 7) as f64 * 0.5 - 1.5, (s % 5) as f64 * 0.5 - 1.0);
         if let Some(pick) = sampler.sample(x, &mut Rng::new(1, s)) {
             let i = pick.light as usize;
             assert!(
-                powers.as_slice()[i] > 0.0 && positions[i][2] > 0.0,
+                powers.as_slice()[i] > 0.0 && positions[i].z > 0.0,
                 "light {i}"
             );
         }
