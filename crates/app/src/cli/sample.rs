@@ -85,10 +85,12 @@ pub(crate) fn check_count(count: u64) -> anyhow::Result<()> {
 }
 
 /// Counts how often each light is picked by samples `0..count` (sample `k` draws from
-/// `Rng::new(seed, k)`), in parallel; identical for any thread count.
+/// `Rng::new(seed, k)`), in parallel; identical for any thread count. Each chunk of samples
+/// counts into its own `N` bins, so there are no more chunks than `count / N` (a chunk's bins
+/// never cost more than its samples: 2^25 lights take one chunk, not eight of 256 MB).
 pub fn count_cpu(sampler: &Sampler, count: u64, seed: u64) -> Vec<u64> {
     let n = sampler.light_count();
-    let chunks = rayon::current_num_threads().max(1) as u64 * 4;
+    let chunks = (rayon::current_num_threads().max(1) as u64 * 4).min((count / n as u64).max(1));
     let per_chunk = count.div_ceil(chunks);
     (0..chunks)
         .into_par_iter()

@@ -16,5 +16,6 @@ mod app_trade_precision;
 mod cli_bench_precision;
 mod cli_device;
 mod cli_e2e;
+mod cli_gpu_scale;
 mod cli_render_plot;
 mod cli_spatial;

@@ -27,12 +27,25 @@
 //! inverse-CDF peer is a CPU-only comparison ([`GpuError::UnsupportedScheme`]).
 //!
 //! # Limits
-//! Each buffer is one storage binding, so it must fit the device's
-//! `max_storage_buffer_binding_size` (128 MiB on Mesa's lavapipe, often 2–4 GiB on
-//! discrete GPUs); a larger one is refused with [`GpuError::BufferTooLarge`] before any
-//! allocation. At 128 MiB: the renderer takes up to 5.59 million lights (24 bytes each) and
-//! 16.7 million pixels (8 bytes of sums each); the histogram up to 16.7 million lights
-//! (8-byte alias entries; 4-byte counts).
+//! A device binds at most `max_storage_buffer_binding_size` bytes of a buffer (128 MiB on
+//! Mesa's lavapipe, often 2–4 GiB on discrete GPUs). The per-light arrays are split over as
+//! many bindings as they need (`split.rs`: chunks of `2^s` elements, a buffer each, read
+//! through a generated accessor `NAME_at(i)`), so their size is bounded by the memory and
+//! by the bindings a shader stage may have (`max_storage_buffers_per_shader_stage`, 32 on
+//! lavapipe; beyond it [`GpuError::TooManyBindings`]), not by one binding. Memory per light
+//! is unchanged by the split:
+//!
+//! | array | bytes per light | bindings at 128 MiB for `N` lights |
+//! | --- | ---: | --- |
+//! | renderer: `(x, y, z, p_i)` and the alias entry | 24 | `⌈N / 2^22⌉` (4 at `2^24`) |
+//! | spatial scheme: contributing lights in leaf order | 16 | `⌈M / 2^23⌉` |
+//! | spatial scheme: tree nodes (80 bytes, one per ~22 lights) | ~3.6 | 1 up to ~3.7·10^7 lights |
+//! | histogram: packed table | 8 | `⌈N / 2^24⌉` (2 at `2^25`) |
+//! | histogram: counts | 4 | `⌈N / 2^25⌉` |
+//!
+//! Scenes hold at most `2^24` lights ([`crate::scene::MAX_LIGHTS`]); the histogram takes any
+//! [`crate::LightPowers`] (tested at `2^25`). The per-pixel sums (8 bytes per pixel) stay one
+//! binding: 16.7 million pixels at 128 MiB, beyond which [`GpuError::BufferTooLarge`].
 
 mod context;
 mod error;

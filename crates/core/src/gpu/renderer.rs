@@ -95,7 +95,8 @@ struct TonemapParams {
 /// * spatial: `ê = p_i·G_i(x) / P(i | x)` from `spatial.wgsl`, the twin of
 ///   [`crate::spatial`] (the exact pick for `N ≤` [`crate::spatial::EXACT_MAX_LIGHTS`], else
 ///   the light tree, built in `f64` on the CPU as the CPU renderer builds it and uploaded as
-///   `f32` nodes the first time the scheme is used: 36 more bytes per light),
+///   `f32` arrays the first time the scheme is used: its contributing lights in leaf order,
+///   16 bytes each, and its 80-byte nodes, about 20 more bytes per light in all),
 ///
 /// with `G_i(x) = z_i / (4π r³)` evaluated in `f32` with power-of-two rescaling, so it
 /// neither overflows nor underflows before `G` itself leaves the `f32` range. The image is
@@ -163,8 +164,10 @@ impl GpuRenderer {
     ///
     /// Refuses [`Scheme::Cdf`] ([`GpuError::UnsupportedScheme`]), an empty image or one
     /// beyond the device's texture size ([`GpuError::ImageSize`]), a scene the `f32` upload
-    /// cannot hold ([`GpuRenderer::check_scene`], [`GpuError::BeyondF32`]), and buffers
-    /// beyond its limits ([`GpuError::BufferTooLarge`]).
+    /// cannot hold ([`GpuRenderer::check_scene`], [`GpuError::BeyondF32`]), pixel sums
+    /// beyond one binding ([`GpuError::BufferTooLarge`]) and lights needing more bindings
+    /// than a shader stage has ([`GpuError::TooManyBindings`]); lights beyond one binding are
+    /// split over several ([`crate::gpu`] § Limits).
     pub fn from_samplers(
         ctx: &GpuContext,
         samplers: &SceneSamplers,
@@ -789,8 +792,8 @@ impl GpuRenderer {
     }
 
     /// GPU bytes per light: 16 for `(x, y, z, p_i)` as `f32`, 8 for the packed alias entry;
-    /// with the spatial light tree uploaded, 36 more (a 32-byte internal node per light but
-    /// one, and the leaf's 4-byte scene index), rounded up.
+    /// with the spatial light tree uploaded, its lights in leaf order (16 bytes each) and its
+    /// 80-byte nodes (one per ~22 lights): about 20 more, rounded up.
     pub fn gpu_bytes_per_light(&self) -> u64 {
         let n = self.samplers.scene().light_count() as u64;
         let tree = self.spatial.as_ref().map_or(0, |s| s.bytes);

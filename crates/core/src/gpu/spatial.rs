@@ -5,7 +5,7 @@ use glam::{UVec4, Vec4};
 
 use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
 use super::{GpuContext, GpuError};
-use crate::spatial::{SpatialLight, SpatialSampler};
+use crate::spatial::{ChildRef, SpatialLight, SpatialSampler};
 
 pub(crate) const SPATIAL_WGSL: &str = include_str!("spatial.wgsl");
 
@@ -97,7 +97,7 @@ impl SpatialGpu {
                         lane: std::array::from_fn(|k| {
                             n.centroid[k].as_vec3().extend(n.power[k] as f32)
                         }),
-                        child: UVec4::from_array(n.child.map(|c| c.bits())),
+                        child: UVec4::from_array(n.child.map(ChildRef::bits)),
                     })
                     .collect(),
             ),

@@ -74,7 +74,8 @@ pub fn branch_probabilities<const K: usize>(importance: [f64; K], power: [f64; K
     let total_importance: f64 = importance.iter().sum();
     let total_power: f64 = power.iter().sum();
     let mut p = [0.0; K];
-    if !(total_power > 0.0) {
+    // Also covers a NaN total.
+    if total_power.is_nan() || total_power <= 0.0 {
         return p;
     }
     let by_power = 1.0 / total_power;
