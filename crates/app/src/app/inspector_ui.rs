@@ -86,8 +86,8 @@ pub fn inspector_ui(ui: &mut Ui, state: &mut AppState) {
         "pixel ({}, {}) · point x = ({}, {}) · exact irradiance E(x) = {}",
         pixel[0],
         pixel[1],
-        fractions::short(inspection.x[0]),
-        fractions::short(inspection.x[1]),
+        fractions::short(inspection.x.x),
+        fractions::short(inspection.x.y),
         fractions::short(inspection.irradiance),
     ))
     .on_hover_text("E(x) = Σ Φ_i·max(0, cos θ)/(4π r²), summed over every light");

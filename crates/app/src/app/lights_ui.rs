@@ -167,9 +167,9 @@ fn rows_ui(ui: &mut Ui, state: &mut AppState) {
                     ui.label(text).on_hover_text(format!(
                         "Light {} at ({:.2}, {:.2}, {:.2})",
                         i + 1,
-                        state.edit.positions.get(i).map_or(0.0, |p| p[0]),
-                        state.edit.positions.get(i).map_or(0.0, |p| p[1]),
-                        state.edit.positions.get(i).map_or(0.0, |p| p[2]),
+                        state.edit.positions.get(i).map_or(0.0, |p| p.x),
+                        state.edit.positions.get(i).map_or(0.0, |p| p.y),
+                        state.edit.positions.get(i).map_or(0.0, |p| p.z),
                     ));
                     let p = &mut state.edit.powers[i];
                     let speed = if p.is_finite() { (p.abs() * 0.01).max(0.01) } else { 0.01 };

@@ -197,10 +197,10 @@ impl GpuRenderer {
         let n = scene.positions.len() as u64;
         let plane = &scene.plane;
         let plane = [
-            plane.min[0] as f32,
-            plane.max[1] as f32,
-            (plane.max[0] - plane.min[0]) as f32,
-            (plane.max[1] - plane.min[1]) as f32,
+            plane.min.x as f32,
+            plane.max.y as f32,
+            (plane.max.x - plane.min.x) as f32,
+            (plane.max.y - plane.min.y) as f32,
         ];
         let lights = SplitArray::zeroed(
             ctx,

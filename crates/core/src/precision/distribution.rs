@@ -1,5 +1,7 @@
 //! The power distributions the lab measures on, drawn with the scene generator's recipe.
 
+use glam::DVec3;
+
 use crate::scene::{Generator, Placement, PowerDistribution};
 
 /// A family of test powers. Light `i` is drawn from the stream `Rng::new(seed, i)` exactly
@@ -79,8 +81,8 @@ impl Distribution {
             zero_fraction,
             dominant: None,
             placement: Placement {
-                min: [0.0; 3],
-                max: [1.0; 3],
+                min: DVec3::ZERO,
+                max: DVec3::ONE,
             },
         }
     }

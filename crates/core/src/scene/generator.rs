@@ -97,10 +97,10 @@ pub struct Dominant {
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Placement {
-    /// Lower corner `(x, y, z)`.
-    pub min: [f64; 3],
-    /// Upper corner `(x, y, z)`, each coordinate `≥` the lower one.
-    pub max: [f64; 3],
+    /// Lower corner `(x, y, z)` in the world.
+    pub min: DVec3,
+    /// Upper corner `(x, y, z)` in the world, each coordinate `≥` the lower one.
+    pub max: DVec3,
 }
 
 /// The recipe of a generated scene; see the module docs for how each light is drawn.
@@ -376,8 +376,8 @@ mod tests {
                 zero_fraction: f,
                 dominant: None,
                 placement: Placement {
-                    min: [0.0; 3],
-                    max: [1.0; 3],
+                    min: DVec3::ZERO,
+                    max: DVec3::ONE,
                 },
             };
             let zeros = (0..count).filter(|&i| g.zeroed(i)).count() as u64;

@@ -147,7 +147,7 @@ impl Scene {
         let _ = write!(
             out,
             "{{\n  \"name\": {name},\n  \"plane\": {{ \"min\": [{:?}, {:?}], \"max\": [{:?}, {:?}], \"width\": {}, \"height\": {} }},\n  \"lights\": [\n",
-            p.min[0], p.min[1], p.max[0], p.max[1], p.width, p.height
+            p.min.x, p.min.y, p.max.x, p.max.y, p.width, p.height
         );
         let last = self.light_count().saturating_sub(1);
         for (i, (pos, power)) in self
@@ -159,9 +159,9 @@ impl Scene {
             let _ = writeln!(
                 out,
                 "    {{ \"position\": [{:?}, {:?}, {:?}], \"power\": {power:?} }}{}",
-                pos[0],
-                pos[1],
-                pos[2],
+                pos.x,
+                pos.y,
+                pos.z,
                 if i == last { "" } else { "," }
             );
         }

@@ -30,8 +30,8 @@ use glam::{DVec2, DVec3};
 use crate::powers::LightPowers;
 
 /// The receiving rectangle on `z = 0` and its pixel grid. Pixel `(0, 0)` is the top-left
-/// corner: `x` grows to the right from `min[0]`, `y` grows upwards from `min[1]`, so row 0 is
-/// at `y = max[1]`.
+/// corner: `x` grows to the right from `min.x`, `y` grows upwards from `min.y`, so row 0 is
+/// at `y = max.y`.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ReceiverPlane {
     /// Lower-left corner `(x, y)` on the plane.

@@ -517,8 +517,8 @@ fn small_generator(seed: u64) -> Generator {
         zero_fraction: 0.0,
         dominant: None,
         placement: Placement {
-            min: [-1.0, -2.0, 0.5],
-            max: [1.0, 2.0, 0.75],
+            min: dvec3(-1.0, -2.0, 0.5),
+            max: dvec3(1.0, 2.0, 0.75),
         },
     }
 }
