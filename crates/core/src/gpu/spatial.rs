@@ -5,7 +5,7 @@ use glam::{UVec4, Vec4};
 
 use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
 use super::{GpuContext, GpuError};
-use crate::spatial::{ChildRef, SpatialLight, SpatialSampler};
+use crate::spatial::{SpatialLight, SpatialSampler};
 
 pub(crate) const SPATIAL_WGSL: &str = include_str!("spatial.wgsl");
 
@@ -95,9 +95,9 @@ impl SpatialGpu {
                     .iter()
                     .map(|n| GpuNode {
                         lane: std::array::from_fn(|k| {
-                            n.centroid[k].as_vec3().extend(n.power[k] as f32)
+                            n.centroid(k).as_vec3().extend(n.power(k) as f32)
                         }),
-                        child: UVec4::from_array(n.child.map(ChildRef::bits)),
+                        child: UVec4::from_array(std::array::from_fn(|k| n.child(k).bits())),
                     })
                     .collect(),
             ),

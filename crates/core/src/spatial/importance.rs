@@ -39,9 +39,7 @@
 //! integer comparisons realize, with no rounding term, and every child with `P_k > 0` keeps
 //! at least one grid cell.
 
-use glam::{DVec2, DVec3};
-
-use crate::scene::geometry_term;
+use glam::DVec2;
 
 /// `ε`, the share of each branch probability given to the children's power shares.
 pub const POWER_SHARE: f64 = 1.0 / 32.0;
@@ -55,16 +53,25 @@ pub const GRID_CELL: f64 = 1.0 / GRID as f64;
 /// Importances are capped here, so that a sum of a few of them stays finite.
 pub const IMPORTANCE_CAP: f64 = f64::MAX / 16.0;
 
-/// `I_c(x) = Φ_c · G(c, x)`: the importance at `point_on_plane` of a child of power `power`
-/// and power-weighted centroid `centroid_in_world` (see the module docs), capped at
-/// [`IMPORTANCE_CAP`]; 0 for a child without power or with its centroid on or below the plane.
+/// `4π·I_c(x) = Φ_c·c_z / |c − x|³` of the `K` lanes of a node at `point_on_plane`: each
+/// child's power `power[k]` at its centroid `(x[k], y[k], z[k])` (the module docs; the
+/// common factor `1/(4π)` of `G` cancels in the branch probabilities). Branch-free over the
+/// lanes, so they evaluate together; a lane without power gives 0 (its centroid is at
+/// `z = 1`), and each value is capped at [`IMPORTANCE_CAP`].
 #[inline]
-pub fn representative_importance(
-    centroid_in_world: DVec3,
-    power: f64,
+pub fn lane_importances<const K: usize>(
+    [x, y, z]: [&[f64; K]; 3],
+    power: &[f64; K],
     point_on_plane: DVec2,
-) -> f64 {
-    (power * geometry_term(centroid_in_world, point_on_plane)).min(IMPORTANCE_CAP)
+) -> [f64; K] {
+    let mut importance = [0.0; K];
+    for k in 0..K {
+        let dx = x[k] - point_on_plane.x;
+        let dy = y[k] - point_on_plane.y;
+        let r2 = dx * dx + dy * dy + z[k] * z[k];
+        importance[k] = (power[k] * z[k] / (r2 * r2.sqrt())).min(IMPORTANCE_CAP);
+    }
+    importance
 }
 
 /// `P_k = (1 − ε)·I_k/Σ I + ε·Φ_k/Σ Φ` (module docs); by power alone (`Φ_k/Σ Φ`) when
@@ -107,8 +114,8 @@ pub fn grid_masses<const K: usize>(probabilities: [f64; K]) -> [u32; K] {
     for k in 0..K {
         let p = probabilities[k];
         if p > 0.0 {
-            // p ≤ 1 + rounding: p·2^24 < 2^25, exact to convert.
-            masses[k] = ((p * one).floor() as u32).clamp(1, GRID);
+            // p ≤ 1 + rounding: p·2^24 < 2^25, and the conversion truncates (the floor).
+            masses[k] = ((p * one) as u32).clamp(1, GRID);
             sum += i64::from(masses[k]);
             if masses[k] > masses[largest] {
                 largest = k;
@@ -123,38 +130,41 @@ pub fn grid_masses<const K: usize>(probabilities: [f64; K]) -> [u32; K] {
 }
 
 /// The index whose interval of the cumulative `masses` holds `u` (`u < 2^24`): the first `k`
-/// with `u < m_0 + … + m_k`. Masses summing to `2^24` take index `k` for exactly `m_k` of
-/// the `2^24` values of `u`; an index of mass 0 is never returned while a later one has mass.
+/// with `u < m_0 + … + m_k`, counted branch-free as `#{j < K − 1 : m_0 + … + m_j ≤ u}`.
+/// Masses summing to `2^24` take index `k` for exactly `m_k` of the `2^24` values of `u`; an
+/// index of mass 0 is never returned (its interval is empty).
 #[inline]
 pub fn pick_on_grid(masses: &[u32], u: u32) -> usize {
     let mut end = 0u32;
-    for (k, &m) in masses.iter().enumerate() {
+    let mut index = 0;
+    for &m in &masses[..masses.len().saturating_sub(1)] {
         end += m;
-        if u < end {
-            return k;
-        }
+        index += usize::from(end <= u);
     }
-    // Unreachable for masses summing to 2^24; the last index with mass otherwise.
-    masses.iter().rposition(|&m| m > 0).unwrap_or(0)
+    index
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::geometry_term;
+    use glam::DVec3;
 
     #[test]
-    fn a_single_light_child_has_its_exact_contribution() {
+    fn a_lane_of_one_light_has_its_exact_contribution_times_4_pi() {
         let light = DVec3::new(1.0, 2.0, 0.5);
         let x = DVec2::new(3.0, -1.0);
-        assert_eq!(
-            representative_importance(light, 0.25, x),
-            0.25 * geometry_term(light, x)
+        let i = lane_importances(
+            [&[light.x, 0.0], &[light.y, 0.0], &[light.z, 1.0]],
+            &[0.25, 0.0],
+            x,
         );
-        assert_eq!(
-            representative_importance(DVec3::new(0.0, 0.0, -1.0), 1.0, x),
-            0.0
-        );
-        assert_eq!(representative_importance(light, 0.0, x), 0.0);
+        let g = 0.25 * geometry_term(light, x) * 4.0 * std::f64::consts::PI;
+        assert!((i[0] - g).abs() <= 1e-15 * g, "{} vs {g}", i[0]);
+        assert_eq!(i[1], 0.0, "a lane without power");
+        // A centroid on the point itself, just above the plane: capped, finite.
+        let near = lane_importances([&[0.0], &[0.0], &[1e-200]], &[1.0], DVec2::ZERO);
+        assert_eq!(near[0], IMPORTANCE_CAP);
     }
 
     #[test]

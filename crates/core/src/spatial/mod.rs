@@ -122,6 +122,26 @@ impl SpatialSampler {
         self.sample(x, rng).map_or(0.0, |pick| pick.estimate)
     }
 
+    /// [`SpatialSampler::estimate`] at `B` points, each from its own stream, equal one for
+    /// one to `estimate(points[b], rngs[b])`; the tree interleaves the `B` descents
+    /// ([`LightTree::sample_many`]) so that their memory loads overlap.
+    #[inline]
+    pub fn estimate_many<const B: usize>(
+        &self,
+        points: &[DVec2; B],
+        rngs: &mut [Rng; B],
+    ) -> [f64; B] {
+        match self {
+            SpatialSampler::Exact(s) => std::array::from_fn(|b| {
+                s.sample(points[b], &mut rngs[b])
+                    .map_or(0.0, |p| p.estimate)
+            }),
+            SpatialSampler::Tree(t) => t
+                .sample_many(points, rngs)
+                .map(|p| p.map_or(0.0, |p| p.estimate)),
+        }
+    }
+
     /// `P(i | x)`, the probability that [`SpatialSampler::sample`] picks light `i` at `x`.
     pub fn pdf(&self, x: DVec2, light: usize) -> f64 {
         match self {

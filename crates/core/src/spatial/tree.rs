@@ -36,7 +36,7 @@
 use glam::{DVec2, DVec3};
 
 use super::importance::{
-    GRID_CELL, branch_probabilities, grid_masses, pick_on_grid, representative_importance,
+    GRID_CELL, branch_probabilities, grid_masses, lane_importances, pick_on_grid,
 };
 use super::{SpatialLight, SpatialPick, contributing};
 use crate::powers::LightPowers;
@@ -118,36 +118,49 @@ impl ChildRef {
 }
 
 /// An internal node: per child lane, the representative light (power-weighted centroid and
-/// total normalized power of the child's lights) and what the lane holds.
+/// total normalized power of the child's lights) and what the lane holds. The centroids are
+/// stored by coordinate (one array of the four lanes' `x`, one of `y`, one of `z`), so that
+/// the four importances evaluate together.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TreeNode {
-    /// `c = Σ p_i·y_i / Σ p_i` of each child's lights, in the world (clamped into the
-    /// child's box, so `c_z > 0`).
-    pub centroid: [DVec3; TREE_WIDTH],
-    /// `Φ_c = Σ p_i` of each child's lights (0 for an empty lane).
-    pub power: [f64; TREE_WIDTH],
+    /// `c = Σ p_i·y_i / Σ p_i` of each lane's lights, in the world (clamped into the
+    /// child's box, so `c_z > 0`), as `[x; 4], [y; 4], [z; 4]`; `(0, 0, 1)` in empty lanes.
+    centroid: [[f64; TREE_WIDTH]; 3],
+    /// `Φ_c = Σ p_i` of each lane's lights (0 for an empty lane).
+    power: [f64; TREE_WIDTH],
     /// Each lane's child.
-    pub child: [ChildRef; TREE_WIDTH],
+    child: [ChildRef; TREE_WIDTH],
 }
 
 impl TreeNode {
     const EMPTY: TreeNode = TreeNode {
-        centroid: [DVec3::ZERO; TREE_WIDTH],
+        centroid: [[0.0; TREE_WIDTH], [0.0; TREE_WIDTH], [1.0; TREE_WIDTH]],
         power: [0.0; TREE_WIDTH],
         child: [ChildRef::EMPTY; TREE_WIDTH],
     };
+
+    /// The power-weighted centroid of lane `lane`'s lights, in the world.
+    pub fn centroid(&self, lane: usize) -> DVec3 {
+        let [x, y, z] = &self.centroid;
+        DVec3::new(x[lane], y[lane], z[lane])
+    }
+
+    /// `Φ_c = Σ p_i` of lane `lane`'s lights (0 for an empty lane).
+    pub fn power(&self, lane: usize) -> f64 {
+        self.power[lane]
+    }
+
+    /// What lane `lane` holds.
+    pub fn child(&self, lane: usize) -> ChildRef {
+        self.child[lane]
+    }
 
     /// The grid masses of the four lanes at `point_on_plane` (summing to `2^24`, or all 0
     /// when no lane has power).
     #[inline]
     pub fn masses(&self, point_on_plane: DVec2) -> [u32; TREE_WIDTH] {
-        let mut importance = [0.0; TREE_WIDTH];
-        for (i, (&c, &p)) in importance
-            .iter_mut()
-            .zip(self.centroid.iter().zip(&self.power))
-        {
-            *i = representative_importance(c, p, point_on_plane);
-        }
+        let [x, y, z] = &self.centroid;
+        let importance = lane_importances([x, y, z], &self.power, point_on_plane);
         grid_masses(branch_probabilities(importance, self.power))
     }
 }
@@ -291,30 +304,65 @@ impl LightTree {
     /// (then `ê = 0`).
     #[inline]
     pub fn sample(&self, x: DVec2, rng: &mut Rng) -> Option<SpatialPick> {
-        let mut at = self.root;
-        let mut pdf = 1.0;
+        let (mut at, mut pdf) = (self.root, 1.0);
+        while let Child::Node(k) = at.get() {
+            at = self.step(k, x, rng, &mut pdf);
+        }
+        self.pick_in_leaf(at, x, rng, pdf)
+    }
+
+    /// [`LightTree::sample`] at `B` points at once, each from its own stream: the descents
+    /// advance in lockstep, so that their node and light loads (cache misses among a million
+    /// lights) are independent and overlap. Pick `b` is exactly `sample(points[b], rngs[b])`,
+    /// with the same draws.
+    #[inline]
+    pub fn sample_many<const B: usize>(
+        &self,
+        points: &[DVec2; B],
+        rngs: &mut [Rng; B],
+    ) -> [Option<SpatialPick>; B] {
+        let (mut at, mut pdf) = ([self.root; B], [1.0; B]);
         loop {
-            match at.get() {
-                Child::Node(k) => {
-                    let node = &self.nodes[k];
-                    let masses = node.masses(x);
-                    let lane = pick_on_grid(&masses, rng.next_u32() >> 8);
-                    pdf *= f64::from(masses[lane]) * GRID_CELL;
-                    at = node.child[lane];
+            let mut descending = false;
+            for b in 0..B {
+                if let Child::Node(k) = at[b].get() {
+                    at[b] = self.step(k, points[b], &mut rngs[b], &mut pdf[b]);
+                    descending = true;
                 }
-                Child::Leaf { first, count } => {
-                    let (masses, c) = self.leaf_masses(first, count, x);
-                    let j = pick_on_grid(&masses[..count], rng.next_u32() >> 8);
-                    pdf *= f64::from(masses[j]) * GRID_CELL;
-                    return (c[j] > 0.0 && pdf > 0.0).then(|| SpatialPick {
-                        light: self.order[first + j],
-                        pdf,
-                        estimate: c[j] / pdf,
-                    });
-                }
-                Child::Empty => return None,
+            }
+            if !descending {
+                break;
             }
         }
+        std::array::from_fn(|b| self.pick_in_leaf(at[b], points[b], &mut rngs[b], pdf[b]))
+    }
+
+    /// One level of the descent: node `k`'s lane picked by the next draw, its grid
+    /// probability multiplied into `pdf`; returns the lane's child.
+    #[inline]
+    fn step(&self, k: usize, x: DVec2, rng: &mut Rng, pdf: &mut f64) -> ChildRef {
+        let node = &self.nodes[k];
+        let masses = node.masses(x);
+        let lane = pick_on_grid(&masses, rng.next_u32() >> 8);
+        *pdf *= f64::from(masses[lane]) * GRID_CELL;
+        node.child[lane]
+    }
+
+    /// The end of a descent at `at` (a leaf cluster, or the empty root) with the path's
+    /// probability `pdf`: a light of the cluster by the next draw, by its contribution.
+    #[inline]
+    fn pick_in_leaf(&self, at: ChildRef, x: DVec2, rng: &mut Rng, pdf: f64) -> Option<SpatialPick> {
+        let Child::Leaf { first, count } = at.get() else {
+            return None;
+        };
+        let (masses, c) = self.leaf_masses(first, count, x);
+        let j = pick_on_grid(&masses[..count], rng.next_u32() >> 8);
+        let pdf = pdf * (f64::from(masses[j]) * GRID_CELL);
+        (c[j] > 0.0 && pdf > 0.0).then(|| SpatialPick {
+            light: self.order[first + j],
+            pdf,
+            estimate: c[j] / pdf,
+        })
     }
 
     /// `P(i | x)` of every light of the scene at once, indexed by scene index (0 for a light
@@ -519,7 +567,9 @@ fn build_node(job: Job<'_>) {
         let range_bounds = Bounds::of(range);
         let (power, centroid) = representative(range, range_bounds);
         node.power[lane] = power;
-        node.centroid[lane] = centroid;
+        for (axis, coordinate) in node.centroid.iter_mut().zip(centroid.to_array()) {
+            axis[lane] = coordinate;
+        }
         let count = internal_nodes(range.len());
         let len = range.len();
         if count == 0 {

@@ -415,3 +415,57 @@ fn all_pdfs_at_once_equal_the_pdf_of_each_light() {
         }
     }
 }
+
+/// `sample_many` (the descents interleaved) is `sample` for each point, draw for draw, and
+/// the renderer's batches of pixels (an 11-pixel row: one batch of 8 and 3 single pixels)
+/// add exactly the sequential estimates.
+#[test]
+fn interleaved_descents_equal_single_ones_bit_for_bit() {
+    let (positions, powers) = random_lights(3000, 37, 3.0);
+    let SpatialSampler::Tree(tree) = SpatialSampler::build(&positions, &powers) else {
+        panic!("3000 lights take the tree");
+    };
+    for s in 0..200u64 {
+        let points: [DVec2; 8] = std::array::from_fn(|b| POINTS[(s as usize + b) % POINTS.len()]);
+        let mut rngs: [Rng; 8] = std::array::from_fn(|b| Rng::new(s, b as u64));
+        let many = tree.sample_many(&points, &mut rngs);
+        for b in 0..8 {
+            let mut rng = Rng::new(s, b as u64);
+            assert_eq!(
+                many[b],
+                tree.sample(points[b], &mut rng),
+                "s = {s}, b = {b}"
+            );
+            assert_eq!(rngs[b], rng, "the same draws");
+        }
+    }
+    let scene = Scene {
+        name: "row".into(),
+        plane: ReceiverPlane {
+            min: dvec2(-2.0, -1.0),
+            max: dvec2(2.0, 1.0),
+            width: 11,
+            height: 5,
+        },
+        positions: positions.clone(),
+        powers: powers.clone(),
+    };
+    let mut r = CpuRenderer::new(&scene, Scheme::Spatial, 19);
+    r.accumulate(2);
+    r.accumulate(3);
+    let sampler = SpatialSampler::Tree(tree);
+    for py in 0..5 {
+        for px in 0..11 {
+            let p = u64::from(py * 11 + px);
+            let x = pixel_center(&scene.plane, px, py);
+            let (mut sum, mut sq) = (0.0, 0.0);
+            for k in 0..5u64 {
+                let e = sampler.estimate(x, &mut Rng::new(19, (k << 32) | p));
+                sum += e;
+                sq += e * e;
+            }
+            assert_eq!(r.accumulator().sum[p as usize], sum, "pixel ({px}, {py})");
+            assert_eq!(r.accumulator().sum_sq[p as usize], sq, "pixel ({px}, {py})");
+        }
+    }
+}
