@@ -165,6 +165,20 @@ fn sample(c: &mut Criterion) {
                 spatial.sample(at[k], &mut rng)
             });
         });
+        // Eight shading points at once, their descents interleaved (what the renderer does).
+        group.throughput(criterion::Throughput::Elements(8));
+        group.bench_function(BenchmarkId::new("sample-many/spatial", n), |b| {
+            let at = points();
+            let mut k = 0u64;
+            b.iter(|| {
+                k += 1;
+                let first = (k as usize * 8) & 63;
+                let batch: [glam::DVec2; 8] = std::array::from_fn(|j| at[(first + j) & 63]);
+                let mut rngs: [Rng; 8] = std::array::from_fn(|j| Rng::new(k, j as u64));
+                spatial.estimate_many(&batch, &mut rngs)
+            });
+        });
+        group.throughput(criterion::Throughput::Elements(1));
         group.bench_function(BenchmarkId::new("sample/alias-one-random", n), |b| {
             let mut rng = Rng::new(1, 0);
             b.iter(|| alias.sample_one_random(rng.next_u32()));
