@@ -137,17 +137,11 @@ pub fn histogram_range_split(
         "histogram",
     )?;
     let bind_group = super::scoped(ctx, "binding the histogram buffers", || {
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
-            resource: params_buffer.as_entire_binding(),
-        }];
-        entries.extend(table_buffer.entries(1));
-        entries.extend(counts_buffer.entries(1 + table_buffer.buffers().len() as u32));
-        Ok(ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("histogram"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        }))
+        let buffers: Vec<&wgpu::Buffer> = std::iter::once(&params_buffer)
+            .chain(table_buffer.buffers())
+            .chain(counts_buffer.buffers())
+            .collect();
+        Ok(super::bind_buffers(ctx, "histogram", &pipeline, &buffers))
     })?;
 
     let mut done = 0u64;

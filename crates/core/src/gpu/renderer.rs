@@ -254,23 +254,12 @@ impl GpuRenderer {
                     view_formats: &[],
                 });
                 let output_view = output.create_view(&wgpu::TextureViewDescriptor::default());
-                let mut entries = vec![
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: params.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: sums.as_entire_binding(),
-                    },
-                ];
-                entries.extend(lights.entries(2));
+                let buffers: Vec<&wgpu::Buffer> = [&params, &sums]
+                    .into_iter()
+                    .chain(lights.buffers())
+                    .collect();
                 let accumulate_bind_group =
-                    ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("render accumulate"),
-                        layout: &accumulate_pipeline.get_bind_group_layout(0),
-                        entries: &entries,
-                    });
+                    super::bind_buffers(ctx, "render accumulate", &accumulate_pipeline, &buffers);
                 let tonemap_bind_group =
                     ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
                         label: Some("render tonemap"),

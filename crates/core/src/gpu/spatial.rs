@@ -127,23 +127,17 @@ impl SpatialGpu {
             "accumulate_spatial",
         )?;
         let bind_group = super::scoped(ctx, "binding the light tree", || {
-            let mut entries = vec![
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: params.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: sums.as_entire_binding(),
-                },
-            ];
-            entries.extend(lights.entries(2));
-            entries.extend(nodes.entries(2 + lights.buffers().len() as u32));
-            Ok(ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("render accumulate spatial"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &entries,
-            }))
+            let buffers: Vec<&wgpu::Buffer> = [params, sums]
+                .into_iter()
+                .chain(lights.buffers())
+                .chain(nodes.buffers())
+                .collect();
+            Ok(super::bind_buffers(
+                ctx,
+                "render accumulate spatial",
+                &pipeline,
+                &buffers,
+            ))
         })?;
         Ok(Self {
             code,

@@ -121,7 +121,8 @@ impl SplitArray {
         })
     }
 
-    /// The chunk buffers, in order.
+    /// The chunk buffers, in order (bound whole, one binding each, after the kernel's others:
+    /// [`super::bind_buffers`]).
     pub(crate) fn buffers(&self) -> &[wgpu::Buffer] {
         &self.buffers
     }
@@ -137,18 +138,6 @@ impl SplitArray {
             chunks: self.buffers.len(),
             shift: self.shift,
         }
-    }
-
-    /// The bind group entries of the chunks, at bindings `first_binding …`.
-    pub(crate) fn entries(&self, first_binding: u32) -> Vec<wgpu::BindGroupEntry<'_>> {
-        self.buffers
-            .iter()
-            .enumerate()
-            .map(|(k, buffer)| wgpu::BindGroupEntry {
-                binding: first_binding + k as u32,
-                resource: buffer.as_entire_binding(),
-            })
-            .collect()
     }
 
     /// Clears every chunk to zero.
