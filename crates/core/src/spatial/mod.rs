@@ -132,10 +132,9 @@ impl SpatialSampler {
         rngs: &mut [Rng; B],
     ) -> [f64; B] {
         match self {
-            SpatialSampler::Exact(s) => std::array::from_fn(|b| {
-                s.sample(points[b], &mut rngs[b])
-                    .map_or(0.0, |p| p.estimate)
-            }),
+            SpatialSampler::Exact(_) => {
+                std::array::from_fn(|b| self.estimate(points[b], &mut rngs[b]))
+            }
             SpatialSampler::Tree(t) => t
                 .sample_many(points, rngs)
                 .map(|p| p.map_or(0.0, |p| p.estimate)),

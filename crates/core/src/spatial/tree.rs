@@ -542,7 +542,9 @@ fn build_node(job: Job<'_>) {
         nodes,
         node_first,
     } = job;
-    // The parts in lane order: halves at the median, each halved again if larger than a leaf.
+    // The parts in lane order: halves at the median, each halved again if larger than a leaf
+    // (the sizes of `parts`).
+    let lights_len = lights.len();
     let mid = split_at_median(lights, bounds);
     let (left, right) = lights.split_at_mut(mid);
     let mut ranges: Vec<&mut [(u32, SpatialLight)]> = Vec::with_capacity(TREE_WIDTH);
@@ -556,6 +558,13 @@ fn build_node(job: Job<'_>) {
             ranges.push(half);
         }
     }
+    // The layout reserved node slots for exactly these sizes.
+    debug_assert!(
+        ranges
+            .iter()
+            .map(|r| r.len())
+            .eq(parts(lights_len).into_iter().filter(|&s| s > 0))
+    );
 
     let (this, mut below) = nodes.split_at_mut(1);
     let (this_first, mut below_first) = node_first.split_at_mut(1);
