@@ -24,9 +24,10 @@ fn powers(harness: &Harness<'static, LightpickApp>) -> Vec<f64> {
     harness.state().state.built.scene.powers.as_slice().to_vec()
 }
 
-/// Runs frames until the table has `n` lights (a background build), or fails after a minute.
+/// Runs frames until the table has `n` lights (a background build), or fails after
+/// [`crate::common::HANG_GUARD`].
 fn run_until_built(harness: &mut Harness<'static, LightpickApp>, n: usize) {
-    let deadline = Instant::now() + Duration::from_mins(1);
+    let deadline = Instant::now() + crate::common::HANG_GUARD;
     while harness.state().state.built.len() != n {
         assert!(
             Instant::now() < deadline,

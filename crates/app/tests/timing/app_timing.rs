@@ -122,7 +122,7 @@ fn the_apps_time_per_sample_is_the_benchs() {
     let ctx = GpuContext::new().expect("a wgpu adapter (lavapipe in CI)");
     // The reference is computed on a worker thread (a second of both cores on this scene):
     // time nothing while it runs.
-    let deadline = std::time::Instant::now() + std::time::Duration::from_mins(2);
+    let deadline = std::time::Instant::now() + crate::common::HANG_GUARD;
     loop {
         app.state_mut().step();
         app.run();
@@ -175,7 +175,7 @@ fn the_cpu_engines_time_per_sample_is_the_benchs() {
     let mut last = String::new();
     for attempt in 1..=ATTEMPTS {
         // Let the engine render at least 8 samples per pixel more, then read its T.
-        let deadline = std::time::Instant::now() + std::time::Duration::from_mins(2);
+        let deadline = std::time::Instant::now() + crate::common::HANG_GUARD;
         let start_spp = engine.latest().map_or(0, |p| p.spatial.spp);
         let published = loop {
             std::thread::sleep(std::time::Duration::from_millis(20));

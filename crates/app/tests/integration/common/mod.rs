@@ -4,10 +4,17 @@
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
+use std::time::Duration;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
 use lightpick::app::LightpickApp;
+
+/// How long a test waits for work done on another thread (a reference, a background build,
+/// frames of running images) before it declares a hang. A guard, never the thing tested: no
+/// verdict depends on how fast the machine is, so the bound is minutes, what a loaded 2-core
+/// CI machine needs many times over (the slowest such wait takes seconds idle).
+pub const HANG_GUARD: Duration = Duration::from_mins(10);
 
 /// The whole app on its test scene at the tests' window size (1560×960), one frame run.
 pub fn app_harness() -> Harness<'static, LightpickApp> {
