@@ -22,7 +22,7 @@
 
 use glam::DVec2;
 
-use crate::scene::{Scene, geometry_term};
+use crate::scene::Scene;
 use crate::spatial::SpatialSampler;
 
 /// Lights listed individually per ranking (largest share, largest pmf) in an inspection.
@@ -88,7 +88,7 @@ impl PointInspection {
     }
 
     /// [`PointInspection::at`] with the spatial scheme too: `spatial` must be the sampler of
-    /// `scene` ([`SpatialSampler::build`] over its positions and powers); `O(N)`.
+    /// `scene` ([`SpatialSampler::for_scene`]); `O(N)`.
     ///
     /// # Panics
     /// If `spatial` was built for a different number of lights.
@@ -104,12 +104,11 @@ impl PointInspection {
     fn compute(scene: &Scene, x: DVec2, spatial: Option<&[f64]>) -> Self {
         let pmf = scene.powers.pmf();
         let n = pmf.len();
-        // Normalized contributions p_i·G_i(x): E(x)/ΣΦ.
-        let contribution: Vec<f64> = scene
-            .positions
+        // Normalized contributions p_i·G_i(x)·S_i(x): E(x)/ΣΦ.
+        let contribution: Vec<f64> = pmf
             .iter()
-            .zip(&pmf)
-            .map(|(&position, &p)| p * geometry_term(position, x))
+            .enumerate()
+            .map(|(i, &p)| p * scene.light_term(i, x))
             .collect();
         let normalized_irradiance: f64 = contribution.iter().sum();
         let share = |i: usize| {
@@ -239,7 +238,7 @@ mod tests {
     use super::*;
     use crate::LightPowers;
     use crate::analytic_moments;
-    use crate::scene::{ReceiverPlane, Scene};
+    use crate::scene::{ReceiverPlane, Scene, geometry_term};
     use glam::{DVec3, dvec2};
 
     fn scene(positions: Vec<[f64; 3]>, powers: &[f64]) -> Scene {
@@ -253,6 +252,8 @@ mod tests {
             },
             positions: positions.into_iter().map(DVec3::from).collect(),
             powers: LightPowers::new(powers.to_vec()).unwrap(),
+            emission: None,
+            names: None,
         }
     }
 

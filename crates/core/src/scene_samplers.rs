@@ -58,15 +58,11 @@ impl SceneSamplers {
         &self.table
     }
 
-    /// The spatial sampler ([`SpatialSampler::build`]: the exact pick for few lights, the
+    /// The spatial sampler ([`SpatialSampler::for_scene`]: the exact pick for few lights, the
     /// light tree beyond), built by the first caller, once for every clone.
     pub fn spatial(&self) -> &Arc<SpatialSampler> {
-        self.spatial.get_or_init(|| {
-            Arc::new(SpatialSampler::build(
-                &self.scene.positions,
-                &self.scene.powers,
-            ))
-        })
+        self.spatial
+            .get_or_init(|| Arc::new(SpatialSampler::for_scene(&self.scene)))
     }
 
     /// The spatial sampler if some caller has built it already.

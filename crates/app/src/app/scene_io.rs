@@ -40,6 +40,8 @@ fn fallback_seed_scene() -> Scene {
             dvec3(0.0, -1.0, 1.5),
         ],
         powers: lightpick_core::SeedExample::powers(),
+        emission: None,
+        names: None,
     }
 }
 
@@ -148,5 +150,7 @@ pub fn assemble(
         plane,
         positions,
         powers,
+        emission: None,
+        names: None,
     }
 }

@@ -48,6 +48,7 @@
 //! binding: 16.7 million pixels at 128 MiB, beyond which [`GpuError::BufferTooLarge`].
 
 mod context;
+mod emission;
 mod error;
 mod histogram;
 mod measure;
@@ -362,9 +363,15 @@ mod tests {
             ("rng alone", shader_source(&[])),
         ];
         for (label, shape) in [("one binding", one), ("three bindings", three)] {
-            kernels.push((label, spatial::spatial_source(shape, shape)));
+            kernels.push((label, spatial::spatial_source(shape, shape, None)));
+            let shaped = spatial::ShapedSplit {
+                shapes: shape,
+                bounds: shape,
+            };
+            kernels.push((label, spatial::spatial_source(shape, shape, Some(shaped))));
             kernels.push((label, histogram::histogram_source(shape, shape)));
-            kernels.push((label, renderer::render_source(shape)));
+            kernels.push((label, renderer::render_source(shape, None)));
+            kernels.push((label, renderer::render_source(shape, Some(shape))));
         }
         for (name, source) in kernels {
             let module = wgpu::naga::front::wgsl::parse_str(&source)

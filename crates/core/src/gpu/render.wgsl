@@ -2,8 +2,9 @@
 // Pixel p = py·width + px takes sample k from Rng::new(seed, (k << 32) | p), that is
 // stream_lo = p and stream_hi = k, picks light i with pick_light, and adds the normalized
 // estimate ê (uniform: N·p_i·G_i(x); power-proportional: G_i(x)) and ê² to its sums.
-// Needs the RNG prelude, pick.wgsl, render_common.wgsl, and the split array `lights`
-// (split.rs: its bindings from 2 on and fn lights_at(i: u32) -> Light).
+// Needs the RNG prelude, pick.wgsl, render_common.wgsl, the split array `lights`
+// (split.rs: its bindings from 2 on and fn lights_at(i: u32) -> Light) and
+// fn light_emission(i, light, x) (emission.rs: a spot's or range's factor S_i(x), or 1).
 
 // One light, 24 bytes: its position, its normalized power p_i = Φ_i / Φ_total, and the
 // packed alias entry of its column. Interleaved so that a kept column's light data shares
@@ -36,7 +37,11 @@ fn accumulate(@builtin(global_invocation_id) gid: vec3<u32>) {
         var state = rng_new(params.seed_lo, params.seed_hi, p, params.k_base + j);
         let i = pick_light(params.scheme, params.n_lights, &state);
         let light = lights_at(i);
-        var e = geometry_term(vec3<f32>(light.x, light.y, light.z), x);
+        let position = vec3<f32>(light.x, light.y, light.z);
+        var e = geometry_term(position, x);
+        if e > 0.0 {
+            e *= light_emission(i, position, x);
+        }
         if params.scheme == SCHEME_UNIFORM {
             e = (params.n_f32 * light.p) * e;
         }

@@ -4,6 +4,7 @@ use std::ops::Range;
 
 use glam::{UVec2, Vec3};
 
+use super::emission::{GpuShape, emission_source, shapes_layout};
 use super::pass_timer::{PassClock, PassTimer};
 use super::spatial::SpatialGpu;
 use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
@@ -41,12 +42,15 @@ struct GpuLight {
     entry: UVec2,
 }
 
-/// The source of the accumulate kernel for lights split as `lights`.
-pub(crate) fn render_source(lights: SplitShape) -> String {
+/// The source of the accumulate kernel for lights split as `lights`, and emission profiles
+/// split as `shapes` for a scene with spots or ranges.
+pub(crate) fn render_source(lights: SplitShape, shapes: Option<SplitShape>) -> String {
+    let shapes_binding = 2 + lights.chunks as u32;
     super::shader_source(&[
         PICK_WGSL,
         RENDER_COMMON_WGSL,
         &declarations(LIGHTS_LAYOUT, lights, 2, Access::Read),
+        &emission_source("shapes", shapes.map(|s| (s, shapes_binding))),
         RENDER_WGSL,
     ])
 }
@@ -126,6 +130,8 @@ pub struct GpuRenderer {
     plane: [f32; 4],
     params: wgpu::Buffer,
     lights: SplitArray,
+    /// The lights' emission profiles, for a scene with spots or ranges.
+    shapes: Option<SplitArray>,
     sums: wgpu::Buffer,
     accumulate_pipeline: wgpu::ComputePipeline,
     accumulate_bind_group: wgpu::BindGroup,
@@ -209,7 +215,25 @@ impl GpuRenderer {
             n,
             wgpu::BufferUsages::empty(),
         )?;
-        check_bindings(ctx, "the render kernel", 1 + lights.buffers().len() as u32)?;
+        let shapes = match &scene.emission {
+            Some(emission) => {
+                let shapes: Vec<GpuShape> = emission.iter().map(GpuShape::of).collect();
+                Some(SplitArray::with_contents(
+                    ctx,
+                    "lights' emission profiles (spots, ranges)",
+                    shapes_layout("shapes"),
+                    bytemuck::cast_slice(&shapes),
+                    wgpu::BufferUsages::empty(),
+                )?)
+            }
+            None => None,
+        };
+        let shape_bindings = shapes.as_ref().map_or(0, |s| s.buffers().len());
+        check_bindings(
+            ctx,
+            "the render kernel",
+            1 + (lights.buffers().len() + shape_bindings) as u32,
+        )?;
         let sums = super::zeroed_storage_buffer(
             ctx,
             "pixel sums",
@@ -229,7 +253,7 @@ impl GpuRenderer {
         let accumulate_pipeline = super::compute_pipeline_from_source(
             ctx,
             "render accumulate",
-            render_source(lights.shape()),
+            render_source(lights.shape(), shapes.as_ref().map(SplitArray::shape)),
             "accumulate",
         )?;
         let tonemap_pipeline =
@@ -257,6 +281,7 @@ impl GpuRenderer {
                 let buffers: Vec<&wgpu::Buffer> = [&params, &sums]
                     .into_iter()
                     .chain(lights.buffers())
+                    .chain(shapes.iter().flat_map(SplitArray::buffers))
                     .collect();
                 let accumulate_bind_group =
                     super::bind_buffers(ctx, "render accumulate", &accumulate_pipeline, &buffers);
@@ -301,6 +326,7 @@ impl GpuRenderer {
             plane,
             params,
             lights,
+            shapes,
             sums,
             accumulate_pipeline,
             accumulate_bind_group,
@@ -780,21 +806,28 @@ impl GpuRenderer {
         self.total_power
     }
 
-    /// GPU bytes per light: 16 for `(x, y, z, p_i)` as `f32`, 8 for the packed alias entry;
-    /// with the spatial light tree uploaded, its lights in leaf order (16 bytes each) and its
-    /// 80-byte nodes (one per ~22 lights): about 20 more, rounded up.
+    /// GPU bytes per light: 16 for `(x, y, z, p_i)` as `f32`, 8 for the packed alias entry,
+    /// and for a scene with spots or ranges 24 for each light's emission profile (48 in
+    /// all); with the spatial light tree uploaded, its lights in leaf order (16 bytes each,
+    /// plus their profiles) and its 80-byte nodes (one per ~22 lights; with spots or
+    /// ranges 256 more bytes of lane bounds each), rounded up.
     pub fn gpu_bytes_per_light(&self) -> u64 {
         let n = self.samplers.scene().light_count() as u64;
-        let tree = self.spatial.as_ref().map_or(0, |s| s.bytes);
-        BYTES_PER_LIGHT + tree.div_ceil(n.max(1))
+        self.light_bytes().div_ceil(n.max(1))
     }
 
-    /// GPU bytes held by the renderer: lights, table, per-pixel sums (8 bytes) and the
-    /// output texture (4 bytes per pixel).
+    /// Bytes of the lights, their profiles and the spatial sampler.
+    fn light_bytes(&self) -> u64 {
+        let n = self.samplers.scene().light_count() as u64;
+        let tree = self.spatial.as_ref().map_or(0, |s| s.bytes);
+        n * BYTES_PER_LIGHT + self.shapes.as_ref().map_or(0, SplitArray::bytes) + tree
+    }
+
+    /// GPU bytes held by the renderer: lights, table, profiles, spatial sampler, per-pixel
+    /// sums (8 bytes) and the output texture (4 bytes per pixel).
     pub fn gpu_bytes(&self) -> u64 {
         let pixels = u64::from(self.width) * u64::from(self.height);
-        let tree = self.spatial.as_ref().map_or(0, |s| s.bytes);
-        self.samplers.scene().light_count() as u64 * BYTES_PER_LIGHT + tree + pixels * 12
+        self.light_bytes() + pixels * 12
     }
 
     /// The context the renderer runs on.

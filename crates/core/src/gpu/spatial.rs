@@ -3,11 +3,51 @@
 
 use glam::{UVec4, Vec4};
 
+use super::emission::{GpuShape, emission_source, shapes_layout};
 use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
 use super::{GpuContext, GpuError};
-use crate::spatial::{SpatialLight, SpatialSampler};
+use crate::spatial::{LaneBounds, SpatialLight, SpatialSampler, TREE_WIDTH};
 
 pub(crate) const SPATIAL_WGSL: &str = include_str!("spatial.wgsl");
+pub(crate) const SPATIAL_BOUNDS_WGSL: &str = include_str!("spatial_bounds.wgsl");
+
+/// GPU bytes per node's lane bounds (spots and ranges): 16 `vec4<f32>`.
+pub(crate) const BYTES_PER_NODE_BOUNDS: u64 = 256;
+
+/// One node's lane bounds as `spatial_bounds.wgsl` reads them (`NodeBounds`).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuNodeBounds {
+    v: [Vec4; 16],
+}
+
+impl GpuNodeBounds {
+    fn of(bounds: &[LaneBounds; TREE_WIDTH]) -> Self {
+        let mut v = [Vec4::ZERO; 16];
+        for (k, b) in bounds.iter().enumerate() {
+            v[4 * k] = b.min.as_vec3().extend(b.intensity as f32);
+            v[4 * k + 1] = b.max.as_vec3().extend(b.range as f32);
+            v[4 * k + 2] = b.axis.as_vec3().extend(b.cos_spread as f32);
+            v[4 * k + 3] = Vec4::new(b.cos_emission as f32, 0.0, 0.0, 0.0);
+        }
+        GpuNodeBounds { v }
+    }
+}
+
+/// The split-array layout of the node bounds.
+pub(crate) const BOUNDS_LAYOUT: ArrayLayout = ArrayLayout {
+    name: "spatial_bounds",
+    element: "NodeBounds",
+    bytes: BYTES_PER_NODE_BOUNDS,
+};
+
+/// How the emission data of a spatial kernel over spots or ranges is split: the profiles
+/// (leaf order) and the node bounds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct ShapedSplit {
+    pub(crate) shapes: SplitShape,
+    pub(crate) bounds: SplitShape,
+}
 
 /// Scheme word of the exact contribution pick (`N ≤` [`crate::spatial::EXACT_MAX_LIGHTS`]).
 pub(crate) const SCHEME_SPATIAL_EXACT: u32 = 3;
@@ -45,15 +85,39 @@ fn light_vec4(l: &SpatialLight) -> Vec4 {
     l.position_in_world.as_vec3().extend(l.power as f32)
 }
 
-/// The source of the spatial kernel for lights and nodes split as given.
-pub(crate) fn spatial_source(lights: SplitShape, nodes: SplitShape) -> String {
+/// The source of the spatial kernel for lights and nodes split as given, and for a scene
+/// with spots or ranges its profiles and node bounds.
+pub(crate) fn spatial_source(
+    lights: SplitShape,
+    nodes: SplitShape,
+    shaped: Option<ShapedSplit>,
+) -> String {
     let lights_wgsl = declarations(LIGHTS_LAYOUT, lights, 2, Access::Read);
-    let nodes_wgsl = declarations(NODES_LAYOUT, nodes, 2 + lights.chunks as u32, Access::Read);
+    let mut binding = 2 + lights.chunks as u32;
+    let nodes_wgsl = declarations(NODES_LAYOUT, nodes, binding, Access::Read);
+    binding += nodes.chunks as u32;
+    let (emission_wgsl, bounds_wgsl) = match shaped {
+        Some(ShapedSplit { shapes, bounds }) => {
+            let emission = emission_source("spatial_shapes", Some((shapes, binding)));
+            binding += shapes.chunks as u32;
+            let bounds = format!(
+                "{}\n{SPATIAL_BOUNDS_WGSL}",
+                declarations(BOUNDS_LAYOUT, bounds, binding, Access::Read)
+            );
+            (emission, bounds)
+        }
+        None => (
+            emission_source("spatial_shapes", None),
+            "fn bounded_importances(node: ptr<function, SpatialNode>, at: u32, x: vec2<f32>, importance: vec4<f32>) -> vec4<f32> { return importance; }\n".to_owned(),
+        ),
+    };
     super::shader_source(&[
         super::renderer::RENDER_COMMON_WGSL,
         &lights_wgsl,
         &nodes_wgsl,
+        &emission_wgsl,
         SPATIAL_WGSL,
+        &bounds_wgsl,
     ])
 }
 
@@ -102,7 +166,28 @@ impl SpatialGpu {
                     .collect(),
             ),
         };
-        let bytes = lights.len() as u64 * BYTES_PER_LIGHT + nodes.len() as u64 * BYTES_PER_NODE;
+        // Spots or ranges: the profiles in the lights' order, and the tree's node bounds.
+        let shaped: Option<(Vec<GpuShape>, Vec<GpuNodeBounds>)> = match sampler {
+            SpatialSampler::Exact(exact) => exact.emission(0).map(|_| {
+                let shapes = (0..exact.lights().len())
+                    .filter_map(|k| exact.emission(k).map(GpuShape::of))
+                    .collect();
+                (shapes, Vec::new())
+            }),
+            SpatialSampler::Tree(tree) => (!tree.emission().is_empty()).then(|| {
+                let shapes = tree.emission().iter().map(GpuShape::of).collect();
+                let bounds = (0..tree.nodes().len())
+                    .filter_map(|k| tree.bounds(k).map(GpuNodeBounds::of))
+                    .collect();
+                (shapes, bounds)
+            }),
+        };
+        let bytes = lights.len() as u64 * BYTES_PER_LIGHT
+            + nodes.len() as u64 * BYTES_PER_NODE
+            + shaped.as_ref().map_or(0, |(s, b)| {
+                s.len() as u64 * super::emission::BYTES_PER_SHAPE
+                    + b.len() as u64 * BYTES_PER_NODE_BOUNDS
+            });
         // Every binding holds at least one element (a zero placeholder when there is none).
         let lights = SplitArray::with_contents(
             ctx,
@@ -118,12 +203,41 @@ impl SpatialGpu {
             bytemuck::cast_slice(&nodes),
             wgpu::BufferUsages::empty(),
         )?;
-        let storage = 1 + (lights.buffers().len() + nodes.buffers().len()) as u32;
+        let shaped = match shaped {
+            Some((shapes, bounds)) => Some((
+                SplitArray::with_contents(
+                    ctx,
+                    "spatial lights' emission profiles (leaf order)",
+                    shapes_layout("spatial_shapes"),
+                    bytemuck::cast_slice(&shapes),
+                    wgpu::BufferUsages::empty(),
+                )?,
+                SplitArray::with_contents(
+                    ctx,
+                    "light tree node bounds",
+                    BOUNDS_LAYOUT,
+                    bytemuck::cast_slice(&bounds),
+                    wgpu::BufferUsages::empty(),
+                )?,
+            )),
+            None => None,
+        };
+        let shaped_bindings = shaped
+            .as_ref()
+            .map_or(0, |(s, b)| s.buffers().len() + b.buffers().len());
+        let storage = 1 + (lights.buffers().len() + nodes.buffers().len() + shaped_bindings) as u32;
         check_bindings(ctx, "the spatial render kernel", storage)?;
         let pipeline = super::compute_pipeline_from_source(
             ctx,
             "render accumulate spatial",
-            spatial_source(lights.shape(), nodes.shape()),
+            spatial_source(
+                lights.shape(),
+                nodes.shape(),
+                shaped.as_ref().map(|(s, b)| ShapedSplit {
+                    shapes: s.shape(),
+                    bounds: b.shape(),
+                }),
+            ),
             "accumulate_spatial",
         )?;
         let bind_group = super::scoped(ctx, "binding the light tree", || {
@@ -131,6 +245,11 @@ impl SpatialGpu {
                 .into_iter()
                 .chain(lights.buffers())
                 .chain(nodes.buffers())
+                .chain(
+                    shaped
+                        .iter()
+                        .flat_map(|(s, b)| s.buffers().iter().chain(b.buffers())),
+                )
                 .collect();
             Ok(super::bind_buffers(
                 ctx,

@@ -3,6 +3,10 @@
 // Needs the RNG prelude, render_common.wgsl and the split arrays (split.rs)
 // `spatial_lights` (vec4<f32>: x, y, z, p_i of the contributing lights, in leaf order) and
 // `spatial_nodes` (SpatialNode), read through spatial_lights_at and spatial_nodes_at.
+// The scene's emission profiles enter through fn light_emission(j, light, x) (leaf order;
+// 1 for point lights) and, for a tree over spots or ranges, fn bounded_importances (the
+// lanes' intensities and reach from the split array `spatial_bounds`; for point lights a
+// stub returning the importances unchanged): both from spatial.rs.
 // Same streams as the CPU: sample k of pixel p draws from rng_new(seed, p, k); the exact
 // pick takes one draw (u = (r >> 8)·2^-24, exact in f32), the descent one draw per node and
 // one in the leaf cluster, r >> 8 against the cumulative grid masses.
@@ -48,8 +52,8 @@ fn floor_mass(p: f32) -> u32 {
     return clamp(u32(floor(p * 16777216.0)), 1u, GRID);
 }
 
-// branch_probabilities then grid_masses for the four lanes of a node.
-fn node_masses(node: ptr<function, SpatialNode>, x: vec2<f32>) -> vec4<u32> {
+// branch_probabilities then grid_masses for the four lanes of node `at`.
+fn node_masses(node: ptr<function, SpatialNode>, at: u32, x: vec2<f32>) -> vec4<u32> {
     var importance = vec4<f32>(0.0);
     var power = vec4<f32>(0.0);
     for (var k = 0u; k < 4u; k++) {
@@ -57,6 +61,7 @@ fn node_masses(node: ptr<function, SpatialNode>, x: vec2<f32>) -> vec4<u32> {
         power[k] = lane.w;
         importance[k] = representative_importance(lane, x);
     }
+    importance = bounded_importances(node, at, x, importance);
     let total_importance = importance.x + importance.y + importance.z + importance.w;
     let total_power = power.x + power.y + power.z + power.w;
     if !(total_power > 0.0) {
@@ -113,7 +118,7 @@ fn spatial_tree_estimate(x: vec2<f32>, state: ptr<function, u32>) -> f32 {
     var node: SpatialNode;
     while (at & LEAF_BIT) == 0u {
         node = spatial_nodes_at(at);
-        let m = node_masses(&node, x);
+        let m = node_masses(&node, at, x);
         let lane = pick_lane(m, rng_next(state) >> 8u);
         let f = frexp(pdf_m * (f32(m[lane]) * GRID_CELL));
         pdf_m = f.fract;
@@ -131,6 +136,9 @@ fn spatial_tree_estimate(x: vec2<f32>, state: ptr<function, u32>) -> f32 {
     for (var j = 0u; j < count; j++) {
         let l = spatial_lights_at(first + j);
         c[j] = l.w * geometry_term(l.xyz, x);
+        if c[j] > 0.0 {
+            c[j] *= light_emission(first + j, l.xyz, x);
+        }
         total += c[j];
     }
     let u = rng_next(state) >> 8u;
@@ -177,6 +185,9 @@ fn spatial_exact_estimate(x: vec2<f32>, state: ptr<function, u32>) -> f32 {
     for (var j = 0u; j < n; j++) {
         let l = spatial_lights_at(j);
         c[j] = l.w * geometry_term(l.xyz, x);
+        if c[j] > 0.0 {
+            c[j] *= light_emission(j, l.xyz, x);
+        }
         total += c[j];
     }
     let u = unit24(rng_next(state));

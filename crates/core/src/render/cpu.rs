@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use super::Accumulator;
 use crate::rng::Rng;
 use crate::sampler::{Sampler, Scheme};
-use crate::scene::{ReceiverPlane, Scene, geometry_term, pixel_center};
+use crate::scene::{Emission, ReceiverPlane, Scene, light_term, pixel_center};
 use crate::spatial::SpatialSampler;
 use crate::{Construction, SceneSamplers};
 
@@ -51,6 +51,8 @@ pub struct CpuRenderer {
     plane: ReceiverPlane,
     picker: Picker,
     lights: Vec<LightRecord>,
+    /// The lights' emission profiles (spots, ranges), when the scene has any.
+    emission: Option<Arc<[Emission]>>,
     seed: u64,
     accumulator: Accumulator,
 }
@@ -61,11 +63,7 @@ impl CpuRenderer {
     pub fn new(scene: &Scene, scheme: Scheme, seed: u64) -> Self {
         match Sampler::try_build(scheme, &scene.powers) {
             Ok(sampler) => Self::with_sampler(scene, sampler, seed),
-            Err(_) => Self::with_spatial(
-                scene,
-                SpatialSampler::build(&scene.positions, &scene.powers),
-                seed,
-            ),
+            Err(_) => Self::with_spatial(scene, SpatialSampler::for_scene(scene), seed),
         }
     }
 
@@ -111,6 +109,7 @@ impl CpuRenderer {
             plane,
             picker: Picker::Spatial(spatial),
             lights: Vec::new(),
+            emission: None,
             seed,
             accumulator,
         }
@@ -146,6 +145,7 @@ impl CpuRenderer {
             plane,
             picker: Picker::Power(sampler),
             lights,
+            emission: scene.emission.as_deref().map(Arc::from),
             seed,
             accumulator,
         }
@@ -165,10 +165,15 @@ impl CpuRenderer {
             plane,
             picker,
             lights,
+            emission,
             seed,
             accumulator,
         } = self;
-        let (plane, picker, lights, seed) = (&*plane, &*picker, lights.as_slice(), *seed);
+        let (plane, picker, seed) = (&*plane, &*picker, *seed);
+        let lights = Lights {
+            records: lights.as_slice(),
+            emission: emission.as_deref(),
+        };
         accumulator
             .sum
             .par_chunks_mut(width)
@@ -179,7 +184,7 @@ impl CpuRenderer {
                     render_row(
                         plane,
                         sampler,
-                        lights,
+                        &lights,
                         seed,
                         py as u32,
                         (k0, spp),
@@ -240,6 +245,23 @@ impl CpuRenderer {
     }
 }
 
+/// The light records a power-picking pass reads, and the emission profiles when the scene
+/// has any.
+#[derive(Clone, Copy)]
+struct Lights<'a> {
+    records: &'a [LightRecord],
+    emission: Option<&'a [Emission]>,
+}
+
+impl Lights<'_> {
+    /// `ê = w_i · G_i(x)·S_i(x)` of light `i` at `x`.
+    #[inline]
+    fn estimate(&self, i: u32, x: DVec2) -> f64 {
+        let light = self.records[i as usize];
+        light.weight * light_term(light.position, self.emission.map(|e| &e[i as usize]), x)
+    }
+}
+
 /// Samples handled together: their picks first, then their light records, so that the
 /// random memory accesses of a batch (alias table entries, light records: cache misses for
 /// large `N`) are independent loads in short loops, which the CPU overlaps.
@@ -275,7 +297,7 @@ fn for_each_pixel(
 fn render_row(
     plane: &ReceiverPlane,
     sampler: &Sampler,
-    lights: &[LightRecord],
+    lights: &Lights<'_>,
     seed: u64,
     py: u32,
     (k0, spp): (u32, u32),
@@ -296,9 +318,8 @@ fn render_row(
                 pick_batch_across(sampler, seed, row_start + first as u64, k, batch);
                 for (j, &i) in batch.iter().enumerate() {
                     let px = first + j;
-                    let light = lights[i as usize];
                     let x = pixel_center(plane, px as u32, py);
-                    let e = light.weight * geometry_term(light.position, x);
+                    let e = lights.estimate(i, x);
                     sum_row[px] += e;
                     sq_row[px] += e * e;
                 }
@@ -312,8 +333,7 @@ fn render_row(
             let batch = &mut picks[..((end - k) as usize).min(BATCH)];
             pick_batch(sampler, seed, p, k, batch);
             for &i in batch.iter() {
-                let light = lights[i as usize];
-                let e = light.weight * geometry_term(light.position, x);
+                let e = lights.estimate(i, x);
                 *s += e;
                 *q += e * e;
             }

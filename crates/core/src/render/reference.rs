@@ -6,7 +6,8 @@
 //! renderers' per-pixel estimate (same normalization, so the same `f64` range whatever the
 //! powers). Lights with `z_i ≤ 0` or `p_i = 0` contribute exactly 0 and are dropped first;
 //! the rest are summed as `(1/4π) · Σ_i c_i / (r_i²·√(r_i²))` with `c_i = p_i·z_i`
-//! (algebraically `Σ p_i·G_i`; the rounding differs by a few ulps).
+//! (algebraically `Σ p_i·G_i`; the rounding differs by a few ulps). A scene with spots or
+//! ranges sums `p_i·G_i(x)·S_i(x)` ([`crate::scene::light_term`]) light by light instead.
 //!
 //! # Pixel subset
 //! A full reference costs `N·P` light evaluations. When that exceeds the budget `B`
@@ -29,7 +30,7 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
-use crate::scene::{Scene, pixel_center};
+use crate::scene::{Scene, light_term, pixel_center};
 
 /// Default light-pixel evaluation budget `B = 2^30 ≈ 1.07·10^9` (about a second on two
 /// cores): a full reference for up to `B/P` lights (16 384 lights at 256 × 256), and for
@@ -158,10 +159,36 @@ impl Reference {
                 plane.height
             );
         }
-        let lights = LightArrays::new(scene);
-        let scale = scene.powers.total() / (4.0 * std::f64::consts::PI);
         let width = plane.width;
         let mut values = vec![0.0; pixels.len()];
+        if let Some(emission) = &scene.emission {
+            let pmf = scene.powers.pmf();
+            let total = scene.powers.total();
+            values
+                .par_chunks_mut(PIXEL_BLOCK)
+                .zip(pixels.par_chunks(PIXEL_BLOCK))
+                .for_each(|(out, block)| {
+                    for (o, &p) in out.iter_mut().zip(block) {
+                        let at = pixel_center(plane, p % width, p / width);
+                        let sum: f64 = scene
+                            .positions
+                            .iter()
+                            .zip(&pmf)
+                            .zip(emission)
+                            .map(|((&pos, &pi), e)| pi * light_term(pos, Some(e), at))
+                            .sum();
+                        *o = total * sum;
+                    }
+                });
+            return Self {
+                width: plane.width,
+                height: plane.height,
+                pixels,
+                values,
+            };
+        }
+        let lights = LightArrays::new(scene);
+        let scale = scene.powers.total() / (4.0 * std::f64::consts::PI);
         values
             .par_chunks_mut(PIXEL_BLOCK)
             .zip(pixels.par_chunks(PIXEL_BLOCK))

@@ -74,6 +74,15 @@ pub enum SceneError {
         /// What is wrong with it.
         reason: String,
     },
+    /// A file that is not what its format requires: a GLB header or chunk, glTF's JSON or
+    /// its validation, text that is not UTF-8.
+    #[error("{format}: {message}")]
+    Import {
+        /// The format being read (`glb`, `gltf`, `csv`, `json`).
+        format: &'static str,
+        /// What is wrong, and where.
+        message: String,
+    },
     /// Every light has power zero: nothing emits light.
     #[error("{field}: all {count} powers are zero: nothing emits light")]
     AllZero {
@@ -119,7 +128,9 @@ impl SceneError {
     /// The path of the offending field, where the error has one.
     pub fn field(&self) -> Option<&str> {
         match self {
-            SceneError::Io { .. } | SceneError::UnknownPreset { .. } => None,
+            SceneError::Io { .. }
+            | SceneError::UnknownPreset { .. }
+            | SceneError::Import { .. } => None,
             SceneError::Json { path, .. } => Some(path),
             SceneError::OutOfRange { field, .. }
             | SceneError::NotFinite { field, .. }

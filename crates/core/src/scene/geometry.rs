@@ -2,6 +2,8 @@
 
 use glam::{DVec2, DVec3};
 
+use super::Emission;
+
 /// `G(x) = max(0, z)/(4π r³)`: the irradiance at `x = (x, y, 0)` per unit power of a point
 /// light at `light_in_world`, for the receiver normal `+z` (`cos θ = z/r`). Zero for a light
 /// on or below the plane.
@@ -14,6 +16,25 @@ pub fn geometry_term(light_in_world: DVec3, point_on_plane: DVec2) -> f64 {
     // r² = |light.xy − x|² + z², summed in this order (x, then y, then z).
     let r2 = (light_in_world.truncate() - point_on_plane).length_squared() + z * z;
     z / (4.0 * std::f64::consts::PI * r2 * r2.sqrt())
+}
+
+/// `G(x)·S(x)`: the irradiance at `point_on_plane` per unit power of the light at
+/// `light_in_world` with the emission profile `emission` (`None`: a point light, `S ≡ 1`).
+/// The one definition of a light's contribution (`Φ_i` times this): every scheme, the
+/// reference, the inspector, the light tree and the GPU kernels evaluate it or its WGSL
+/// twin. Zero wherever `G` is (a light on or below the plane).
+#[inline]
+pub fn light_term(
+    light_in_world: DVec3,
+    emission: Option<&Emission>,
+    point_on_plane: DVec2,
+) -> f64 {
+    let g = geometry_term(light_in_world, point_on_plane);
+    match emission {
+        Some(e) if g > 0.0 => g * e.factor(light_in_world, point_on_plane),
+        Some(_) => 0.0,
+        None => g,
+    }
 }
 
 /// The centre of pixel `(px, py)` of `plane` on `z = 0` (row 0 at the top, `y = max.y`).

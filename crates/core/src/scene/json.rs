@@ -23,6 +23,18 @@
 //! }
 //! ```
 //!
+//! A light may also carry a `name`, a `spot` cone and a `range` (all optional; a scene
+//! without spots or ranges stores no emission data, see [`super::Emission`]):
+//!
+//! ```json
+//! { "name": "Key", "position": [0, 0, 3], "power": 1200,
+//!   "spot": { "direction": [0, 0, -1], "inner_cone": 0.2, "outer_cone": 0.5 },
+//!   "range": 10 }
+//! ```
+//!
+//! Angles are half-angles in radians, `0 ≤ inner_cone < outer_cone ≤ π/2` (defaults 0 and
+//! π/4, as glTF's); `power` is the emitted flux whatever the cone.
+//!
 //! `name` is optional (default `untitled`); unknown fields are refused, so a misspelt
 //! field name is an error rather than silently ignored.
 
@@ -33,7 +45,7 @@ use glam::{DVec2, DVec3};
 
 use super::error::SceneError;
 use super::generator::{Generator, MAX_LIGHTS};
-use super::{ReceiverPlane, Scene};
+use super::{Emission, ReceiverPlane, Scene, Spot};
 use crate::powers::{LightPowers, PowersError};
 
 /// The largest accepted `plane.width` and `plane.height`.
@@ -76,8 +88,67 @@ struct PlaneFile {
 #[derive(serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 struct LightFile {
+    #[serde(default)]
+    name: Option<String>,
     position: [f64; 3],
     power: f64,
+    #[serde(default)]
+    spot: Option<SpotFile>,
+    #[serde(default)]
+    range: Option<f64>,
+}
+
+/// A spot as written: the angles default as glTF's (`θi = 0`, `θo = π/4`).
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SpotFile {
+    direction: [f64; 3],
+    #[serde(default)]
+    inner_cone: f64,
+    #[serde(default = "default_outer_cone")]
+    outer_cone: f64,
+}
+
+fn default_outer_cone() -> f64 {
+    std::f64::consts::FRAC_PI_4
+}
+
+/// The optional parts of each light, beside its position and power.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct LightExtras {
+    /// Per light, its spot and range as given (all `None`: no emission data is kept).
+    pub(crate) shapes: Vec<(Option<Spot>, Option<f64>)>,
+    /// Per light, its name (all `None`: no names are kept).
+    pub(crate) names: Vec<Option<String>>,
+}
+
+impl LightExtras {
+    /// Validates the shapes into emission profiles (errors name `lights[i].spot…`) and
+    /// attaches them and the names to `scene`, each only if some light has one.
+    pub(crate) fn attach(self, scene: &mut Scene, source: &str) -> Result<(), SceneError> {
+        if self.shapes.iter().any(|(s, r)| s.is_some() || r.is_some()) {
+            let emission = self
+                .shapes
+                .into_iter()
+                .enumerate()
+                .map(|(i, (spot, range))| {
+                    Emission::new(spot, range).map_err(|e| {
+                        SceneError::invalid(format!("{source}[{i}].{}", e.field()), e.to_string())
+                    })
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            scene.emission = Some(emission);
+        }
+        if self.names.iter().any(Option::is_some) {
+            scene.names = Some(
+                self.names
+                    .into_iter()
+                    .map(Option::unwrap_or_default)
+                    .collect(),
+            );
+        }
+        Ok(())
+    }
 }
 
 impl Scene {
@@ -156,14 +227,30 @@ impl Scene {
             .zip(self.powers.as_slice())
             .enumerate()
         {
-            let _ = writeln!(
+            out.push_str("    { ");
+            if let Some(name) = self.name_of(i) {
+                let name = serde_json::Value::String(name.to_owned());
+                let _ = write!(out, "\"name\": {name}, ");
+            }
+            let _ = write!(
                 out,
-                "    {{ \"position\": [{:?}, {:?}, {:?}], \"power\": {power:?} }}{}",
-                pos.x,
-                pos.y,
-                pos.z,
-                if i == last { "" } else { "," }
+                "\"position\": [{:?}, {:?}, {:?}], \"power\": {power:?}",
+                pos.x, pos.y, pos.z
             );
+            if let Some(e) = self.emission_of(i) {
+                if let Some(s) = e.spot() {
+                    let d = s.direction;
+                    let _ = write!(
+                        out,
+                        ", \"spot\": {{ \"direction\": [{:?}, {:?}, {:?}], \"inner_cone\": {:?}, \"outer_cone\": {:?} }}",
+                        d.x, d.y, d.z, s.inner_cone, s.outer_cone
+                    );
+                }
+                if let Some(r) = e.range() {
+                    let _ = write!(out, ", \"range\": {r:?}");
+                }
+            }
+            out.push_str(if i == last { " }\n" } else { " },\n" });
         }
         out.push_str("  ]\n}\n");
         out
@@ -216,11 +303,23 @@ impl SceneFile {
                         MAX_LIGHTS,
                     ));
                 }
+                let mut extras = LightExtras::default();
                 let (positions, powers) = lights
                     .into_iter()
-                    .map(|l| (DVec3::from_array(l.position), l.power))
+                    .map(|l| {
+                        extras.names.push(l.name);
+                        let spot = l.spot.map(|s| Spot {
+                            direction: DVec3::from_array(s.direction),
+                            inner_cone: s.inner_cone,
+                            outer_cone: s.outer_cone,
+                        });
+                        extras.shapes.push((spot, l.range));
+                        (DVec3::from_array(l.position), l.power)
+                    })
                     .unzip();
-                build_scene(self.name, plane, positions, powers, "lights")
+                let mut scene = build_scene(self.name, plane, positions, powers, "lights")?;
+                extras.attach(&mut scene, "lights")?;
+                Ok(scene)
             }
             (None, Some(generator)) => {
                 let (positions, powers) = generator.generate()?;
@@ -308,6 +407,8 @@ fn build_scene(
         plane,
         positions,
         powers,
+        emission: None,
+        names: None,
     })
 }
 

@@ -1,4 +1,5 @@
-//! The scene model: a receiving plane and point lights, nothing more.
+//! The scene model: a receiving plane and point lights, and for the lights that have them a
+//! spot cone or a range.
 //!
 //! A point light is a position and a power `Φ`. The receiver is the plane `z = 0` with
 //! normal `+z`, seen through a rectangle split into pixels. The irradiance at `x` from
@@ -6,22 +7,32 @@
 //!
 //! `E_i(x) = Φ_i/(4π) · max(0, cos θ)/r² = Φ_i · G_i(x)`, with `G_i(x) = max(0, z_i)/(4π r³)`,
 //!
-//! since `cos θ = z_i / r` for the normal `+z`.
+//! since `cos θ = z_i / r` for the normal `+z`. A spot light or a light with a range
+//! multiplies this by its emission factor `S_i(x)` ([`Emission`]); a scene without any keeps
+//! no emission data at all ([`Scene::emission`] is `None`), and [`light_term`] is the one
+//! definition of `G_i(x)·S_i(x)` every consumer evaluates.
 //!
 //! Scenes come from JSON files ([`Scene::from_json_str`], [`Scene::load`]; the format is
 //! described in the `json` module docs), from the built-in presets ([`Scene::preset`],
 //! [`PRESET_NAMES`]) or from explicit parts ([`Scene::from_parts`]); large scenes are
 //! generated from a seed by a [`Generator`].
 
+mod emission;
 mod error;
 mod generator;
 mod geometry;
+mod import;
 mod json;
 mod presets;
 
+pub use emission::{Emission, EmissionError, Spot};
 pub use error::SceneError;
 pub use generator::{Dominant, Generator, MAX_LIGHTS, Placement, PowerDistribution};
-pub use geometry::{geometry_term, pixel_center};
+pub use geometry::{geometry_term, light_term, pixel_center};
+pub use import::{
+    IMPORT_PLANE_PIXELS, ImportReport, LoadOptions, Loaded, SceneFormat, SkippedLight,
+    footprint_plane, load, load_bytes,
+};
 pub use json::{MAX_PIXELS, MAX_PLANE_SIDE};
 pub use presets::PRESET_NAMES;
 
@@ -62,6 +73,11 @@ pub struct Scene {
     pub positions: Vec<DVec3>,
     /// Light powers `Φ_i`, validated.
     pub powers: LightPowers,
+    /// Each light's emission profile (spot cone, range), one per light, only when some
+    /// light of the scene has one: `None` for a scene of point lights, which pays nothing.
+    pub emission: Option<Vec<Emission>>,
+    /// Each light's name, one per light, only when the source named its lights.
+    pub names: Option<Vec<String>>,
 }
 
 impl Scene {
@@ -70,12 +86,62 @@ impl Scene {
         self.positions.len()
     }
 
-    /// The exact irradiance `E(x) = Σ_i Φ_i · G_i(x)` at a point of the plane.
+    /// The exact irradiance `E(x) = Σ_i Φ_i · G_i(x)·S_i(x)` at a point of the plane.
     pub fn exact_irradiance(&self, point_on_plane: DVec2) -> f64 {
-        self.positions
+        self.powers
+            .as_slice()
             .iter()
-            .zip(self.powers.as_slice())
-            .map(|(&light_in_world, &phi)| phi * geometry_term(light_in_world, point_on_plane))
+            .enumerate()
+            .map(|(i, &phi)| phi * self.light_term(i, point_on_plane))
             .sum()
+    }
+
+    /// Light `i`'s emission profile, when the scene has any ([`Scene::emission`]).
+    #[inline]
+    pub fn emission_of(&self, i: usize) -> Option<&Emission> {
+        self.emission.as_ref().map(|e| &e[i])
+    }
+
+    /// `G_i(x)·S_i(x)`, light `i`'s irradiance per unit power at `point_on_plane`
+    /// ([`light_term`]).
+    #[inline]
+    pub fn light_term(&self, i: usize, point_on_plane: DVec2) -> f64 {
+        light_term(self.positions[i], self.emission_of(i), point_on_plane)
+    }
+
+    /// Light `i`'s name, when the scene's source named it.
+    pub fn name_of(&self, i: usize) -> Option<&str> {
+        self.names
+            .as_ref()
+            .and_then(|n| n.get(i))
+            .map(String::as_str)
+            .filter(|n| !n.is_empty())
+    }
+
+    /// How many lights are spots (0 for a scene without emission data).
+    pub fn spot_count(&self) -> usize {
+        self.emission
+            .as_ref()
+            .map_or(0, |e| e.iter().filter(|e| e.spot().is_some()).count())
+    }
+
+    /// The scene with only the lights at `indices` (in that order), with their emission
+    /// profiles and names; the plane unchanged. Errors as [`Scene::from_parts`].
+    pub fn subset(&self, indices: &[usize]) -> Result<Scene, SceneError> {
+        let mut scene = Scene::from_parts(
+            self.name.clone(),
+            self.plane.clone(),
+            indices.iter().map(|&i| self.positions[i]).collect(),
+            indices.iter().map(|&i| self.powers.as_slice()[i]).collect(),
+        )?;
+        scene.emission = self
+            .emission
+            .as_ref()
+            .map(|e| indices.iter().map(|&i| e[i]).collect());
+        scene.names = self
+            .names
+            .as_ref()
+            .map(|n| indices.iter().map(|&i| n[i].clone()).collect());
+        Ok(scene)
     }
 }

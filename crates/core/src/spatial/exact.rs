@@ -5,6 +5,7 @@ use glam::{DVec2, DVec3};
 use super::{EXACT_MAX_LIGHTS, SpatialLight, SpatialPick, contributing, unit24};
 use crate::powers::LightPowers;
 use crate::rng::Rng;
+use crate::scene::Emission;
 
 /// Picks light `i` at `x` with probability `c_i/S`, `c_i = p_i·G_i(x)`, `S = Σ_j c_j`, so the
 /// estimate `c_i / (c_i/S) = S` is the same for every pick: zero variance for the unoccluded
@@ -15,6 +16,8 @@ use crate::rng::Rng;
 #[derive(Clone, Debug, PartialEq)]
 pub struct ExactSampler {
     lights: Vec<(u32, SpatialLight)>,
+    /// The lights' emission profiles, beside `lights` (empty for point lights).
+    emission: Vec<Emission>,
     n: usize,
 }
 
@@ -25,10 +28,40 @@ impl ExactSampler {
     /// # Panics
     /// If `positions` and `powers` have different lengths.
     pub fn build(positions: &[DVec3], powers: &LightPowers) -> Self {
+        Self::build_with_emission(positions, powers, None)
+    }
+
+    /// [`ExactSampler::build`] for lights with emission profiles (`None`: point lights).
+    ///
+    /// # Panics
+    /// If the lengths differ.
+    pub fn build_with_emission(
+        positions: &[DVec3],
+        powers: &LightPowers,
+        emission: Option<&[Emission]>,
+    ) -> Self {
+        let mut lights = Vec::new();
+        let mut profiles = Vec::new();
+        for (i, l, e) in contributing(positions, powers, emission) {
+            lights.push((i, l));
+            profiles.extend(e);
+        }
         Self {
-            lights: contributing(positions, powers),
+            lights,
+            emission: profiles,
             n: positions.len(),
         }
+    }
+
+    /// `c_k(x)` of the `k`-th contributing light.
+    #[inline]
+    fn contribution(&self, k: usize, x: DVec2) -> f64 {
+        self.lights[k].1.contribution_with(self.emission.get(k), x)
+    }
+
+    /// The emission profile of the `k`-th contributing light, when the scene has profiles.
+    pub fn emission(&self, k: usize) -> Option<&Emission> {
+        self.emission.get(k)
     }
 
     /// Number of lights of the scene.
@@ -43,12 +76,14 @@ impl ExactSampler {
         let mut total = 0.0;
         let small = self.lights.len() <= EXACT_MAX_LIGHTS;
         if small {
-            for (ci, (_, l)) in c.iter_mut().zip(&self.lights) {
-                *ci = l.contribution(x);
+            for (k, ci) in c.iter_mut().enumerate().take(self.lights.len()) {
+                *ci = self.contribution(k, x);
                 total += *ci;
             }
         } else {
-            total = self.lights.iter().map(|(_, l)| l.contribution(x)).sum();
+            total = (0..self.lights.len())
+                .map(|k| self.contribution(k, x))
+                .sum();
         }
         let u = unit24(rng.next_u32());
         if total <= 0.0 {
@@ -56,8 +91,8 @@ impl ExactSampler {
         }
         let target = u * total;
         let (mut running, mut chosen) = (0.0, None);
-        for (k, (index, l)) in self.lights.iter().enumerate() {
-            let ck = if small { c[k] } else { l.contribution(x) };
+        for (k, (index, _)) in self.lights.iter().enumerate() {
+            let ck = if small { c[k] } else { self.contribution(k, x) };
             if ck > 0.0 {
                 chosen = Some((*index, ck));
                 running += ck;
@@ -75,13 +110,15 @@ impl ExactSampler {
 
     /// `P(i | x) = c_i / S` (0 for a light that cannot contribute, or when `S = 0`).
     pub fn pdf(&self, x: DVec2, light: usize) -> f64 {
-        let total: f64 = self.lights.iter().map(|(_, l)| l.contribution(x)).sum();
+        let total: f64 = (0..self.lights.len())
+            .map(|k| self.contribution(k, x))
+            .sum();
         self.lights
             .iter()
-            .find(|(i, _)| *i as usize == light)
-            .map_or(0.0, |(_, l)| {
+            .position(|(i, _)| *i as usize == light)
+            .map_or(0.0, |k| {
                 if total > 0.0 {
-                    l.contribution(x) / total
+                    self.contribution(k, x) / total
                 } else {
                     0.0
                 }
@@ -91,10 +128,12 @@ impl ExactSampler {
     /// `P(i | x) = c_i / S` of every light of the scene, indexed by scene index (`O(N)`).
     pub fn pdfs(&self, x: DVec2) -> Vec<f64> {
         let mut out = vec![0.0; self.n];
-        let total: f64 = self.lights.iter().map(|(_, l)| l.contribution(x)).sum();
+        let total: f64 = (0..self.lights.len())
+            .map(|k| self.contribution(k, x))
+            .sum();
         if total > 0.0 {
-            for (i, l) in &self.lights {
-                out[*i as usize] = l.contribution(x) / total;
+            for (k, (i, _)) in self.lights.iter().enumerate() {
+                out[*i as usize] = self.contribution(k, x) / total;
             }
         }
         out

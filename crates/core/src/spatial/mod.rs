@@ -24,22 +24,31 @@
 //!   of the realized branch probabilities. About `log4(N/8) + 1` draws per pick.
 //!
 //! [`SpatialSampler`] chooses between the two by `N`. Only lights that can contribute at all
-//! enter either sampler: power `> 0` and height `z > 0` (a light on or below the plane has
-//! `G ≡ 0`). So zero-power lights are never picked, and a scene whose every light is below
-//! the plane gives `ê = 0` without a pick ([`SpatialSampler::sample`] returns `None`).
+//! enter either sampler: power `> 0`, height `z > 0` (a light on or below the plane has
+//! `G ≡ 0`) and, for a spot or a light with a range, an emission that reaches the plane
+//! ([`Emission::reaches_plane`]). So zero-power lights are never picked, and a scene whose
+//! every light is below the plane gives `ê = 0` without a pick ([`SpatialSampler::sample`]
+//! returns `None`).
+//!
+//! # Spots and ranges
+//! With emission profiles the contribution is `c_i(x) = p_i·G_i(x)·S_i(x)`
+//! ([`crate::scene::light_term`]): the exact pick and the leaf clusters evaluate it as it is,
+//! and a tree over such lights bounds each child's cones and ranges (pbrt-v4's
+//! `LightBounds`, see [`tree`]'s docs) so that a child no light of which can reach `x` gets
+//! no importance (it keeps its power share: the pick stays unbiased).
 
 mod exact;
 pub mod importance;
 mod tree;
 
 pub use exact::ExactSampler;
-pub use tree::{Child, ChildRef, LEAF_SIZE, LightTree, TREE_WIDTH, TreeNode};
+pub use tree::{Child, ChildRef, LEAF_SIZE, LaneBounds, LightTree, TREE_WIDTH, TreeNode};
 
 use glam::{DVec2, DVec3};
 
 use crate::powers::LightPowers;
 use crate::rng::Rng;
-use crate::scene::geometry_term;
+use crate::scene::{Emission, Scene, geometry_term, light_term};
 
 /// Up to this many lights [`SpatialSampler::build`] uses the exact sampler, beyond it the
 /// tree. The exact pick evaluates all `N` contributions; the tree evaluates two importances
@@ -76,10 +85,18 @@ pub struct SpatialLight {
 }
 
 impl SpatialLight {
-    /// `c_i(x) = p_i·G_i(x)`, its normalized contribution at `point_on_plane`.
+    /// `c_i(x) = p_i·G_i(x)`, its normalized contribution at `point_on_plane` as a point
+    /// light.
     #[inline]
     pub fn contribution(&self, point_on_plane: DVec2) -> f64 {
         self.power * geometry_term(self.position_in_world, point_on_plane)
+    }
+
+    /// `c_i(x) = p_i·G_i(x)·S_i(x)` with the emission profile `emission` (`None`: a point
+    /// light, [`SpatialLight::contribution`]).
+    #[inline]
+    pub fn contribution_with(&self, emission: Option<&Emission>, point_on_plane: DVec2) -> f64 {
+        self.power * light_term(self.position_in_world, emission, point_on_plane)
     }
 }
 
@@ -99,11 +116,31 @@ impl SpatialSampler {
     /// # Panics
     /// If `positions` and `powers` have different lengths.
     pub fn build(positions: &[DVec3], powers: &LightPowers) -> Self {
+        Self::build_with_emission(positions, powers, None)
+    }
+
+    /// [`SpatialSampler::build`] for lights with emission profiles (one per light;
+    /// `None`: point lights).
+    ///
+    /// # Panics
+    /// If the lengths differ.
+    pub fn build_with_emission(
+        positions: &[DVec3],
+        powers: &LightPowers,
+        emission: Option<&[Emission]>,
+    ) -> Self {
         if uses_exact_pick(positions.len()) {
-            SpatialSampler::Exact(ExactSampler::build(positions, powers))
+            SpatialSampler::Exact(ExactSampler::build_with_emission(
+                positions, powers, emission,
+            ))
         } else {
-            SpatialSampler::Tree(LightTree::build(positions, powers))
+            SpatialSampler::Tree(LightTree::build_with_emission(positions, powers, emission))
         }
+    }
+
+    /// The sampler of a scene: its positions, powers and emission profiles.
+    pub fn for_scene(scene: &Scene) -> Self {
+        Self::build_with_emission(&scene.positions, &scene.powers, scene.emission.as_deref())
     }
 
     /// Picks a light for shading point `x` from the next draws of `rng`, or `None` when no
@@ -168,26 +205,40 @@ impl SpatialSampler {
     }
 }
 
-/// The lights that can contribute somewhere on the plane (`p_i > 0` and `z_i > 0`), with
-/// their scene index.
+/// The lights that can contribute somewhere on the plane (`p_i > 0`, `z_i > 0` and an
+/// emission that reaches the plane), with their scene index and emission profile (all
+/// `None` without profiles).
 ///
 /// # Panics
-/// If `positions` and `powers` have different lengths.
-fn contributing(positions: &[DVec3], powers: &LightPowers) -> Vec<(u32, SpatialLight)> {
+/// If the lengths differ.
+fn contributing(
+    positions: &[DVec3],
+    powers: &LightPowers,
+    emission: Option<&[Emission]>,
+) -> Vec<(u32, SpatialLight, Option<Emission>)> {
     assert_eq!(positions.len(), powers.len(), "one position per power");
+    if let Some(e) = emission {
+        assert_eq!(e.len(), powers.len(), "one emission profile per power");
+    }
     positions
         .iter()
         .zip(powers.pmf())
         .enumerate()
-        .filter(|(_, (position, p))| *p > 0.0 && position.z > 0.0)
         .map(|(i, (&position_in_world, power))| {
+            let e = emission.map(|e| e[i]);
             (
                 i as u32,
                 SpatialLight {
                     position_in_world,
                     power,
                 },
+                e,
             )
+        })
+        .filter(|(_, l, e)| {
+            l.power > 0.0
+                && l.position_in_world.z > 0.0
+                && e.is_none_or(|e| e.reaches_plane(l.position_in_world))
         })
         .collect()
 }

@@ -32,8 +32,19 @@
 //! Every child holding power keeps a positive mass (the power share of the mixture), every
 //! light of a leaf with `c_j > 0` too, so `P(i | x) > 0` wherever `p_i·G_i(x) > 0`: the
 //! estimate `p_i·G_i(x) / P(i | x)` is unbiased, with no rounding term from the decisions.
+//!
+//! # Spots and ranges: lane bounds
+//! Over lights with emission profiles each lane also keeps a [`LaneBounds`] (pbrt-v4's
+//! `LightBounds`): the box of its lights, the cone of their spot axes, their widest outer
+//! cone and longest range, and their power weighted by each spot's on-axis gain. A lane's
+//! importance is then that intensity at the representative centroid, `Σ p_i·g_i · G(c, x)`,
+//! times [`LaneBounds::reach`]: 0 where no light of the lane can light `x` (beyond every
+//! range, or outside every cone wherever in the box the light is), else 1. The mixture's
+//! power share still reaches every lane with power, so a bound that rounds the wrong way
+//! costs variance, never bias. A scene of point lights keeps no bounds and evaluates the
+//! importance as before, bit for bit.
 
-use glam::{DVec2, DVec3};
+use glam::{DQuat, DVec2, DVec3};
 
 use super::importance::{
     GRID_CELL, branch_probabilities, grid_masses, lane_importances, pick_on_grid,
@@ -41,6 +52,7 @@ use super::importance::{
 use super::{SpatialLight, SpatialPick, contributing};
 use crate::powers::LightPowers;
 use crate::rng::Rng;
+use crate::scene::Emission;
 
 /// Children per internal node.
 pub const TREE_WIDTH: usize = 4;
@@ -155,14 +167,184 @@ impl TreeNode {
         self.child[lane]
     }
 
-    /// The grid masses of the four lanes at `point_on_plane` (summing to `2^24`, or all 0
-    /// when no lane has power).
+    /// The grid masses of the four lanes at `point_on_plane` for point lights (summing to
+    /// `2^24`, or all 0 when no lane has power).
     #[inline]
     pub fn masses(&self, point_on_plane: DVec2) -> [u32; TREE_WIDTH] {
         let [x, y, z] = &self.centroid;
         let importance = lane_importances([x, y, z], &self.power, point_on_plane);
         grid_masses(branch_probabilities(importance, self.power))
     }
+
+    /// The grid masses with lane bounds (lights with emission profiles): each lane's
+    /// importance is its intensity at the centroid times its reach at `point_on_plane`.
+    #[inline]
+    pub fn masses_bounded(
+        &self,
+        bounds: &[LaneBounds; TREE_WIDTH],
+        point_on_plane: DVec2,
+    ) -> [u32; TREE_WIDTH] {
+        let [x, y, z] = &self.centroid;
+        let intensity = bounds.map(|b| b.intensity);
+        let mut importance = lane_importances([x, y, z], &intensity, point_on_plane);
+        for (i, b) in importance.iter_mut().zip(bounds) {
+            *i *= b.reach(point_on_plane);
+        }
+        grid_masses(branch_probabilities(importance, self.power))
+    }
+}
+
+/// What the lights of a tree lane can do at most, for lights with emission profiles
+/// (pbrt-v4's `LightBounds`; the module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LaneBounds {
+    /// The box of the lane's light positions, in the world.
+    pub min: DVec3,
+    /// See [`LaneBounds::min`].
+    pub max: DVec3,
+    /// `Σ p_i·g_i`: the lane's normalized power weighted by each light's on-axis gain
+    /// ([`Emission::gain`]; 1 for a light without a spot).
+    pub intensity: f64,
+    /// The axis of the cone that holds every light's spot axis.
+    pub axis: DVec3,
+    /// `cos θo` of that cone's half-angle; −1 (any direction) when some light is not a spot.
+    pub cos_spread: f64,
+    /// `cos θe` of the widest outer cone; −1 when some light is not a spot.
+    pub cos_emission: f64,
+    /// The longest range; `∞` when some light has none.
+    pub range: f64,
+}
+
+impl LaneBounds {
+    /// An empty lane's bounds (no light: no intensity, reaches nothing).
+    pub const EMPTY: LaneBounds = LaneBounds {
+        min: DVec3::INFINITY,
+        max: DVec3::NEG_INFINITY,
+        intensity: 0.0,
+        axis: DVec3::Z,
+        cos_spread: 1.0,
+        cos_emission: 1.0,
+        range: 0.0,
+    };
+
+    /// The bounds of one light.
+    pub fn of_light(light: &SpatialLight, emission: &Emission) -> Self {
+        let (axis, cos_spread, cos_emission) = match emission.spot() {
+            Some(_) => (emission.axis(), 1.0, emission.cos_outer()),
+            None => (DVec3::Z, -1.0, -1.0),
+        };
+        LaneBounds {
+            min: light.position_in_world,
+            max: light.position_in_world,
+            intensity: light.power * emission.gain(),
+            axis,
+            cos_spread,
+            cos_emission,
+            range: emission.range().unwrap_or(f64::INFINITY),
+        }
+    }
+
+    /// The bounds of the lights of `a` and of `b` together.
+    pub fn union(a: &LaneBounds, b: &LaneBounds) -> Self {
+        if a.intensity == 0.0 && a.min.x > a.max.x {
+            return *b;
+        }
+        if b.intensity == 0.0 && b.min.x > b.max.x {
+            return *a;
+        }
+        let (axis, cos_spread) = cone_union((a.axis, a.cos_spread), (b.axis, b.cos_spread));
+        LaneBounds {
+            min: a.min.min(b.min),
+            max: a.max.max(b.max),
+            intensity: a.intensity + b.intensity,
+            axis,
+            cos_spread,
+            cos_emission: a.cos_emission.min(b.cos_emission),
+            range: a.range.max(b.range),
+        }
+    }
+
+    /// 0 when no light of the lane can light `point_on_plane`, else 1: beyond the longest
+    /// range from the box, or outside every cone: with `θw` the angle between the cone's
+    /// axis and the direction from the box's centre to the point, `θb` the half-angle the
+    /// box's bounding sphere subtends there (π inside it), no light direction within `θo` of
+    /// the axis comes within `θe` of the point's direction when `max(0, θw − θo − θb) ≥ θe`
+    /// (pbrt-v4's `LightBounds::Importance`, its cosines composed without inverse
+    /// trigonometry).
+    #[inline]
+    pub fn reach(&self, point_on_plane: DVec2) -> f64 {
+        let p = point_on_plane.extend(0.0);
+        let outside = (self.min - p).max(p - self.max).max(DVec3::ZERO);
+        if outside.length_squared() >= self.range * self.range {
+            return 0.0;
+        }
+        if self.cos_spread <= -1.0 || self.cos_emission <= -1.0 {
+            return 1.0;
+        }
+        let centre = 0.5 * (self.min + self.max);
+        let radius2 = 0.25 * (self.max - self.min).length_squared();
+        let to_point = p - centre;
+        let d2 = to_point.length_squared();
+        if d2 <= radius2 {
+            return 1.0;
+        }
+        let d = d2.sqrt();
+        let cos_w = (self.axis.dot(to_point) / d).clamp(-1.0, 1.0);
+        let sin_w = (1.0 - cos_w * cos_w).max(0.0).sqrt();
+        let sin_spread = (1.0 - self.cos_spread * self.cos_spread).max(0.0).sqrt();
+        let sin2_b = radius2 / d2;
+        let cos_b = (1.0 - sin2_b).max(0.0).sqrt();
+        let sin_b = sin2_b.sqrt();
+        // θx = max(0, θw − θo), then θp = max(0, θx − θb).
+        let (cos_x, sin_x) = cos_sin_sub_clamped((cos_w, sin_w), (self.cos_spread, sin_spread));
+        let (cos_p, _) = cos_sin_sub_clamped((cos_x, sin_x), (cos_b, sin_b));
+        if cos_p <= self.cos_emission { 0.0 } else { 1.0 }
+    }
+}
+
+/// `(cos, sin)` of `max(0, a − b)` from those of `a` and `b` (angles in `[0, π]`).
+#[inline]
+fn cos_sin_sub_clamped((cos_a, sin_a): (f64, f64), (cos_b, sin_b): (f64, f64)) -> (f64, f64) {
+    if cos_a > cos_b {
+        (1.0, 0.0)
+    } else {
+        (
+            cos_a * cos_b + sin_a * sin_b,
+            (sin_a * cos_b - cos_a * sin_b).max(0.0),
+        )
+    }
+}
+
+/// The smallest cone (axis, `cos` half-angle) found by pbrt-v4's `DirectionCone::Union`
+/// that holds two cones; `cos = −1` is every direction.
+fn cone_union((wa, cos_a): (DVec3, f64), (wb, cos_b): (DVec3, f64)) -> (DVec3, f64) {
+    if cos_a <= -1.0 || cos_b <= -1.0 {
+        return (DVec3::Z, -1.0);
+    }
+    let theta_a = cos_a.clamp(-1.0, 1.0).acos();
+    let theta_b = cos_b.clamp(-1.0, 1.0).acos();
+    let theta_d = wa.angle_between(wb);
+    if (theta_d + theta_b).min(std::f64::consts::PI) <= theta_a {
+        return (wa, cos_a);
+    }
+    if (theta_d + theta_a).min(std::f64::consts::PI) <= theta_b {
+        return (wb, cos_b);
+    }
+    let theta_o = 0.5 * (theta_a + theta_d + theta_b);
+    if theta_o >= std::f64::consts::PI {
+        return (DVec3::Z, -1.0);
+    }
+    let theta_r = theta_o - theta_a;
+    let wr = wa.cross(wb);
+    if wr.length_squared() == 0.0 {
+        return (DVec3::Z, -1.0);
+    }
+    let w = DQuat::from_axis_angle(wr.normalize(), theta_r) * wa;
+    // Rounding in the rotation: keep the cone a touch wider than computed.
+    (
+        w.normalize(),
+        (theta_o + 1e-9).min(std::f64::consts::PI).cos(),
+    )
 }
 
 /// A light tree over the contributing lights of a scene; see the module docs.
@@ -182,6 +364,10 @@ pub struct LightTree {
     depth: u32,
     /// Number of lights of the scene.
     n: usize,
+    /// The lights' emission profiles in leaf order (empty for point lights).
+    emission: Vec<Emission>,
+    /// Each node's lane bounds (empty for point lights).
+    bounds: Vec<[LaneBounds; TREE_WIDTH]>,
 }
 
 impl LightTree {
@@ -192,7 +378,23 @@ impl LightTree {
     /// If `positions` and `powers` have different lengths, or the scene holds more than
     /// `2^27` lights.
     pub fn build(positions: &[DVec3], powers: &LightPowers) -> Self {
-        let mut lights = contributing(positions, powers);
+        Self::build_with_emission(positions, powers, None)
+    }
+
+    /// [`LightTree::build`] for lights with emission profiles (`None`: point lights), with
+    /// each node's lane bounds.
+    ///
+    /// # Panics
+    /// As [`LightTree::build`], or if the profiles' count differs.
+    pub fn build_with_emission(
+        positions: &[DVec3],
+        powers: &LightPowers,
+        emission: Option<&[Emission]>,
+    ) -> Self {
+        let mut lights: Vec<(u32, SpatialLight)> = contributing(positions, powers, emission)
+            .into_iter()
+            .map(|(i, l, _)| (i, l))
+            .collect();
         let m = lights.len();
         assert!(m < 1 << 27, "at most 2^27 lights");
         let node_count = internal_nodes(m);
@@ -222,9 +424,55 @@ impl LightTree {
             root,
             depth: 0,
             n: positions.len(),
+            emission: Vec::new(),
+            bounds: Vec::new(),
         };
         tree.depth = tree.deepest(tree.root);
+        if let Some(e) = emission {
+            tree.emission = tree.order.iter().map(|&i| e[i as usize]).collect();
+            tree.bounds = tree.lane_bounds();
+        }
         tree
+    }
+
+    /// Every node's lane bounds, children before parents (nodes are stored depth first,
+    /// so a node's children have larger indices).
+    fn lane_bounds(&self) -> Vec<[LaneBounds; TREE_WIDTH]> {
+        let mut bounds = vec![[LaneBounds::EMPTY; TREE_WIDTH]; self.nodes.len()];
+        for k in (0..self.nodes.len()).rev() {
+            for lane in 0..TREE_WIDTH {
+                bounds[k][lane] = match self.nodes[k].child[lane].get() {
+                    Child::Node(j) => bounds[j][1..]
+                        .iter()
+                        .fold(bounds[j][0], |a, b| LaneBounds::union(&a, b)),
+                    Child::Leaf { first, count } => (first..first + count)
+                        .map(|j| LaneBounds::of_light(&self.lights[j], &self.emission[j]))
+                        .fold(LaneBounds::EMPTY, |a, b| LaneBounds::union(&a, &b)),
+                    Child::Empty => LaneBounds::EMPTY,
+                };
+            }
+        }
+        bounds
+    }
+
+    /// The grid masses of node `k`'s lanes at `x` (with its lane bounds when the lights
+    /// have emission profiles).
+    #[inline]
+    fn node_masses(&self, k: usize, x: DVec2) -> [u32; TREE_WIDTH] {
+        match self.bounds.get(k) {
+            Some(bounds) => self.nodes[k].masses_bounded(bounds, x),
+            None => self.nodes[k].masses(x),
+        }
+    }
+
+    /// Node `k`'s lane bounds, when the lights have emission profiles.
+    pub fn bounds(&self, k: usize) -> Option<&[LaneBounds; TREE_WIDTH]> {
+        self.bounds.get(k)
+    }
+
+    /// The emission profiles in leaf order (empty for point lights).
+    pub fn emission(&self) -> &[Emission] {
+        &self.emission
     }
 
     /// Draws on the deepest path below `at` (one per node, one for the leaf).
@@ -285,8 +533,8 @@ impl LightTree {
     ) -> ([u32; LEAF_SIZE], [f64; LEAF_SIZE]) {
         let mut c = [0.0; LEAF_SIZE];
         let mut total = 0.0;
-        for (cj, l) in c.iter_mut().zip(&self.lights[first..first + count]) {
-            *cj = l.contribution(x);
+        for (j, cj) in c.iter_mut().enumerate().take(count) {
+            *cj = self.lights[first + j].contribution_with(self.emission.get(first + j), x);
             total += *cj;
         }
         let mut p = [0.0; LEAF_SIZE];
@@ -341,11 +589,10 @@ impl LightTree {
     /// probability multiplied into `pdf`; returns the lane's child.
     #[inline]
     fn step(&self, k: usize, x: DVec2, rng: &mut Rng, pdf: &mut f64) -> ChildRef {
-        let node = &self.nodes[k];
-        let masses = node.masses(x);
+        let masses = self.node_masses(k, x);
         let lane = pick_on_grid(&masses, rng.next_u32() >> 8);
         *pdf *= f64::from(masses[lane]) * GRID_CELL;
-        node.child[lane]
+        self.nodes[k].child[lane]
     }
 
     /// The end of a descent at `at` (a leaf cluster, or the empty root) with the path's
@@ -374,7 +621,7 @@ impl LightTree {
             match at.get() {
                 Child::Node(k) => {
                     let node = &self.nodes[k];
-                    for (lane, &m) in node.masses(x).iter().enumerate() {
+                    for (lane, &m) in self.node_masses(k, x).iter().enumerate() {
                         if m > 0 {
                             stack.push((node.child[lane], pdf * (f64::from(m) * GRID_CELL)));
                         }
@@ -404,7 +651,7 @@ impl LightTree {
             match at.get() {
                 Child::Node(k) => {
                     let node = &self.nodes[k];
-                    let masses = node.masses(x);
+                    let masses = self.node_masses(k, x);
                     // The last lane whose range starts at or before j holds it.
                     let lane = (0..TREE_WIDTH)
                         .rev()

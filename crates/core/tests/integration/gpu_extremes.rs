@@ -403,6 +403,8 @@ fn scaled_scene(scale: f64) -> Scene {
         },
         positions,
         powers: LightPowers::new(powers).unwrap(),
+        emission: None,
+        names: None,
     }
 }
 

@@ -43,6 +43,8 @@ fn scene(n: usize, seed: u64, scale: f64, powers: Vec<f64>) -> Scene {
         },
         positions,
         powers: LightPowers::new(powers).expect("valid powers"),
+        emission: None,
+        names: None,
     }
 }
 

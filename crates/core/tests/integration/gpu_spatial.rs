@@ -65,6 +65,8 @@ fn scene(n: usize, seed: u64, scale: f64, decades: f64) -> Scene {
         },
         positions,
         powers: LightPowers::new(powers).expect("valid"),
+        emission: None,
+        names: None,
     }
 }
 

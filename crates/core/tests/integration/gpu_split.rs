@@ -41,6 +41,8 @@ fn scene(n: usize, seed: u64) -> Scene {
         },
         positions,
         powers: LightPowers::new(powers).expect("valid"),
+        emission: None,
+        names: None,
     }
 }
 

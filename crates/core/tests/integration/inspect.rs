@@ -33,6 +33,8 @@ fn scene() -> Scene {
             dvec3(0.1, 0.7, 0.15),
         ],
         powers: LightPowers::new(vec![2.0, 5.0, 20.0]).unwrap(),
+        emission: None,
+        names: None,
     }
 }
 

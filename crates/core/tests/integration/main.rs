@@ -20,5 +20,6 @@ mod render_cpu;
 mod render_metrics;
 mod render_speed;
 mod scene_files;
+mod scene_import;
 mod spatial;
 mod statistics;

@@ -159,6 +159,8 @@ fn batched_picks_equal_pick_light_through_rejected_draws() {
                 .collect(),
         )
         .unwrap(),
+        emission: None,
+        names: None,
     };
     let (seed, spp) = (19u64, 24u32);
     let pixels = u64::from(scene.plane.width * scene.plane.height);

@@ -236,6 +236,8 @@ fn spatial_beats_power_sampling_on_spread_out_equal_lights() {
         plane: plane(8.0, 48),
         powers: LightPowers::new(vec![1.0; positions.len()]).expect("valid"),
         positions,
+        emission: None,
+        names: None,
     };
     let variance = |scheme| {
         let mut r = CpuRenderer::new(&scene, scheme, 21);
@@ -287,6 +289,8 @@ fn spatial_render_matches_the_reference_statistically() {
         plane: plane(2.0, 32),
         positions,
         powers,
+        emission: None,
+        names: None,
     };
     let mut r = CpuRenderer::new(&scene, Scheme::Spatial, 4);
     assert!(matches!(r.spatial(), Some(SpatialSampler::Tree(_))));
@@ -329,6 +333,8 @@ fn extremes_give_finite_images() {
         plane: plane(2.0, 16),
         positions: vec![dvec3(0.3, 0.2, 0.5)],
         powers: LightPowers::new(vec![7.0]).expect("valid"),
+        emission: None,
+        names: None,
     };
     let image = assert_finite_image(&one, 4);
     let reference = Reference::compute(&one);
@@ -343,6 +349,8 @@ fn extremes_give_finite_images() {
             .map(|i| dvec3(f64::from(i) * 0.1, 0.0, -0.5))
             .collect(),
         powers: LightPowers::new(vec![1.0; 40]).expect("valid"),
+        emission: None,
+        names: None,
     };
     assert!(assert_finite_image(&below, 4).iter().all(|&v| v == 0.0));
 
@@ -381,6 +389,8 @@ fn renderer_uses_the_sampler_at_pixel_centres() {
         plane: plane(2.0, 8),
         positions: positions.clone(),
         powers: powers.clone(),
+        emission: None,
+        names: None,
     };
     let mut r = CpuRenderer::new(&scene, Scheme::Spatial, 77);
     r.accumulate(3);
@@ -449,6 +459,8 @@ fn interleaved_descents_equal_single_ones_bit_for_bit() {
         },
         positions: positions.clone(),
         powers: powers.clone(),
+        emission: None,
+        names: None,
     };
     let mut r = CpuRenderer::new(&scene, Scheme::Spatial, 19);
     r.accumulate(2);
