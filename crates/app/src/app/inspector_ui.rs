@@ -110,7 +110,8 @@ pub fn inspector_ui(ui: &mut Ui, state: &mut AppState) {
     ui.add_space(4.0);
     shares_plot_ui(ui, inspection);
     ui.add_space(4.0);
-    shares_table_ui(ui, inspection, dark);
+    let names = state.built.scene.names.as_deref();
+    shares_table_ui(ui, inspection, names, dark);
 }
 
 /// The variance of uniform, power, spatial and ideal picking at the point.
@@ -251,7 +252,12 @@ fn shares_plot_ui(ui: &mut Ui, inspection: &PointInspection) {
 }
 
 /// The listed lights, one row each, and the rest summed.
-fn shares_table_ui(ui: &mut Ui, inspection: &PointInspection, dark: bool) {
+fn shares_table_ui(
+    ui: &mut Ui,
+    inspection: &PointInspection,
+    names: Option<&[String]>,
+    dark: bool,
+) {
     egui::ScrollArea::vertical()
         .max_height(ui.available_height().max(120.0))
         .show(ui, |ui| {
@@ -277,7 +283,10 @@ fn shares_table_ui(ui: &mut Ui, inspection: &PointInspection, dark: bool) {
                                 ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
                             ui.painter()
                                 .rect_filled(swatch, 2.0, colors::light(l.index));
-                            ui.label(format!("{}", l.index + 1));
+                            match names.and_then(|n| n.get(l.index)).filter(|n| !n.is_empty()) {
+                                Some(name) => ui.label(format!("{} {name}", l.index + 1)),
+                                None => ui.label(format!("{}", l.index + 1)),
+                            };
                         });
                         ui.label(fractions::short(l.power));
                         ui.label(fractions::short(l.pmf));

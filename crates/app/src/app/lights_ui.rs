@@ -14,6 +14,7 @@ const ROW_HEIGHT: f32 = 22.0;
 pub fn lights_ui(ui: &mut Ui, state: &mut AppState) {
     ui.heading("Lights");
     presets_ui(ui, state);
+    floor_ui(ui, state);
     ui.separator();
     generate_ui(ui, state);
     ui.separator();
@@ -40,6 +41,33 @@ fn presets_ui(ui: &mut Ui, state: &mut AppState) {
             {
                 state.load_preset(name);
             }
+        }
+    });
+}
+
+/// The receiver's height (Floor) and the scene's kinds of lights.
+fn floor_ui(ui: &mut Ui, state: &mut AppState) {
+    ui.horizontal(|ui| {
+        let label = ui.label("Floor");
+        let mut floor = state.edit.floor;
+        let response = ui
+            .add(egui::DragValue::new(&mut floor).speed(0.05).max_decimals(4))
+            .labelled_by(label.id)
+            .on_hover_text(
+                "Height of the receiving plane above the scene's ground as loaded (glTF's y = 0): \
+                 lights on or below it light nothing",
+            );
+        if response.changed() {
+            state.set_floor(floor);
+        }
+        let spots = state
+            .edit
+            .emission
+            .as_ref()
+            .map_or(0, |e| e.iter().filter(|e| e.spot().is_some()).count());
+        let n = state.edit.powers.len();
+        if spots > 0 {
+            ui.weak(format!("{} points, {spots} spots", n - spots));
         }
     });
 }
@@ -141,6 +169,36 @@ fn scale_ui(ui: &mut Ui, state: &mut AppState) {
     });
 }
 
+/// What the row's tooltip says of light `i`: name, position, and its spot cone and range.
+fn light_about(state: &AppState, i: usize) -> String {
+    let p = state.edit.positions.get(i).copied().unwrap_or_default();
+    let mut text = format!(
+        "{} (light {}) at ({:.2}, {:.2}, {:.2})",
+        state.edit.display_name(i),
+        i + 1,
+        p.x,
+        p.y,
+        p.z
+    );
+    if let Some(e) = state.edit.emission.as_ref().and_then(|e| e.get(i)) {
+        if let Some(s) = e.spot() {
+            let a = e.axis();
+            text += &format!(
+                "\nspot toward ({:.2}, {:.2}, {:.2}), cones {:.1}° / {:.1}°",
+                a.x,
+                a.y,
+                a.z,
+                s.inner_cone.to_degrees(),
+                s.outer_cone.to_degrees()
+            );
+        }
+        if let Some(r) = e.range() {
+            text += &format!("\nrange {}", super::fractions::short(r));
+        }
+    }
+    text
+}
+
 fn rows_ui(ui: &mut Ui, state: &mut AppState) {
     let n = state.edit.powers.len();
     let dark = state.dark();
@@ -164,13 +222,16 @@ fn rows_ui(ui: &mut Ui, state: &mut AppState) {
                     };
                     let text = RichText::new(format!("{:>3}", i + 1)).monospace();
                     let text = if bad { text.color(colors::error(dark)) } else { text };
-                    ui.label(text).on_hover_text(format!(
-                        "Light {} at ({:.2}, {:.2}, {:.2})",
-                        i + 1,
-                        state.edit.positions.get(i).map_or(0.0, |p| p.x),
-                        state.edit.positions.get(i).map_or(0.0, |p| p.y),
-                        state.edit.positions.get(i).map_or(0.0, |p| p.z),
-                    ));
+                    let about = light_about(state, i);
+                    ui.label(text).on_hover_text(&about);
+                    if state.edit.names.is_some() {
+                        let own = state.edit.display_name(i);
+                        ui.add_sized(
+                            [84.0, ROW_HEIGHT - 2.0],
+                            egui::Label::new(own).truncate(),
+                        )
+                        .on_hover_text(&about);
+                    }
                     let p = &mut state.edit.powers[i];
                     let speed = if p.is_finite() { (p.abs() * 0.01).max(0.01) } else { 0.01 };
                     // egui compares old and new values to detect edits, and NaN never equals

@@ -1,4 +1,5 @@
-//! The app's access to scenes: presets, JSON files, and scenes generated from a count.
+//! The app's access to scenes: presets, scene files of every format the core's loader reads
+//! (lightpick JSON, glTF/GLB, CSV), and scenes generated from a count.
 //!
 //! Every scene format question is answered by `lightpick_core::scene`; this module only
 //! adapts its errors to one-line messages for the status bar.
@@ -6,7 +7,7 @@
 use std::path::Path;
 
 use glam::{DVec3, dvec2, dvec3};
-use lightpick_core::scene::{ReceiverPlane, Scene};
+use lightpick_core::scene::{LoadOptions, Loaded, ReceiverPlane, Scene};
 use lightpick_core::{LightPowers, Rng};
 
 /// The preset names, in menu order.
@@ -50,9 +51,11 @@ pub fn from_json_str(text: &str) -> Result<Scene, String> {
     Scene::from_json_str(text).map_err(|e| e.to_string())
 }
 
-/// Reads a scene file, or says (in one line, naming the file) why it could not be read.
-pub fn load(path: &Path) -> Result<Scene, String> {
-    Scene::load(path).map_err(|e| format!("{}: {e}", path.display()))
+/// Reads a scene file of any format the core reads (lightpick JSON, glTF/GLB, CSV) with
+/// the receiver at `floor`, or says (in one line, naming the file) why it could not be read.
+pub fn load(path: &Path, floor: Option<f64>) -> Result<Loaded, String> {
+    lightpick_core::scene::load(path, &LoadOptions { floor })
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// The scene as JSON text.

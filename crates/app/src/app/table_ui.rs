@@ -50,7 +50,10 @@ pub fn table_ui(ui: &mut Ui, state: &AppState) {
     let highlight = state.table_highlight.as_ref();
     // Column widths at full size, narrowed (down to 55 %) to fit a narrow panel so that the
     // threshold and alias columns stay visible.
-    let full = [44.0_f32, 90.0, 90.0, 90.0, 54.0];
+    // A named scene's first column shows the names too.
+    let names = built.scene.names.as_deref();
+    let first = if names.is_some() { 110.0 } else { 44.0 };
+    let full = [first, 90.0_f32, 90.0, 90.0, 54.0];
     let room = ui.available_width() - 4.0 * ui.spacing().item_spacing.x;
     let fit = (room / full.iter().sum::<f32>()).clamp(0.55, 1.0);
     let widths = full.map(|w| w * fit);
@@ -83,9 +86,13 @@ pub fn table_ui(ui: &mut Ui, state: &AppState) {
                 ui.horizontal(|ui| {
                     let (swatch, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
                     ui.painter().rect_filled(swatch, 2.0, colors::light(i));
+                    let label = match names.and_then(|n| n.get(i)).filter(|n| !n.is_empty()) {
+                        Some(name) => format!("{} {name}", i + 1),
+                        None => format!("{}", i + 1),
+                    };
                     ui.add_sized(
                         [widths[0] - 14.0, ROW_HEIGHT],
-                        egui::Label::new(format!("{}", i + 1)),
+                        egui::Label::new(label).truncate(),
                     );
                     let power = ui.add_sized(
                         [widths[1], ROW_HEIGHT],

@@ -95,6 +95,13 @@ pub struct BenchArgs {
     /// Presets to render instead of the defaults, comma separated, or `none`.
     #[arg(long, value_name = "LIST")]
     pub presets: Option<String>,
+    /// A scene file to render too (lightpick JSON, glTF/GLB, CSV; repeatable), after the
+    /// presets; named by its file name.
+    #[arg(long, value_name = "FILE")]
+    pub scene: Vec<PathBuf>,
+    /// The receiver's height for `--scene` files (glTF's y), instead of the file's ground.
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
+    pub floor: Option<f64>,
     /// Samples per pixel of each render (default 1024, `--quick` 256).
     #[arg(long)]
     pub spp: Option<u32>,
@@ -232,27 +239,43 @@ fn sizes(args: &BenchArgs) -> anyhow::Result<Vec<usize>> {
         .collect()
 }
 
-fn presets(args: &BenchArgs) -> anyhow::Result<Vec<String>> {
-    let Some(list) = &args.presets else {
-        return Ok(if args.quick {
-            QUICK_PRESETS.iter().map(|s| (*s).to_owned()).collect()
-        } else {
-            lightpick_core::scene::PRESET_NAMES
-                .iter()
-                .map(|s| (*s).to_owned())
-                .collect()
-        });
+/// A scene to render, with the name its rows carry (the preset's, or the file's stem).
+struct NamedScene {
+    name: String,
+    scene: std::sync::Arc<Scene>,
+}
+
+/// The presets to render (`--presets`, or the defaults) and then the `--scene` files.
+fn presets(args: &BenchArgs) -> anyhow::Result<Vec<NamedScene>> {
+    let names: Vec<String> = match &args.presets {
+        None if args.quick => QUICK_PRESETS.iter().map(|s| (*s).to_owned()).collect(),
+        None if !args.scene.is_empty() => Vec::new(),
+        None => lightpick_core::scene::PRESET_NAMES
+            .iter()
+            .map(|s| (*s).to_owned())
+            .collect(),
+        Some(list) if list.trim() == "none" => Vec::new(),
+        Some(list) => list.split(',').map(|s| s.trim().to_owned()).collect(),
     };
-    if list.trim() == "none" {
-        return Ok(Vec::new());
+    let mut out = Vec::new();
+    for name in names {
+        let scene = Scene::preset(&name).with_context(|| format!("--presets '{name}'"))?;
+        out.push(NamedScene {
+            name,
+            scene: std::sync::Arc::new(scene),
+        });
     }
-    list.split(',')
-        .map(|s| {
-            let name = s.trim().to_owned();
-            Scene::preset(&name).with_context(|| format!("--presets '{name}'"))?;
-            Ok(name)
-        })
-        .collect()
+    for path in &args.scene {
+        let scene = super::input::load_scene_file(path, args.floor)?;
+        out.push(NamedScene {
+            name: path.file_name().map_or_else(
+                || path.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            ),
+            scene: std::sync::Arc::new(scene),
+        });
+    }
+    Ok(out)
 }
 
 /// The median of `repetitions` timings of `batch` calls of `f`, per call, in nanoseconds.
@@ -637,13 +660,14 @@ pub struct PresetRender {
 }
 
 fn render_preset(
-    name: &str,
+    named: &NamedScene,
     side: u32,
     spp: u32,
     seed: u64,
     quick: bool,
 ) -> anyhow::Result<PresetRender> {
-    let mut scene = Scene::preset(name).with_context(|| format!("preset {name}"))?;
+    let name = named.name.as_str();
+    let mut scene = Scene::clone(&named.scene);
     scene.plane.width = side;
     scene.plane.height = side;
     let budget = if quick { 1 << 26 } else { 1 << 29 };
@@ -748,16 +772,16 @@ pub struct AppSchemeRender {
 /// one sample per pixel (the app's default), core time from the render threads' clocks, the
 /// scene's shared table and tree (the app's table construction).
 fn app_cpu_renders(
-    presets: &[String],
+    presets: &[NamedScene],
     seed: u64,
     quick: bool,
 ) -> anyhow::Result<Vec<AppPresetRender>> {
     let min_seconds = GPU_RENDER_SECONDS[usize::from(quick)];
     presets
         .iter()
-        .map(|name| {
-            let scene =
-                std::sync::Arc::new(Scene::preset(name).with_context(|| format!("preset {name}"))?);
+        .map(|named| {
+            let name = &named.name;
+            let scene = std::sync::Arc::clone(&named.scene);
             let samplers = lightpick_core::SceneSamplers::new(
                 std::sync::Arc::clone(&scene),
                 crate::app::state::construction_for(scene.light_count()),
@@ -876,15 +900,15 @@ pub struct GpuPresetRender {
 
 /// The GPU renders of `presets` (empty without an adapter): the time per sample the app's
 /// GPU images measure, from the device's own clock.
-fn gpu_renders(presets: &[String], seed: u64, quick: bool) -> Vec<GpuPresetRender> {
+fn gpu_renders(presets: &[NamedScene], seed: u64, quick: bool) -> Vec<GpuPresetRender> {
     let Ok(ctx) = GpuContext::new() else {
         return Vec::new();
     };
     let min_seconds = GPU_RENDER_SECONDS[usize::from(quick)];
     presets
         .iter()
-        .filter_map(|name| {
-            let scene = Scene::preset(name).ok()?;
+        .filter_map(|named| {
+            let (name, scene) = (&named.name, &named.scene);
             let mut out = GpuPresetRender {
                 preset: name.clone(),
                 adapter: ctx.description(),

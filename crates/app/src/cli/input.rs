@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Context as _, bail};
 use clap::Args;
 use lightpick_core::LightPowers;
-use lightpick_core::scene::{PRESET_NAMES, Scene};
+use lightpick_core::scene::{LoadOptions, Loaded, PRESET_NAMES, Scene};
 
 /// The sources of light powers shared by every subcommand; exactly one is used.
 #[derive(Debug, Args, Clone, Default)]
@@ -21,24 +21,45 @@ pub struct PowersArgs {
     pub scene: SceneArgs,
 }
 
-/// Where a scene comes from: a JSON file or a built-in preset.
+/// Where a scene comes from: a file (lightpick JSON, glTF/GLB, CSV) or a built-in preset.
 #[derive(Debug, Args, Clone, Default)]
 pub struct SceneArgs {
-    /// A JSON scene file.
+    /// A scene file: lightpick JSON, glTF 2.0 (.gltf/.glb with KHR_lights_punctual) or a
+    /// CSV / white-space list of x, y, z, power.
     #[arg(long, value_name = "FILE", conflicts_with = "preset")]
     pub scene: Option<PathBuf>,
     /// A built-in scene: seed, equal, dominant, zeros, heavy-tail, million, extreme-range,
-    /// grid.
+    /// grid, stage.
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
+    /// The receiver's height (lightpick's z, glTF's y): every light's z becomes z − H.
+    /// Default: the file's ground, z = 0.
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
+    pub floor: Option<f64>,
+}
+
+/// Reads a scene file of any format through the one loader, `--floor` applied; errors
+/// name the file.
+pub fn load_scene_file(path: &std::path::Path, floor: Option<f64>) -> anyhow::Result<Scene> {
+    Ok(load_file(path, floor)?.scene)
+}
+
+/// [`load_scene_file`] with what the file held.
+pub fn load_file(path: &std::path::Path, floor: Option<f64>) -> anyhow::Result<Loaded> {
+    lightpick_core::scene::load(path, &LoadOptions { floor })
+        .with_context(|| format!("--scene {}", path.display()))
 }
 
 impl SceneArgs {
     /// The scene named, or `None` when neither `--scene` nor `--preset` was given.
     pub fn load(&self) -> anyhow::Result<Option<Scene>> {
+        Ok(self.load_with_report()?.map(|l| l.scene))
+    }
+
+    /// [`SceneArgs::load`] with what the file held (a preset reports as JSON).
+    pub fn load_with_report(&self) -> anyhow::Result<Option<Loaded>> {
         if let Some(path) = &self.scene {
-            let scene = Scene::load(path).with_context(|| format!("--scene {}", path.display()))?;
-            return Ok(Some(scene));
+            return Ok(Some(load_file(path, self.floor)?));
         }
         if let Some(name) = &self.preset {
             if !PRESET_NAMES.contains(&name.as_str()) {
@@ -47,7 +68,18 @@ impl SceneArgs {
                     PRESET_NAMES.join(", ")
                 );
             }
-            return Ok(Some(Scene::preset(name)?));
+            let text = Scene::preset_source(name).unwrap_or_default();
+            let loaded = lightpick_core::scene::load_bytes(
+                text.as_bytes(),
+                name,
+                Some("json"),
+                &LoadOptions { floor: self.floor },
+            )
+            .with_context(|| format!("--preset {name}"))?;
+            return Ok(Some(loaded));
+        }
+        if self.floor.is_some() {
+            bail!("--floor: give a scene (--scene FILE or --preset NAME) to move its receiver");
         }
         Ok(None)
     }

@@ -9,6 +9,7 @@ mod plot;
 mod precision;
 mod render;
 mod sample;
+mod scene;
 mod table;
 
 use std::process::ExitCode;
@@ -25,12 +26,17 @@ pub use input::PowersArgs;
     about = "Teach and measure point-light importance sampling (Walker alias tables).",
     long_about = "Teach and measure point-light importance sampling (Walker alias tables).\n\n\
                   Without a subcommand, opens the desktop app on the seed scene \
-                  (powers 2, 5, 20)."
+                  (powers 2, 5, 20), or on FILE (glTF, CSV or lightpick JSON)."
 )]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct Cli {
     /// What to do; none opens the desktop app.
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// A scene file to open the app on (glTF .gltf/.glb, CSV, lightpick JSON): what a
+    /// desktop's "Open with" passes.
+    #[arg(value_name = "FILE")]
+    pub file: Option<std::path::PathBuf>,
 }
 
 /// The headless subcommands.
@@ -50,6 +56,9 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// The precision lab: what f32, one random or f32(u)·N would cost, computed exactly.
     Precision(precision::PrecisionArgs),
+    /// What a scene file holds (glTF, CSV, JSON): lights by kind, powers, skipped lights;
+    /// `--out` writes it as lightpick JSON.
+    Scene(scene::SceneCommandArgs),
 }
 
 /// Parses the command line, runs it, and maps errors to one `error:` line and exit code 2.
@@ -70,7 +79,17 @@ pub fn main() -> ExitCode {
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
-        None => crate::app::run(),
+        None => {
+            let opened = match &cli.file {
+                Some(path) if !path.exists() => anyhow::bail!(
+                    "'{}' is neither a subcommand nor a file (see `lightpick --help`)",
+                    path.display()
+                ),
+                Some(path) => Some((path.clone(), input::load_file(path, None)?)),
+                None => None,
+            };
+            crate::app::run(opened)
+        }
         Some(Command::Table(args)) => table::run(&args),
         Some(Command::Sample(args)) => sample::run(&args),
         Some(Command::Estimate(args)) => estimate::run(&args),
@@ -78,6 +97,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Plot(args)) => plot::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Precision(args)) => precision::run(&args),
+        Some(Command::Scene(args)) => scene::run(&args),
     }
 }
 
@@ -153,13 +173,17 @@ fn one_clap_line(rendered: &str) -> String {
     }
 }
 
-/// The error and its causes on one line: `outer: inner: innermost`.
+/// The error and its causes on one line: `outer: inner: innermost`, a cause that its
+/// parent's message already ends with (`…: No such file or directory`) said once.
 fn one_line(err: &anyhow::Error) -> String {
-    err.chain()
-        .map(ToString::to_string)
-        .collect::<Vec<_>>()
-        .join(": ")
-        .replace('\n', " ")
+    let mut parts: Vec<String> = Vec::new();
+    for cause in err.chain().map(ToString::to_string) {
+        if parts.last().is_some_and(|last| last.ends_with(&cause)) {
+            continue;
+        }
+        parts.push(cause);
+    }
+    parts.join(": ").replace('\n', " ")
 }
 
 /// Prints `value` as one line of JSON on stdout.

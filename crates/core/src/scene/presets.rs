@@ -5,7 +5,7 @@ use super::Scene;
 use super::error::SceneError;
 
 /// Every preset name, in display order.
-pub const PRESET_NAMES: [&str; 8] = [
+pub const PRESET_NAMES: [&str; 9] = [
     "seed",
     "equal",
     "dominant",
@@ -14,10 +14,11 @@ pub const PRESET_NAMES: [&str; 8] = [
     "million",
     "extreme-range",
     "grid",
+    "stage",
 ];
 
 /// The embedded text of each preset, in the order of [`PRESET_NAMES`].
-const PRESET_FILES: [&str; 8] = [
+const PRESET_FILES: [&str; 9] = [
     include_str!("../../../../assets/scenes/seed.json"),
     include_str!("../../../../assets/scenes/equal.json"),
     include_str!("../../../../assets/scenes/dominant.json"),
@@ -26,6 +27,7 @@ const PRESET_FILES: [&str; 8] = [
     include_str!("../../../../assets/scenes/million.json"),
     include_str!("../../../../assets/scenes/extreme-range.json"),
     include_str!("../../../../assets/scenes/grid.json"),
+    include_str!("../../../../assets/scenes/stage.json"),
 ];
 
 impl Scene {
@@ -42,7 +44,11 @@ impl Scene {
     /// * `grid`: 1024 lights of power 1 scattered over the plane `[-8, 8]²` at heights
     ///   `z ∈ [0.2, 0.4]`, low next to their spacing (`16/√1024 = 0.5`), so only the few
     ///   lights near a pixel matter there (`G ∝ z/r³`): where contribution-aware (spatial)
-    ///   sampling beats power sampling by two orders of magnitude in variance.
+    ///   sampling beats power sampling by two orders of magnitude in variance;
+    /// * `stage`: 300 named spot lights over a 16 × 10 m stage: three trusses of 80 narrow
+    ///   spots 6 m up, each aimed at its own mark, 40 footlights grazing the floor from its
+    ///   edges and 20 wide washes with a range: each spot lights a small part of the floor,
+    ///   so its power says little about what it gives a point (power sampling is poor).
     pub fn preset(name: &str) -> Result<Scene, SceneError> {
         let index = PRESET_NAMES
             .iter()

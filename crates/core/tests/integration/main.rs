@@ -4,6 +4,8 @@
 
 mod gpu_common;
 
+mod gpu_emission;
+
 mod alias_guarantees;
 mod alias_properties;
 mod extremes;
@@ -22,4 +24,5 @@ mod render_speed;
 mod scene_files;
 mod scene_import;
 mod spatial;
+mod spatial_emission;
 mod statistics;

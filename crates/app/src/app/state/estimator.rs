@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use glam::DVec2;
 use lightpick_core::point_estimate::{PointEstimator, PointPicker};
-use lightpick_core::scene::{Scene, geometry_term, pixel_center};
+use lightpick_core::scene::{Scene, pixel_center};
 use lightpick_core::spatial::SpatialSampler;
 use lightpick_core::walkthrough::{CLASSIC_GEOMETRY, CLASSIC_POWERS};
 use lightpick_core::{AliasTable, LightPowers, Uniform};
@@ -213,15 +213,15 @@ fn build(
     PointEstimator::new(contributions, lanes, seed).map_err(|e| e.to_string())
 }
 
-/// `f_i = Φ_i·G_i(x)` of every light at `point_on_plane`, refused when no light reaches it
-/// or when the irradiance leaves `f64`.
+/// `f_i = Φ_i·G_i(x)·S_i(x)` of every light at `point_on_plane`, refused when no light
+/// reaches it or when the irradiance leaves `f64`.
 fn pixel_contributions(scene: &Scene, point_on_plane: DVec2) -> Result<Vec<f64>, String> {
     let contributions: Vec<f64> = scene
         .powers
         .as_slice()
         .iter()
-        .zip(&scene.positions)
-        .map(|(power, &light_in_world)| power * geometry_term(light_in_world, point_on_plane))
+        .enumerate()
+        .map(|(i, power)| power * scene.light_term(i, point_on_plane))
         .collect();
     let total: f64 = contributions.iter().sum();
     if !total.is_finite() {

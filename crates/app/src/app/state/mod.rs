@@ -14,7 +14,7 @@
 use std::sync::{Arc, mpsc};
 
 use glam::DVec3;
-use lightpick_core::scene::{ReceiverPlane, Scene};
+use lightpick_core::scene::{Emission, ReceiverPlane, Scene};
 use lightpick_core::{ChiSquare, LightPowers, PowersError, Rng, Uniform, chi_square};
 
 use super::scene_io::{self, PowerDistribution};
@@ -141,6 +141,13 @@ pub struct SceneEdit {
     pub positions: Vec<DVec3>,
     /// Light powers as typed (may hold NaN or negatives until corrected).
     pub powers: Vec<f64>,
+    /// Each light's spot cone and range, when the scene has any (kept through edits).
+    pub emission: Option<Vec<Emission>>,
+    /// Each light's name, when the scene's source named its lights.
+    pub names: Option<Vec<String>>,
+    /// The receiver's height above the scene's ground as loaded (the Floor control): every
+    /// light's `z` is its loaded height minus this.
+    pub floor: f64,
 }
 
 impl SceneEdit {
@@ -151,7 +158,52 @@ impl SceneEdit {
             plane: scene.plane.clone(),
             positions: scene.positions.clone(),
             powers: scene.powers.as_slice().to_vec(),
+            emission: scene.emission.clone(),
+            names: scene.names.clone(),
+            floor: 0.0,
         }
+    }
+
+    /// Keeps one emission profile and one name per light: lights added get a point
+    /// light's profile and no name, removed ones lose theirs.
+    fn fit_extras(&mut self, n: usize) {
+        if let Some(e) = &mut self.emission {
+            e.resize(n, Emission::POINT);
+        }
+        if let Some(names) = &mut self.names {
+            names.resize(n, String::new());
+        }
+    }
+
+    /// Removes light `i`'s profile and name.
+    fn remove_extras(&mut self, i: usize) {
+        if let Some(e) = self.emission.as_mut().filter(|e| i < e.len()) {
+            e.remove(i);
+        }
+        if let Some(names) = self.names.as_mut().filter(|n| i < n.len()) {
+            names.remove(i);
+        }
+    }
+
+    /// Copies light `i`'s profile and name to a new light right after it.
+    fn duplicate_extras(&mut self, i: usize) {
+        if let Some(e) = self.emission.as_mut().filter(|e| i < e.len()) {
+            e.insert(i + 1, e[i]);
+        }
+        if let Some(names) = self.names.as_mut().filter(|n| i < n.len()) {
+            let copy = names[i].clone();
+            names.insert(i + 1, copy);
+        }
+    }
+
+    /// The light's name for display: its own, else `light k` (numbered from 1).
+    pub fn display_name(&self, i: usize) -> String {
+        self.names
+            .as_ref()
+            .and_then(|n| n.get(i))
+            .filter(|n| !n.is_empty())
+            .cloned()
+            .unwrap_or_else(|| format!("light {}", i + 1))
     }
 }
 
@@ -227,7 +279,7 @@ pub const MAX_BARS: usize = 48;
 /// A file action waiting for its path in the in-app dialog.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FileAction {
-    /// Open a scene JSON file.
+    /// Open a scene file (lightpick JSON, glTF/GLB, CSV).
     OpenScene,
     /// Save the scene as JSON.
     SaveScene,
@@ -247,17 +299,67 @@ impl FileAction {
             FileAction::ExportDiagram => "Export alias-table diagram (PNG)",
         }
     }
+
+    /// The file types the action reads or writes: a label and the extensions.
+    pub fn file_types(self) -> (&'static str, &'static [&'static str]) {
+        match self {
+            FileAction::OpenScene => (
+                "Scenes (glTF, GLB, CSV, JSON)",
+                &lightpick_core::scene::SceneFormat::EXTENSIONS,
+            ),
+            FileAction::SaveScene => ("lightpick JSON", &["json"]),
+            FileAction::ExportImages | FileAction::ExportDiagram => ("PNG images", &["png"]),
+        }
+    }
 }
 
-/// The in-app path dialog (no native file picker).
+/// One entry of the folder the file dialog shows.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FolderEntry {
+    /// The file or folder name.
+    pub name: String,
+    /// Whether it is a folder.
+    pub is_dir: bool,
+    /// Size in bytes (files).
+    pub bytes: u64,
+}
+
+/// The in-app file chooser: a folder to browse, a path to type or pick.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FileDialog {
     /// The pending action, `None` when the dialog is closed.
     pub action: Option<FileAction>,
-    /// The path being typed.
+    /// The path being typed or picked: absolute, or relative to `folder`.
     pub path: String,
     /// Why the last attempt failed (shown in the dialog, the path stays as typed).
     pub error: Option<String>,
+    /// The folder shown (`None`: the working directory).
+    pub folder: Option<std::path::PathBuf>,
+    /// Show every file, not only the action's types.
+    pub all_files: bool,
+    /// The folder's entries as last listed (folders first, then by name), or why it could
+    /// not be read.
+    pub listing: Option<(std::path::PathBuf, Result<Vec<FolderEntry>, String>)>,
+}
+
+impl FileDialog {
+    /// The folder shown.
+    pub fn folder(&self) -> std::path::PathBuf {
+        self.folder
+            .clone()
+            .or_else(|| std::env::current_dir().ok())
+            .unwrap_or_else(|| std::path::PathBuf::from("."))
+    }
+
+    /// The full path of what is typed: itself when absolute, else within the folder.
+    pub fn resolved(&self) -> std::path::PathBuf {
+        let typed = std::path::Path::new(self.path.trim());
+        if typed.is_absolute() {
+            typed.to_owned()
+        } else {
+            self.folder().join(typed)
+        }
+    }
 }
 
 struct PendingBuild {
@@ -418,12 +520,14 @@ impl AppState {
             Ok(powers) => {
                 self.input_error = None;
                 self.sync_positions(powers.len());
-                let scene = scene_io::assemble(
+                let mut scene = scene_io::assemble(
                     &self.edit.name,
                     self.edit.plane.clone(),
                     self.edit.positions.clone(),
                     powers,
                 );
+                scene.emission.clone_from(&self.edit.emission);
+                scene.names.clone_from(&self.edit.names);
                 if scene.light_count() <= SYNC_BUILD_LIMIT {
                     self.pending = None;
                     self.rebuild_queued = false;
@@ -436,6 +540,29 @@ impl AppState {
                 }
             }
         }
+    }
+
+    /// Moves the receiver to height `floor` above the scene's ground as loaded: every light's
+    /// `z` shifts by the change, and lights on or below the receiver light nothing.
+    pub fn set_floor(&mut self, floor: f64) {
+        if !floor.is_finite() || floor == self.edit.floor {
+            return;
+        }
+        let shift = floor - self.edit.floor;
+        for p in &mut self.edit.positions {
+            p.z -= shift;
+        }
+        self.edit.floor = floor;
+        self.unedited_preset = None;
+        self.powers_changed();
+        let above = self.edit.positions.iter().filter(|p| p.z > 0.0).count();
+        self.message(
+            format!(
+                "receiver at height {floor}: {above} of {} lights above it",
+                self.edit.positions.len()
+            ),
+            MessageKind::Info,
+        );
     }
 
     /// Parses the powers text field ("2, 5, 20" or white space) and applies it; a word that
@@ -461,6 +588,7 @@ impl AppState {
             scene_io::random_positions(i + 1, &self.edit.plane, self.settings.seed ^ i as u64)[i];
         self.edit.positions.push(pos);
         self.edit.powers.push(power);
+        self.edit.fit_extras(i + 1);
         self.after_structure_change();
     }
 
@@ -474,6 +602,7 @@ impl AppState {
         if i < self.edit.positions.len() {
             self.edit.positions.remove(i);
         }
+        self.edit.remove_extras(i);
         self.after_structure_change();
     }
 
@@ -485,6 +614,7 @@ impl AppState {
         self.edit.powers.insert(i + 1, self.edit.powers[i]);
         let pos = self.edit.positions.get(i).copied().unwrap_or(DVec3::Z);
         self.edit.positions.insert(i + 1, pos);
+        self.edit.duplicate_extras(i);
         self.after_structure_change();
     }
 
@@ -526,6 +656,7 @@ impl AppState {
             self.edit.positions.extend_from_slice(&fresh[have..]);
         }
         self.edit.positions.truncate(n);
+        self.edit.fit_extras(n);
     }
 
     fn after_structure_change(&mut self) {
@@ -844,10 +975,7 @@ pub fn auto_exposure(scene: &Scene) -> f64 {
             let x = lightpick_core::scene::pixel_center(&scene.plane, px, py);
             let e: f64 = (0..n)
                 .step_by(stride)
-                .map(|i| {
-                    scene.powers.as_slice()[i]
-                        * lightpick_core::scene::geometry_term(scene.positions[i], x)
-                })
+                .map(|i| scene.powers.as_slice()[i] * scene.light_term(i, x))
                 .sum::<f64>()
                 * stride as f64;
             sum += e;

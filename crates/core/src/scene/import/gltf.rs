@@ -29,7 +29,8 @@ use crate::scene::{Emission, Scene, SceneError, Spot};
 
 /// glTF's `(x, y, z)` (+Y up) as lightpick's (+Z up): `(x, −z, y)`.
 pub fn to_lightpick(v: DVec3) -> DVec3 {
-    DVec3::new(v.x, -v.z, v.y)
+    // `0.0 - z` rather than `-z`: a light on the axis gets y = 0, not −0.
+    DVec3::new(v.x, 0.0 - v.z, v.y)
 }
 
 /// The luminance `Y = 0.2126 R + 0.7152 G + 0.0722 B` of a linear RGB colour.
@@ -305,6 +306,7 @@ pub(super) fn read(
                     outer = std::f64::consts::FRAC_PI_2;
                 }
                 let axis = to_lightpick(world.transform_vector3(DVec3::NEG_Z));
+                let axis = axis.try_normalize().unwrap_or(axis);
                 Some(Spot {
                     direction: axis,
                     inner_cone: inner,

@@ -1,0 +1,270 @@
+//! Spots and ranges on the GPU (`emission.wgsl`, the node bounds of `spatial_bounds.wgsl`)
+//! against the CPU with the same seeds.
+//!
+//! # The agreement criterion
+//! The power schemes pick the same light for every (pixel, sample) on both sides (integer
+//! arithmetic), so each pixel's difference is bounded by the sum of its samples' bounds.
+//! One sample is `ê = w·G·g·t²·ω` (weight, geometry term, gain, spot falloff, range window);
+//! with `u = 2^-24`, `B` the largest coordinate and `z` the light's height:
+//!
+//! * `G` carries the relative error `(57 B/z + 26)·u` (derived in `gpu_render.rs`), and
+//!   `w`, `g` and the products add `4u`;
+//! * the offset `d` from the light to the pixel carries an absolute error `19 u B` per
+//!   component, so its direction `d/|d|` is off by at most `2·19 u B/|d| ≤ 38 u B/z`; the
+//!   octahedral axis by `8u` (its test in `emission.rs`), and the scaling, length, division
+//!   and dot product add `≤ 12u`: `|Δ cos α| ≤ (38 B/z + 20)·u`; `cos θo` and the scale
+//!   `1/(cos θi − cos θo)` are rounded once each, so
+//!   `Δt ≤ scale·((38 B/z + 21)·u) + 2u` and `|Δ t²| ≤ 2Δt + Δt²` (t is clamped to [0, 1]);
+//! * `q = d/r` carries `(19 B/z + 8)·u` relative, and `|Δ(1 − q⁴)| ≤ 4q⁴·that + 2u` with
+//!   `q ≤ 1` where the window is not clamped: `|Δω| ≤ (76 B/z + 34)·u`;
+//!
+//! so `|Δê| ≤ |ê|·(57 B/z + 30)·u + w·G·g·(|Δ t²| + |Δω|)`, summed over the pixel's
+//! samples, plus `(spp − 1)·u` of the f32 running sum. The bound is computed sample by
+//! sample from the CPU's own evaluation of the same picks.
+//!
+//! The exact spatial pick (≤ 16 lights) estimates the total `Σ c_j` whichever light it
+//! picks: its bound is the sum of the per-light bounds. The light tree's decisions may flip
+//! where an `f32` probability rounds across a draw (see `gpu_spatial.rs`), more often at a
+//! penumbra than elsewhere; it is checked for what matters, unbiasedness: the GPU image's
+//! mean against the exact reference within 5 standard errors.
+
+use crate::gpu_common::{self, SplitMix};
+use glam::{DVec3, dvec2, dvec3};
+use lightpick_core::gpu::GpuRenderer;
+use lightpick_core::render::{CpuRenderer, Reference};
+use lightpick_core::scene::{
+    Emission, ReceiverPlane, Scene, Spot, geometry_term, light_term, pixel_center,
+};
+use lightpick_core::{LightPowers, Rng, Sampler, Scheme};
+
+const U: f64 = 1.0 / (1u64 << 24) as f64;
+const SPP: u32 = 16;
+
+/// `n` lights over the plane `[-1, 1] × [-0.75, 0.75]`: every other a spot (mostly aimed
+/// down, some grazing, cones from 0.2 to 1.2 rad), every third with a range of 1–3.
+fn shaped_scene(n: usize, seed: u64) -> Scene {
+    let mut d = SplitMix(seed);
+    let mut positions = Vec::with_capacity(n);
+    let mut powers = Vec::with_capacity(n);
+    let mut emission = Vec::with_capacity(n);
+    for i in 0..n {
+        positions.push(dvec3(
+            d.range(-1.5, 1.5),
+            d.range(-1.2, 1.2),
+            d.range(0.3, 1.5),
+        ));
+        powers.push(10f64.powf(d.range(-1.0, 1.0)));
+        let spot = (i % 2 == 0).then(|| {
+            let outer = d.range(0.2, 1.2);
+            let tilt = if i % 10 == 0 {
+                d.range(1.2, 1.6)
+            } else {
+                d.range(0.0, 0.8)
+            };
+            let turn = d.range(0.0, std::f64::consts::TAU);
+            Spot {
+                direction: dvec3(
+                    tilt.sin() * turn.cos(),
+                    tilt.sin() * turn.sin(),
+                    -tilt.cos(),
+                ),
+                inner_cone: outer * d.range(0.0, 0.8),
+                outer_cone: outer,
+            }
+        });
+        let range = (i % 3 == 0).then(|| d.range(1.0, 3.0));
+        emission.push(Emission::new(spot, range).expect("valid"));
+    }
+    let mut scene = Scene::from_parts(
+        format!("shaped-{n}"),
+        ReceiverPlane {
+            min: dvec2(-1.0, -0.75),
+            max: dvec2(1.0, 0.75),
+            width: 40,
+            height: 30,
+        },
+        positions,
+        powers,
+    )
+    .expect("valid");
+    scene.emission = Some(emission);
+    scene
+}
+
+/// Largest coordinate `B` of the scene (plane and lights).
+fn largest_coordinate(scene: &Scene) -> f64 {
+    let p = &scene.plane;
+    let mut b = p.min.abs().max_element().max(p.max.abs().max_element());
+    for l in &scene.positions {
+        b = b.max(l.abs().max_element());
+    }
+    b
+}
+
+/// `(|ê|, bound on |Δê|)` of one sample of light `i` with weight `w` at `x` (module docs).
+fn sample_bound(scene: &Scene, i: usize, w: f64, x: glam::DVec2, b: f64) -> (f64, f64) {
+    let light = scene.positions[i];
+    let e = w * light_term(light, scene.emission_of(i), x);
+    let g = geometry_term(light, x);
+    if g == 0.0 {
+        return (0.0, 0.0);
+    }
+    let emission = scene.emission_of(i).expect("shaped");
+    let z = light.z;
+    let mut envelope = 0.0;
+    if let Some(_spot) = emission.spot() {
+        let dt = emission.cone_scale() * (38.0 * b / z + 21.0) * U + 2.0 * U;
+        envelope += 2.0 * dt + dt * dt;
+    }
+    if emission.range().is_some() {
+        envelope += (76.0 * b / z + 34.0) * U;
+    }
+    let bound = e.abs() * (57.0 * b / z + 30.0) * U + w * g * emission.gain() * envelope;
+    (e, bound)
+}
+
+#[test]
+fn power_schemes_with_spots_and_ranges_match_the_cpu_sample_by_sample() {
+    let Some(ctx) = gpu_common::context() else {
+        return;
+    };
+    let scene = shaped_scene(300, 21);
+    let b = largest_coordinate(&scene);
+    let pmf = scene.powers.pmf();
+    let n = scene.light_count() as f64;
+    let total = scene.powers.total();
+    let plane = &scene.plane;
+    for scheme in [Scheme::Uniform, Scheme::Alias] {
+        let seed = 77;
+        let mut gpu = GpuRenderer::new(ctx, &scene, scheme, seed).expect("renderer");
+        assert_eq!(
+            gpu.gpu_bytes_per_light(),
+            48,
+            "24 B of light and table, 24 B of shape"
+        );
+        gpu.accumulate(SPP).expect("accumulate");
+        let image = gpu.readback().expect("readback").image();
+        let mut cpu = CpuRenderer::new(&scene, scheme, seed);
+        cpu.accumulate(SPP);
+        let cpu_image = cpu.accumulator().image();
+        let sampler = Sampler::build(scheme, &scene.powers);
+        let (mut worst, mut lit) = (0.0f64, 0);
+        for py in 0..plane.height {
+            for px in 0..plane.width {
+                let p = py * plane.width + px;
+                let x = pixel_center(plane, px, py);
+                let (mut sum, mut bound) = (0.0, 0.0);
+                for k in 0..u64::from(SPP) {
+                    let mut rng = Rng::new(seed, (k << 32) | u64::from(p));
+                    let i = sampler.pick_light(&mut rng) as usize;
+                    let w = if scheme == Scheme::Uniform {
+                        n * pmf[i]
+                    } else {
+                        1.0
+                    };
+                    let (e, db) = sample_bound(&scene, i, w, x, b);
+                    sum += e;
+                    bound += db;
+                }
+                bound += f64::from(SPP - 1) * U * sum;
+                let (c, g) = (cpu_image[p as usize], image[p as usize]);
+                // The test's own sum is the CPU renderer's (same contract, f64).
+                assert!((total * sum / f64::from(SPP) - c).abs() <= 1e-12 * c.max(1e-300));
+                let allowed = total * bound / f64::from(SPP);
+                assert!(
+                    (g - c).abs() <= allowed,
+                    "{scheme}: pixel {p}: GPU {g:e} vs CPU {c:e}, bound {allowed:e}"
+                );
+                if c > 0.0 {
+                    lit += 1;
+                    worst = worst.max((g - c).abs() / c);
+                }
+            }
+        }
+        assert!(lit > 600, "{scheme}: the scene lights most pixels ({lit})");
+        eprintln!("{scheme}: worst relative difference {worst:.2e} over {lit} lit pixels");
+    }
+}
+
+#[test]
+fn the_exact_spatial_pick_with_spots_matches_the_cpu_per_pixel() {
+    let Some(ctx) = gpu_common::context() else {
+        return;
+    };
+    let scene = shaped_scene(12, 5);
+    let b = largest_coordinate(&scene);
+    let pmf = scene.powers.pmf();
+    let total = scene.powers.total();
+    let mut gpu = GpuRenderer::new(ctx, &scene, Scheme::Spatial, 3).expect("renderer");
+    gpu.accumulate(SPP).expect("accumulate");
+    let image = gpu.readback().expect("readback").image();
+    let plane = &scene.plane;
+    for py in 0..plane.height {
+        for px in 0..plane.width {
+            let p = (py * plane.width + px) as usize;
+            let x = pixel_center(plane, px, py);
+            // Every sample estimates S = Σ_j p_j·G_j·S_j: the bound is the sum of the lights'.
+            let (mut s, mut bound) = (0.0, 0.0);
+            for (j, &pj) in pmf.iter().enumerate() {
+                let (e, db) = sample_bound(&scene, j, pj, x, b);
+                s += e;
+                bound += db;
+            }
+            // The exact pick's sum of ≤ 16 terms and the running sum over 16 samples.
+            let allowed = total * (bound + (16.0 + f64::from(SPP)) * U * s);
+            let (g, c) = (image[p], total * s);
+            assert!(
+                (g - c).abs() <= allowed,
+                "pixel {p}: GPU {g:e} vs exact {c:e} (bound {allowed:e})"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_light_tree_over_spots_and_ranges_is_unbiased_on_the_gpu() {
+    let Some(ctx) = gpu_common::context() else {
+        return;
+    };
+    let scene = shaped_scene(2000, 8);
+    let reference = Reference::compute(&scene);
+    let exact_mean: f64 = reference.values().iter().sum::<f64>() / reference.values().len() as f64;
+    for device in ["cpu", "gpu"] {
+        let acc = if device == "gpu" {
+            let mut gpu = GpuRenderer::new(ctx, &scene, Scheme::Spatial, 9).expect("renderer");
+            gpu.accumulate(64).expect("accumulate");
+            gpu.readback().expect("readback")
+        } else {
+            let mut cpu = CpuRenderer::new(&scene, Scheme::Spatial, 9);
+            cpu.accumulate(64);
+            cpu.accumulator().clone()
+        };
+        let pixels = acc.sum.len() as f64;
+        let image = acc.image();
+        let mean = image.iter().sum::<f64>() / pixels;
+        // Pixels are independent estimates: the mean's variance is Σ Var_p / spp / P².
+        let var: f64 = (0..acc.sum.len())
+            .map(|p| acc.variance_per_sample(p))
+            .sum::<f64>()
+            / 64.0
+            / (pixels * pixels);
+        let z = (mean - exact_mean) / var.sqrt();
+        eprintln!("{device}: mean {mean:.6e}, exact {exact_mean:.6e}, z = {z:.2}");
+        assert!(
+            z.abs() < 5.0,
+            "{device}: mean {mean} vs exact {exact_mean} (z = {z})"
+        );
+    }
+}
+
+#[test]
+fn point_scenes_keep_24_bytes_per_light() {
+    let Some(ctx) = gpu_common::context() else {
+        return;
+    };
+    let mut scene = shaped_scene(50, 3);
+    scene.emission = None;
+    let r = GpuRenderer::new(ctx, &scene, Scheme::Alias, 1).expect("renderer");
+    assert_eq!(r.gpu_bytes_per_light(), 24);
+    let _ = (DVec3::ZERO, LightPowers::new(vec![1.0]));
+}

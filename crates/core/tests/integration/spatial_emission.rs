@@ -1,0 +1,280 @@
+//! Every scheme over spots and ranges: the light tree's pdf (Σ = 1, positive exactly where a
+//! light contributes), its picks (χ²), unbiased estimates for every scheme, lane bounds that
+//! never cull a lane that lights the point, and point scenes left exactly as they were.
+
+use glam::{DVec2, dvec2, dvec3};
+use lightpick_core::render::{CpuRenderer, Reference};
+use lightpick_core::scene::{Emission, ReceiverPlane, Scene, Spot};
+use lightpick_core::spatial::{Child, LightTree, SpatialSampler, TREE_WIDTH};
+use lightpick_core::{Rng, Sampler, Scheme};
+
+use crate::gpu_common::SplitMix;
+
+/// `n` lights over `[-2, 2]²` at heights 0.2–1.5: 60 % spots (cones 0.1–1.3 rad, most aimed
+/// down, every 8th grazing or upwards), every third with a range of 0.5–3, every 9th at
+/// power 0.
+fn shaped(n: usize, seed: u64) -> Scene {
+    shaped_with(n, seed, 3, 3)
+}
+
+/// [`shaped`] with `spots` of every 5 lights spots and every `range_every`-th light
+/// ranged (1: all).
+fn shaped_with(n: usize, seed: u64, spots: usize, range_every: usize) -> Scene {
+    let mut d = SplitMix(seed);
+    let mut positions = Vec::new();
+    let mut powers = Vec::new();
+    let mut emission = Vec::new();
+    for i in 0..n {
+        positions.push(dvec3(
+            d.range(-2.0, 2.0),
+            d.range(-2.0, 2.0),
+            d.range(0.2, 1.5),
+        ));
+        powers.push(if i % 9 == 8 {
+            0.0
+        } else {
+            10f64.powf(d.range(-2.0, 2.0))
+        });
+        let spot = (i % 5 < spots).then(|| {
+            let outer = d.range(0.1, 1.3);
+            let tilt = if i % 8 == 0 {
+                d.range(1.0, 2.8)
+            } else {
+                d.range(0.0, 0.9)
+            };
+            let turn = d.range(0.0, std::f64::consts::TAU);
+            Spot {
+                direction: dvec3(
+                    tilt.sin() * turn.cos(),
+                    tilt.sin() * turn.sin(),
+                    -tilt.cos(),
+                ),
+                inner_cone: outer * d.range(0.0, 0.9),
+                outer_cone: outer,
+            }
+        });
+        let range = (i % range_every == range_every / 2).then(|| d.range(0.5, 3.0));
+        emission.push(Emission::new(spot, range).expect("valid"));
+    }
+    powers[0] = 1.0;
+    let mut scene = Scene::from_parts(
+        "shaped",
+        ReceiverPlane {
+            min: dvec2(-2.0, -2.0),
+            max: dvec2(2.0, 2.0),
+            width: 24,
+            height: 24,
+        },
+        positions,
+        powers,
+    )
+    .expect("valid");
+    scene.emission = Some(emission);
+    scene
+}
+
+const POINTS: [DVec2; 5] = [
+    dvec2(0.0, 0.0),
+    dvec2(1.7, -1.6),
+    dvec2(-0.37, 1.21),
+    dvec2(3.0, 2.5),
+    dvec2(0.5, 0.45),
+];
+
+fn tree(scene: &Scene) -> LightTree {
+    LightTree::build_with_emission(&scene.positions, &scene.powers, scene.emission.as_deref())
+}
+
+/// `Σ_i P(i | x) ≤ 1`: with spots a descent may end in a leaf cluster none of whose lights
+/// lights `x` (then `ê = 0`, no bias: those lights contribute nothing), so the pdf over the
+/// lights sums to 1 less that leaf's probability; without such leaves it is 1.
+#[test]
+fn the_pdf_sums_to_one_and_is_positive_exactly_where_a_light_contributes() {
+    for (n, seed) in [(40, 1), (400, 2)] {
+        let scene = shaped(n, seed);
+        let tree = tree(&scene);
+        let pmf = scene.powers.pmf();
+        let depth = f64::from(tree.depth());
+        for x in POINTS {
+            let pdfs = tree.pdfs(x);
+            let total: f64 = pdfs.iter().sum();
+            assert!(
+                total <= 1.0 + 16.0 * depth * f64::EPSILON,
+                "Σ pdf = {total}"
+            );
+            assert!(
+                total > 0.5,
+                "most of the descents reach a lit light: Σ pdf = {total}"
+            );
+            for i in 0..n {
+                let c = pmf[i] * scene.light_term(i, x);
+                assert_eq!(pdfs[i], tree.pdf(x, i));
+                assert_eq!(
+                    pdfs[i] > 0.0,
+                    c > 0.0,
+                    "light {i} at {x}: c {c}, pdf {}",
+                    pdfs[i]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn picks_follow_their_pdf() {
+    let scene = shaped(60, 3);
+    let sampler = SpatialSampler::for_scene(&scene);
+    let x = dvec2(0.3, -0.4);
+    let pdfs = sampler.pdfs(x);
+    let draws = 200_000u64;
+    let mut counts = vec![0u64; scene.light_count()];
+    for s in 0..draws {
+        let pick = sampler
+            .sample(x, &mut Rng::new(5, s))
+            .expect("lights contribute");
+        assert!((pick.pdf - pdfs[pick.light as usize]).abs() <= 1e-12 * pick.pdf);
+        counts[pick.light as usize] += 1;
+    }
+    let (mut chi2, mut dof) = (0.0f64, -1.0f64);
+    for (i, &c) in counts.iter().enumerate() {
+        let e = pdfs[i] * draws as f64;
+        if e > 0.0 {
+            chi2 += (c as f64 - e).powi(2) / e;
+            dof += 1.0;
+        } else {
+            assert_eq!(c, 0, "light {i} has pdf 0 but was picked");
+        }
+    }
+    // A χ² beyond dof + 5·√(2·dof) is a > 5σ event.
+    assert!(
+        chi2 < dof + 5.0 * (2.0 * dof).sqrt(),
+        "χ² = {chi2}, dof = {dof}"
+    );
+}
+
+/// Every scheme's mean of 60 000 estimates at each point is within 5 standard errors of
+/// the exact `Σ p_i·G_i·S_i`.
+#[test]
+fn every_scheme_is_unbiased_with_spots_and_ranges() {
+    let scene = shaped(300, 4);
+    let pmf = scene.powers.pmf();
+    let n = scene.light_count() as f64;
+    let spatial = SpatialSampler::for_scene(&scene);
+    for (k, x) in POINTS.iter().enumerate() {
+        let exact: f64 = (0..scene.light_count())
+            .map(|i| pmf[i] * scene.light_term(i, *x))
+            .sum();
+        for scheme in [Scheme::Uniform, Scheme::Alias, Scheme::Cdf, Scheme::Spatial] {
+            let sampler =
+                (scheme != Scheme::Spatial).then(|| Sampler::build(scheme, &scene.powers));
+            let m = 60_000u64;
+            let (mut s, mut q) = (0.0, 0.0);
+            for j in 0..m {
+                let mut rng = Rng::new(k as u64 + 100, j);
+                let e = match &sampler {
+                    Some(sampler) => {
+                        let i = sampler.pick_light(&mut rng) as usize;
+                        let w = if scheme == Scheme::Uniform {
+                            n * pmf[i]
+                        } else {
+                            1.0
+                        };
+                        w * scene.light_term(i, *x)
+                    }
+                    None => spatial.estimate(*x, &mut rng),
+                };
+                s += e;
+                q += e * e;
+            }
+            let mean = s / m as f64;
+            let se = ((q / m as f64 - mean * mean).max(0.0) / m as f64).sqrt();
+            assert!(
+                (mean - exact).abs() <= 5.0 * se + 1e-12 * exact,
+                "{scheme} at {x}: mean {mean} vs exact {exact} (se {se})"
+            );
+        }
+    }
+}
+
+/// A lane whose bounds say it cannot reach `x` holds no light that lights `x`.
+#[test]
+fn lane_bounds_never_cull_a_lane_that_lights_the_point() {
+    // All spots, all ranged: every lane can be culled by cone or by range.
+    let scene = shaped_with(2000, 5, 5, 1);
+    let tree = tree(&scene);
+    let pmf = scene.powers.pmf();
+    let order = tree.order();
+    // The leaf-order range of each child, from the node's first light.
+    let mut culled = 0usize;
+    let mut stack = vec![(0usize, 0usize)];
+    let grid: Vec<DVec2> = (0..9)
+        .flat_map(|a| {
+            (0..9).map(move |b| dvec2(-2.2 + 0.55 * f64::from(a), -2.2 + 0.55 * f64::from(b)))
+        })
+        .collect();
+    while let Some((k, first)) = stack.pop() {
+        let node = &tree.nodes()[k];
+        let bounds = tree.bounds(k).expect("shaped tree keeps bounds");
+        let mut start = first;
+        for lane in 0..TREE_WIDTH {
+            let count = match node.child(lane).get() {
+                Child::Node(j) => {
+                    stack.push((j, start));
+                    count_below(&tree, j)
+                }
+                Child::Leaf { count, .. } => count,
+                Child::Empty => 0,
+            };
+            for &x in &grid {
+                if bounds[lane].reach(x) == 0.0 {
+                    culled += 1;
+                    for &i in &order[start..start + count] {
+                        let c = pmf[i as usize] * scene.light_term(i as usize, x);
+                        assert_eq!(
+                            c, 0.0,
+                            "node {k} lane {lane} culled at {x} but light {i} gives {c}"
+                        );
+                    }
+                }
+            }
+            start += count;
+        }
+    }
+    assert!(
+        culled > 100,
+        "the bounds cull something ({culled} lane-points)"
+    );
+}
+
+fn count_below(tree: &LightTree, k: usize) -> usize {
+    (0..TREE_WIDTH)
+        .map(|lane| match tree.nodes()[k].child(lane).get() {
+            Child::Node(j) => count_below(tree, j),
+            Child::Leaf { count, .. } => count,
+            Child::Empty => 0,
+        })
+        .sum()
+}
+
+/// The CPU spatial render of a shaped scene converges to the reference: image mean within
+/// 5 standard errors.
+#[test]
+fn spatial_renders_of_shaped_scenes_match_the_reference() {
+    let scene = shaped(500, 6);
+    let reference = Reference::compute(&scene);
+    let mut r = CpuRenderer::new(&scene, Scheme::Spatial, 2);
+    r.accumulate(32);
+    let acc = r.accumulator();
+    let p = acc.sum.len() as f64;
+    let mean = acc.image().iter().sum::<f64>() / p;
+    let exact = reference.values().iter().sum::<f64>() / p;
+    let var: f64 = (0..acc.sum.len())
+        .map(|q| acc.variance_per_sample(q))
+        .sum::<f64>()
+        / 32.0
+        / (p * p);
+    assert!(
+        (mean - exact).abs() <= 5.0 * var.sqrt(),
+        "{mean} vs {exact}"
+    );
+}
