@@ -107,7 +107,7 @@ pub use alias::{AliasTable, Construction, PackedAliasEntry};
 pub use cdf::CdfTable;
 pub use chi_square::{ChiSquare, chi_square};
 pub use moments::{EstimatorMoments, analytic_moments};
-pub use powers::{LightPowers, PowersError};
+pub use powers::{LightPowers, PmfScale, PowersError};
 pub use rng::{Rng, pcg_hash, unit_f64};
 pub use sampler::{LightSampler, NeedsShadingPoint, Pick, Sampler, Scheme, UnknownScheme};
 pub use scene_samplers::SceneSamplers;

@@ -103,6 +103,14 @@ impl LightPowers {
         (scaled, sum)
     }
 
+    /// What [`LightPowers::pmf`] divides by, without allocating: `p_i =`
+    /// [`PmfScale::of`]`(Φ_i)`, bit for bit the entries of `pmf()`.
+    pub fn pmf_scale(&self) -> PmfScale {
+        let scale = pow2_scale_to_unit(self.max());
+        let sum = chunked_sum_by(&self.powers, |p| scale.apply(p));
+        PmfScale { scale, sum }
+    }
+
     /// The total power without overflow, as `(S, e)` with `Σ Φ_i = S · 2^e` up to the
     /// rounding of one sum: `S = Σ w_i` is the sum of [`LightPowers::normalized`]
     /// (`1 ≤ S ≤ 2N`) and `2^-e` the exact scale that maps the largest power into `[1, 2)`
@@ -198,19 +206,41 @@ fn pow2(k: i32) -> f64 {
 /// Sum with eight independent accumulators: vectorizes, and its rounding error grows like
 /// `N/8` ulps in the worst case instead of `N`.
 pub(crate) fn chunked_sum(values: &[f64]) -> f64 {
+    chunked_sum_by(values, |v| v)
+}
+
+/// [`chunked_sum`] of `f(v)` over `values`, in the same order (the same bits as summing a
+/// mapped copy).
+fn chunked_sum_by(values: &[f64], f: impl Fn(f64) -> f64) -> f64 {
     let mut lanes = [0.0f64; 8];
     let chunks = values.chunks_exact(8);
     let rest = chunks.remainder();
     for chunk in chunks {
         for (lane, &v) in lanes.iter_mut().zip(chunk) {
-            *lane += v;
+            *lane += f(v);
         }
     }
     let mut total = lanes.iter().sum::<f64>();
     for &v in rest {
-        total += v;
+        total += f(v);
     }
     total
+}
+
+/// The exact power-of-two scale and the scaled sum `S` of a [`LightPowers`]: the normalized
+/// power of a light is `Φ·2^-e / S` ([`LightPowers::pmf_scale`]).
+#[derive(Clone, Copy, Debug)]
+pub struct PmfScale {
+    scale: Pow2Scale,
+    sum: f64,
+}
+
+impl PmfScale {
+    /// `p = Φ·2^-e / S` of a light of power `power`.
+    #[inline]
+    pub fn of(&self, power: f64) -> f64 {
+        self.scale.apply(power) / self.sum
+    }
 }
 
 #[cfg(test)]

@@ -810,7 +810,7 @@ impl GpuRenderer {
     /// and for a scene with spots or ranges 24 for each light's emission profile (48 in
     /// all); with the spatial light tree uploaded, its lights in leaf order (16 bytes each,
     /// plus their profiles) and its 80-byte nodes (one per ~22 lights; with spots or
-    /// ranges 256 more bytes of lane bounds each), rounded up.
+    /// ranges 320 more bytes of lane bounds each), rounded up.
     pub fn gpu_bytes_per_light(&self) -> u64 {
         let n = self.samplers.scene().light_count() as u64;
         self.light_bytes().div_ceil(n.max(1))

@@ -11,27 +11,42 @@ use crate::spatial::{LaneBounds, SpatialLight, SpatialSampler, TREE_WIDTH};
 pub(crate) const SPATIAL_WGSL: &str = include_str!("spatial.wgsl");
 pub(crate) const SPATIAL_BOUNDS_WGSL: &str = include_str!("spatial_bounds.wgsl");
 
-/// GPU bytes per node's lane bounds (spots and ranges): 16 `vec4<f32>`.
-pub(crate) const BYTES_PER_NODE_BOUNDS: u64 = 256;
+/// GPU bytes per node's lane bounds (spots and ranges): 20 `vec4<f32>`.
+pub(crate) const BYTES_PER_NODE_BOUNDS: u64 = 320;
 
 /// One node's lane bounds as `spatial_bounds.wgsl` reads them (`NodeBounds`).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct GpuNodeBounds {
-    v: [Vec4; 16],
+    v: [Vec4; 20],
 }
 
 impl GpuNodeBounds {
     fn of(bounds: &[LaneBounds; TREE_WIDTH]) -> Self {
-        let mut v = [Vec4::ZERO; 16];
+        let mut v = [Vec4::ZERO; 20];
         for (k, b) in bounds.iter().enumerate() {
-            v[4 * k] = b.min.as_vec3().extend(b.intensity as f32);
-            v[4 * k + 1] = b.max.as_vec3().extend(b.range as f32);
-            v[4 * k + 2] = b.axis.as_vec3().extend(b.cos_spread as f32);
-            v[4 * k + 3] = Vec4::new(b.cos_emission as f32, 0.0, 0.0, 0.0);
+            let [lo, hi] = b.footprint;
+            v[5 * k] = b.min.as_vec3().extend(b.intensity as f32);
+            v[5 * k + 1] = b.max.as_vec3().extend(b.range as f32);
+            v[5 * k + 2] = b.axis.as_vec3().extend(b.cos_spread as f32);
+            v[5 * k + 3] = Vec4::new(b.cos_emission as f32, 0.0, 0.0, 0.0);
+            // Rounded outwards, so the f32 box still holds every lit point.
+            v[5 * k + 4] = Vec4::new(down(lo.x), down(lo.y), up(hi.x), up(hi.y));
         }
         GpuNodeBounds { v }
     }
+}
+
+/// The largest `f32` at or below `x` (`−∞` stays).
+fn down(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) > x { f.next_down() } else { f }
+}
+
+/// The smallest `f32` at or above `x` (`+∞` stays).
+fn up(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) < x { f.next_up() } else { f }
 }
 
 /// The split-array layout of the node bounds.

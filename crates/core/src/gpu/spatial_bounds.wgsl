@@ -1,18 +1,23 @@
 // spatial_bounds.wgsl: the twin of spatial::LaneBounds for a light tree over spots or
-// ranges. A node's bounds are 16 vec4 (256 bytes), four per lane k: (min.xyz, intensity),
-// (max.xyz, range), (axis.xyz, cos θo of the axes' cone), (cos θe, 0, 0, 0). Needs the
-// split array `spatial_bounds` (fn spatial_bounds_at(i: u32) -> NodeBounds).
+// ranges. A node's bounds are 20 vec4 (320 bytes), five per lane k: (min.xyz, intensity),
+// (max.xyz, range), (axis.xyz, cos θo of the axes' cone), (cos θe, 0, 0, 0) and the
+// footprint on the plane (min.xy, max.xy). Needs the split array `spatial_bounds`
+// (fn spatial_bounds_at(i: u32) -> NodeBounds).
 struct NodeBounds {
-    v: array<vec4<f32>, 16>,
+    v: array<vec4<f32>, 20>,
 }
 
-// LaneBounds::reach: 0 when no light of lane k can light x (beyond every range, or outside
-// every cone), else 1.
+// LaneBounds::reach: 0 when no light of lane k can light x (outside the footprint, beyond
+// every range, or outside every cone), else 1.
 fn lane_reach(b: ptr<function, NodeBounds>, k: u32, x: vec2<f32>) -> f32 {
-    let v0 = (*b).v[4u * k];
-    let v1 = (*b).v[4u * k + 1u];
-    let v2 = (*b).v[4u * k + 2u];
-    let v3 = (*b).v[4u * k + 3u];
+    let v0 = (*b).v[5u * k];
+    let v1 = (*b).v[5u * k + 1u];
+    let v2 = (*b).v[5u * k + 2u];
+    let v3 = (*b).v[5u * k + 3u];
+    let v4 = (*b).v[5u * k + 4u];
+    if !(x.x >= v4.x && x.y >= v4.y && x.x <= v4.z && x.y <= v4.w) {
+        return 0.0;
+    }
     let p = vec3<f32>(x, 0.0);
     let outside = max(max(v0.xyz - p, p - v1.xyz), vec3<f32>(0.0));
     if dot(outside, outside) >= v1.w * v1.w {
@@ -57,7 +62,7 @@ fn bounded_importances(node: ptr<function, SpatialNode>, at: u32, x: vec2<f32>,
     var out = vec4<f32>(0.0);
     for (var k = 0u; k < 4u; k++) {
         let lane = (*node).lane[k];
-        let intensity = b.v[4u * k].w;
+        let intensity = b.v[5u * k].w;
         out[k] = representative_importance(vec4<f32>(lane.xyz, intensity), x) * lane_reach(&b, k, x);
     }
     return out;

@@ -227,6 +227,53 @@ impl Emission {
     }
 }
 
+impl Emission {
+    /// The box on the plane `z = 0` outside which the light at `light_in_world` gives
+    /// nothing, `[min, max]`, or `None` when its light reaches arbitrarily far (a point light
+    /// without a range, a spot whose cone reaches the horizon).
+    ///
+    /// A spot's lit region is the conic `(d·a)² ≥ cos²θo·|d|²` of the offsets
+    /// `d = (u, v, −h)` from the light (height `h`) to the plane; when the cone lies below
+    /// the horizon (`−a_z > sin θo`) it is an ellipse `wᵀ(−M)w ≤ Q₀` about its centre, whose
+    /// box has the half-extents `√(Q₀·(−C)/det)` and `√(Q₀·(−A)/det)` (`M = [[A, B], [B, C]]`
+    /// the quadratic part); a range `r` bounds the region by the disc of radius `√(r² − h²)`.
+    /// The box is widened by `10^-9` of its size against rounding.
+    pub fn footprint(&self, light_in_world: DVec3) -> Option<[DVec2; 2]> {
+        let h = light_in_world.z;
+        let at = light_in_world.truncate();
+        let mut bounds: Option<[DVec2; 2]> = None;
+        if let Some(r) = self.range {
+            let reach = (r * r - h * h).max(0.0).sqrt();
+            bounds = Some([at - reach, at + reach]);
+        }
+        if self.spot.is_some() && -self.axis.z > (1.0 - self.cos_outer * self.cos_outer).sqrt() {
+            let (ax, ay, az) = (self.axis.x, self.axis.y, self.axis.z);
+            let c2 = self.cos_outer * self.cos_outer;
+            let a = ax * ax - c2;
+            let b = ax * ay;
+            let c = ay * ay - c2;
+            let d = -ax * az * h;
+            let e = -ay * az * h;
+            let f = (az * az - c2) * h * h;
+            let det = a * c - b * b;
+            if det > 0.0 && a < 0.0 && c < 0.0 {
+                let u0 = (-d * c + e * b) / det;
+                let v0 = (-e * a + d * b) / det;
+                let q0 = (f + d * u0 + e * v0).max(0.0);
+                let half = DVec2::new((q0 * -c / det).sqrt(), (q0 * -a / det).sqrt());
+                let centre = at + DVec2::new(u0, v0);
+                let slack = 1e-9 * (centre.abs() + half) + DVec2::splat(f64::MIN_POSITIVE);
+                let ellipse = [centre - half - slack, centre + half + slack];
+                bounds = Some(match bounds {
+                    Some([lo, hi]) => [lo.max(ellipse[0]), hi.min(ellipse[1])],
+                    None => ellipse,
+                });
+            }
+        }
+        bounds
+    }
+}
+
 impl Default for Emission {
     fn default() -> Self {
         Emission::POINT
@@ -328,6 +375,53 @@ mod tests {
         assert!(slightly_up.reaches_plane(DVec3::Z));
         let above = spot(DVec3::new(0.5f64.cos(), 0.0, 0.5f64.sin() + 1e-9), 0.0, 0.5);
         assert!(!above.reaches_plane(DVec3::Z));
+    }
+
+    #[test]
+    fn every_lit_point_lies_in_the_footprint() {
+        let cases = [
+            (DVec3::new(0.3, -0.2, -1.0), 0.2, 0.5, None),
+            (DVec3::new(1.0, 0.4, -0.8), 0.1, 0.3, Some(6.0)),
+            (DVec3::new(0.0, 0.0, -1.0), 0.0, 0.05, None),
+            (DVec3::new(-0.5, 0.7, -2.0), 0.6, 0.9, None),
+        ];
+        let light = DVec3::new(0.5, -1.0, 2.0);
+        for (direction, inner, outer, range) in cases {
+            let e = Emission::new(
+                Some(Spot {
+                    direction,
+                    inner_cone: inner,
+                    outer_cone: outer,
+                }),
+                range,
+            )
+            .expect("valid");
+            let [lo, hi] = e.footprint(light).expect("a bounded footprint");
+            let (mut lit, mut tight) = (0, DVec2::splat(f64::INFINITY));
+            for i in 0..400 {
+                for j in 0..400 {
+                    let x = DVec2::new(-20.0 + 0.1 * f64::from(i), -20.0 + 0.1 * f64::from(j));
+                    if e.factor(light, x) > 0.0 {
+                        lit += 1;
+                        assert!(
+                            x.cmpge(lo).all() && x.cmple(hi).all(),
+                            "{x} outside {lo}..{hi}"
+                        );
+                        tight = tight.min((x - lo).min(hi - x));
+                    }
+                }
+            }
+            assert!(lit > 0);
+            // The box is tight: lit points come within two grid steps of every side.
+            assert!(tight.max_element() < 0.2, "{direction}: slack {tight}");
+        }
+        // Reaching the horizon: unbounded; a point light with a range: its disc's box.
+        let wide = spot(DVec3::new(1.0, 0.0, -0.5), 0.0, 1.2);
+        assert!(wide.footprint(light).is_none());
+        let ranged = Emission::new(None, Some(2.5)).expect("valid");
+        let [lo, hi] = ranged.footprint(light).expect("bounded by the range");
+        assert!((hi.x - lo.x - 3.0).abs() < 1e-12);
+        assert!(Emission::POINT.footprint(light).is_none());
     }
 
     #[test]

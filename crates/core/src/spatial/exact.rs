@@ -42,7 +42,7 @@ impl ExactSampler {
     ) -> Self {
         let mut lights = Vec::new();
         let mut profiles = Vec::new();
-        for (i, l, e) in contributing(positions, powers, emission) {
+        for (i, l, e) in contributing(positions, powers, emission, false) {
             lights.push((i, l));
             profiles.extend(e);
         }

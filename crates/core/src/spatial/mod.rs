@@ -37,12 +37,14 @@
 //! `LightBounds`, see [`tree`]'s docs) so that a child no light of which can reach `x` gets
 //! no importance (it keeps its power share: the pick stays unbiased).
 
+mod bounds;
 mod exact;
 pub mod importance;
 mod tree;
 
+pub use bounds::LaneBounds;
 pub use exact::ExactSampler;
-pub use tree::{Child, ChildRef, LEAF_SIZE, LaneBounds, LightTree, TREE_WIDTH, TreeNode};
+pub use tree::{Child, ChildRef, LEAF_SIZE, LightTree, TREE_WIDTH, TreeNode};
 
 use glam::{DVec2, DVec3};
 
@@ -205,9 +207,9 @@ impl SpatialSampler {
     }
 }
 
-/// The lights that can contribute somewhere on the plane (`p_i > 0`, `z_i > 0` and an
-/// emission that reaches the plane), with their scene index and emission profile (all
-/// `None` without profiles).
+/// The lights that can contribute somewhere on the plane (`z_i > 0`, an emission that
+/// reaches the plane and, unless `keep_zero_power`, `p_i > 0`), with their scene index and
+/// emission profile (all `None` without profiles).
 ///
 /// # Panics
 /// If the lengths differ.
@@ -215,6 +217,7 @@ fn contributing(
     positions: &[DVec3],
     powers: &LightPowers,
     emission: Option<&[Emission]>,
+    keep_zero_power: bool,
 ) -> Vec<(u32, SpatialLight, Option<Emission>)> {
     assert_eq!(positions.len(), powers.len(), "one position per power");
     if let Some(e) = emission {
@@ -236,7 +239,7 @@ fn contributing(
             )
         })
         .filter(|(_, l, e)| {
-            l.power > 0.0
+            (keep_zero_power || l.power > 0.0)
                 && l.position_in_world.z > 0.0
                 && e.is_none_or(|e| e.reaches_plane(l.position_in_world))
         })

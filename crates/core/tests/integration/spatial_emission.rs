@@ -102,9 +102,21 @@ fn the_pdf_sums_to_one_and_is_positive_exactly_where_a_light_contributes() {
                 total <= 1.0 + 16.0 * depth * f64::EPSILON,
                 "Σ pdf = {total}"
             );
+            // The rest is the probability of a descent that picks nothing: measured, it is
+            // within 5 binomial standard deviations of 1 − Σ pdf.
+            let draws = 20_000u64;
+            let none = (0..draws)
+                .filter(|&s| {
+                    tree.sample(x, &mut lightpick_core::Rng::new(77, s))
+                        .is_none()
+                })
+                .count() as f64;
+            let q = (1.0 - total).max(0.0);
+            let sd = (draws as f64 * q * (1.0 - q)).sqrt();
             assert!(
-                total > 0.5,
-                "most of the descents reach a lit light: Σ pdf = {total}"
+                (none - q * draws as f64).abs() <= 5.0 * sd + 1.0,
+                "{none} empty picks of {draws}, expected {}",
+                q * draws as f64
             );
             for i in 0..n {
                 let c = pmf[i] * scene.light_term(i, x);
@@ -277,4 +289,33 @@ fn spatial_renders_of_shaped_scenes_match_the_reference() {
         (mean - exact).abs() <= 5.0 * var.sqrt(),
         "{mean} vs {exact}"
     );
+}
+
+/// New powers on the same lights: the refitted tree equals a fresh build over them bit for
+/// bit, for point lights and for spots and ranges, lights going to and from power 0
+/// included.
+#[test]
+fn a_refit_equals_a_fresh_build() {
+    for scene in [shaped(700, 9), {
+        let mut s = shaped(700, 10);
+        s.emission = None;
+        s
+    }] {
+        let mut tree = tree(&scene);
+        let mut d = SplitMix(3);
+        let new: Vec<f64> = (0..scene.light_count())
+            .map(|i| {
+                if i % 7 == 0 {
+                    0.0
+                } else {
+                    10f64.powf(d.range(-3.0, 3.0))
+                }
+            })
+            .collect();
+        let powers = lightpick_core::LightPowers::new(new).expect("valid");
+        tree.refit(&powers);
+        let fresh =
+            LightTree::build_with_emission(&scene.positions, &powers, scene.emission.as_deref());
+        assert!(tree == fresh, "refit differs from a fresh build");
+    }
 }

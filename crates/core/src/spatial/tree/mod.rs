@@ -44,11 +44,15 @@
 //! costs variance, never bias. A scene of point lights keeps no bounds and evaluates the
 //! importance as before, bit for bit.
 
-use glam::{DQuat, DVec2, DVec3};
+use glam::{DVec2, DVec3};
 
 use super::importance::{
     GRID_CELL, branch_probabilities, grid_masses, lane_importances, pick_on_grid,
 };
+mod fill;
+mod layout;
+
+use super::bounds::LaneBounds;
 use super::{SpatialLight, SpatialPick, contributing};
 use crate::powers::LightPowers;
 use crate::rng::Rng;
@@ -59,9 +63,6 @@ pub const TREE_WIDTH: usize = 4;
 
 /// The most lights in a leaf cluster, picked by their exact contributions.
 pub const LEAF_SIZE: usize = 8;
-
-/// Ranges of more lights than this build their subtrees in parallel.
-const PARALLEL_BUILD: usize = 1 << 13;
 
 /// What a child lane of a node holds, in one `u32` (the word the GPU reads too): an internal
 /// node's index (bit 31 clear), or a leaf cluster `1 << 31 | count << 27 | first` (its
@@ -194,159 +195,6 @@ impl TreeNode {
     }
 }
 
-/// What the lights of a tree lane can do at most, for lights with emission profiles
-/// (pbrt-v4's `LightBounds`; the module docs).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LaneBounds {
-    /// The box of the lane's light positions, in the world.
-    pub min: DVec3,
-    /// See [`LaneBounds::min`].
-    pub max: DVec3,
-    /// `Σ p_i·g_i`: the lane's normalized power weighted by each light's on-axis gain
-    /// ([`Emission::gain`]; 1 for a light without a spot).
-    pub intensity: f64,
-    /// The axis of the cone that holds every light's spot axis.
-    pub axis: DVec3,
-    /// `cos θo` of that cone's half-angle; −1 (any direction) when some light is not a spot.
-    pub cos_spread: f64,
-    /// `cos θe` of the widest outer cone; −1 when some light is not a spot.
-    pub cos_emission: f64,
-    /// The longest range; `∞` when some light has none.
-    pub range: f64,
-}
-
-impl LaneBounds {
-    /// An empty lane's bounds (no light: no intensity, reaches nothing).
-    pub const EMPTY: LaneBounds = LaneBounds {
-        min: DVec3::INFINITY,
-        max: DVec3::NEG_INFINITY,
-        intensity: 0.0,
-        axis: DVec3::Z,
-        cos_spread: 1.0,
-        cos_emission: 1.0,
-        range: 0.0,
-    };
-
-    /// The bounds of one light.
-    pub fn of_light(light: &SpatialLight, emission: &Emission) -> Self {
-        let (axis, cos_spread, cos_emission) = match emission.spot() {
-            Some(_) => (emission.axis(), 1.0, emission.cos_outer()),
-            None => (DVec3::Z, -1.0, -1.0),
-        };
-        LaneBounds {
-            min: light.position_in_world,
-            max: light.position_in_world,
-            intensity: light.power * emission.gain(),
-            axis,
-            cos_spread,
-            cos_emission,
-            range: emission.range().unwrap_or(f64::INFINITY),
-        }
-    }
-
-    /// The bounds of the lights of `a` and of `b` together.
-    pub fn union(a: &LaneBounds, b: &LaneBounds) -> Self {
-        if a.intensity == 0.0 && a.min.x > a.max.x {
-            return *b;
-        }
-        if b.intensity == 0.0 && b.min.x > b.max.x {
-            return *a;
-        }
-        let (axis, cos_spread) = cone_union((a.axis, a.cos_spread), (b.axis, b.cos_spread));
-        LaneBounds {
-            min: a.min.min(b.min),
-            max: a.max.max(b.max),
-            intensity: a.intensity + b.intensity,
-            axis,
-            cos_spread,
-            cos_emission: a.cos_emission.min(b.cos_emission),
-            range: a.range.max(b.range),
-        }
-    }
-
-    /// 0 when no light of the lane can light `point_on_plane`, else 1: beyond the longest
-    /// range from the box, or outside every cone: with `θw` the angle between the cone's
-    /// axis and the direction from the box's centre to the point, `θb` the half-angle the
-    /// box's bounding sphere subtends there (π inside it), no light direction within `θo` of
-    /// the axis comes within `θe` of the point's direction when `max(0, θw − θo − θb) ≥ θe`
-    /// (pbrt-v4's `LightBounds::Importance`, its cosines composed without inverse
-    /// trigonometry).
-    #[inline]
-    pub fn reach(&self, point_on_plane: DVec2) -> f64 {
-        let p = point_on_plane.extend(0.0);
-        let outside = (self.min - p).max(p - self.max).max(DVec3::ZERO);
-        if outside.length_squared() >= self.range * self.range {
-            return 0.0;
-        }
-        if self.cos_spread <= -1.0 || self.cos_emission <= -1.0 {
-            return 1.0;
-        }
-        let centre = 0.5 * (self.min + self.max);
-        let radius2 = 0.25 * (self.max - self.min).length_squared();
-        let to_point = p - centre;
-        let d2 = to_point.length_squared();
-        if d2 <= radius2 {
-            return 1.0;
-        }
-        let d = d2.sqrt();
-        let cos_w = (self.axis.dot(to_point) / d).clamp(-1.0, 1.0);
-        let sin_w = (1.0 - cos_w * cos_w).max(0.0).sqrt();
-        let sin_spread = (1.0 - self.cos_spread * self.cos_spread).max(0.0).sqrt();
-        let sin2_b = radius2 / d2;
-        let cos_b = (1.0 - sin2_b).max(0.0).sqrt();
-        let sin_b = sin2_b.sqrt();
-        // θx = max(0, θw − θo), then θp = max(0, θx − θb).
-        let (cos_x, sin_x) = cos_sin_sub_clamped((cos_w, sin_w), (self.cos_spread, sin_spread));
-        let (cos_p, _) = cos_sin_sub_clamped((cos_x, sin_x), (cos_b, sin_b));
-        if cos_p <= self.cos_emission { 0.0 } else { 1.0 }
-    }
-}
-
-/// `(cos, sin)` of `max(0, a − b)` from those of `a` and `b` (angles in `[0, π]`).
-#[inline]
-fn cos_sin_sub_clamped((cos_a, sin_a): (f64, f64), (cos_b, sin_b): (f64, f64)) -> (f64, f64) {
-    if cos_a > cos_b {
-        (1.0, 0.0)
-    } else {
-        (
-            cos_a * cos_b + sin_a * sin_b,
-            (sin_a * cos_b - cos_a * sin_b).max(0.0),
-        )
-    }
-}
-
-/// The smallest cone (axis, `cos` half-angle) found by pbrt-v4's `DirectionCone::Union`
-/// that holds two cones; `cos = −1` is every direction.
-fn cone_union((wa, cos_a): (DVec3, f64), (wb, cos_b): (DVec3, f64)) -> (DVec3, f64) {
-    if cos_a <= -1.0 || cos_b <= -1.0 {
-        return (DVec3::Z, -1.0);
-    }
-    let theta_a = cos_a.clamp(-1.0, 1.0).acos();
-    let theta_b = cos_b.clamp(-1.0, 1.0).acos();
-    let theta_d = wa.angle_between(wb);
-    if (theta_d + theta_b).min(std::f64::consts::PI) <= theta_a {
-        return (wa, cos_a);
-    }
-    if (theta_d + theta_a).min(std::f64::consts::PI) <= theta_b {
-        return (wb, cos_b);
-    }
-    let theta_o = 0.5 * (theta_a + theta_d + theta_b);
-    if theta_o >= std::f64::consts::PI {
-        return (DVec3::Z, -1.0);
-    }
-    let theta_r = theta_o - theta_a;
-    let wr = wa.cross(wb);
-    if wr.length_squared() == 0.0 {
-        return (DVec3::Z, -1.0);
-    }
-    let w = DQuat::from_axis_angle(wr.normalize(), theta_r) * wa;
-    // Rounding in the rotation: keep the cone a touch wider than computed.
-    (
-        w.normalize(),
-        (theta_o + 1e-9).min(std::f64::consts::PI).cos(),
-    )
-}
-
 /// A light tree over the contributing lights of a scene; see the module docs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LightTree {
@@ -371,8 +219,10 @@ pub struct LightTree {
 }
 
 impl LightTree {
-    /// Builds the tree over the lights with `p_i > 0` and `z_i > 0` (`O(N log N)`, large
-    /// subtrees in parallel; the result does not depend on the thread count).
+    /// Builds the tree over the lights with `z_i > 0` (`O(N log N)`, large subtrees in
+    /// parallel; the result does not depend on the thread count). Lights of power 0 are in
+    /// the tree (so that new powers keep its layout) but never picked: their lanes and
+    /// leaf masses are 0.
     ///
     /// # Panics
     /// If `positions` and `powers` have different lengths, or the scene holds more than
@@ -391,13 +241,16 @@ impl LightTree {
         powers: &LightPowers,
         emission: Option<&[Emission]>,
     ) -> Self {
-        let mut lights: Vec<(u32, SpatialLight)> = contributing(positions, powers, emission)
-            .into_iter()
-            .map(|(i, l, _)| (i, l))
+        // Every light that can reach the plane, whatever its power: the layout depends on
+        // the positions (and cones) only, so that new powers refit it ([`LightTree::refit`]).
+        let contributing = contributing(positions, powers, emission, true);
+        let mut items: Vec<layout::Item> = contributing
+            .iter()
+            .map(|(i, l, _)| (*i, l.position_in_world))
             .collect();
-        let m = lights.len();
+        let m = items.len();
         assert!(m < 1 << 27, "at most 2^27 lights");
-        let node_count = internal_nodes(m);
+        let node_count = layout::internal_nodes(m);
         let mut nodes = vec![TreeNode::EMPTY; node_count];
         let mut node_first = vec![0u32; node_count];
         let root = if m == 0 {
@@ -405,10 +258,8 @@ impl LightTree {
         } else if m <= LEAF_SIZE {
             ChildRef::leaf(0, m)
         } else {
-            let bounds = Bounds::of(&lights);
-            build_node(Job {
-                lights: &mut lights,
-                bounds,
+            layout::lay_out(layout::Job {
+                items: &mut items,
                 index: 0,
                 first: 0,
                 nodes: &mut nodes,
@@ -416,43 +267,71 @@ impl LightTree {
             });
             ChildRef::node(0)
         };
+        let order: Vec<u32> = items.iter().map(|(i, _)| *i).collect();
+        let pmf = powers.pmf();
+        let lights = order
+            .iter()
+            .map(|&i| SpatialLight {
+                position_in_world: positions[i as usize],
+                power: pmf[i as usize],
+            })
+            .collect();
         let mut tree = Self {
             nodes,
             node_first,
-            order: lights.iter().map(|(i, _)| *i).collect(),
-            lights: lights.into_iter().map(|(_, l)| l).collect(),
+            lights,
             root,
             depth: 0,
             n: positions.len(),
-            emission: Vec::new(),
-            bounds: Vec::new(),
+            emission: emission
+                .map_or_else(Vec::new, |e| order.iter().map(|&i| e[i as usize]).collect()),
+            bounds: if emission.is_some() {
+                vec![[LaneBounds::EMPTY; TREE_WIDTH]; node_count]
+            } else {
+                Vec::new()
+            },
+            order,
         };
         tree.depth = tree.deepest(tree.root);
-        if let Some(e) = emission {
-            tree.emission = tree.order.iter().map(|&i| e[i as usize]).collect();
-            tree.bounds = tree.lane_bounds();
-        }
+        tree.fill_lanes();
         tree
     }
 
-    /// Every node's lane bounds, children before parents (nodes are stored depth first,
-    /// so a node's children have larger indices).
-    fn lane_bounds(&self) -> Vec<[LaneBounds; TREE_WIDTH]> {
-        let mut bounds = vec![[LaneBounds::EMPTY; TREE_WIDTH]; self.nodes.len()];
-        for k in (0..self.nodes.len()).rev() {
-            for lane in 0..TREE_WIDTH {
-                bounds[k][lane] = match self.nodes[k].child[lane].get() {
-                    Child::Node(j) => bounds[j][1..]
-                        .iter()
-                        .fold(bounds[j][0], |a, b| LaneBounds::union(&a, b)),
-                    Child::Leaf { first, count } => (first..first + count)
-                        .map(|j| LaneBounds::of_light(&self.lights[j], &self.emission[j]))
-                        .fold(LaneBounds::EMPTY, |a, b| LaneBounds::union(&a, &b)),
-                    Child::Empty => LaneBounds::EMPTY,
-                };
-            }
+    /// Recomputes every lane's power, centroid and bounds from the lights, bottom up.
+    fn fill_lanes(&mut self) {
+        if self.nodes.is_empty() {
+            return;
         }
-        bounds
+        let emission = (!self.emission.is_empty()).then_some(self.emission.as_slice());
+        let bounds = (!self.bounds.is_empty()).then_some(self.bounds.as_mut_slice());
+        fill::fill(
+            fill::Fill {
+                nodes: &mut self.nodes,
+                bounds,
+                m: self.lights.len(),
+                first: 0,
+            },
+            &self.lights,
+            emission,
+        );
+    }
+
+    /// New powers for the same lights (same positions, cones and ranges): each light's
+    /// normalized power is replaced and every lane recomputed bottom up, `O(N)`, in
+    /// parallel, without allocating; the tree then equals [`LightTree::build`] over the new
+    /// powers bit for bit (the layout depends on positions only, and both fill the lanes
+    /// with the same pass).
+    ///
+    /// # Panics
+    /// If `powers` holds a different number of lights.
+    pub fn refit(&mut self, powers: &LightPowers) {
+        assert_eq!(powers.len(), self.n, "one power per light of the tree");
+        let raw = powers.as_slice();
+        let pmf = powers.pmf_scale();
+        for (l, &i) in self.lights.iter_mut().zip(&self.order) {
+            l.power = pmf.of(raw[i as usize]);
+        }
+        self.fill_lanes();
     }
 
     /// The grid masses of node `k`'s lanes at `x` (with its lane bounds when the lights
@@ -679,189 +558,9 @@ impl LightTree {
     }
 }
 
-/// Internal nodes of a range of `m` lights: 0 for a leaf cluster, else one plus those of
-/// its parts ([`parts`]). Depends only on `m`, which fixes the depth-first layout.
-fn internal_nodes(m: usize) -> usize {
-    if m <= LEAF_SIZE {
-        return 0;
-    }
-    1 + parts(m).iter().map(|&s| internal_nodes(s)).sum::<usize>()
-}
-
-/// The sizes of the children of a range of `m > LEAF_SIZE` lights, in lane order (0 for an
-/// unused lane): the halves `⌊m/2⌋`, `⌈m/2⌉`, each halved again when larger than a leaf.
-fn parts(m: usize) -> [usize; TREE_WIDTH] {
-    let halves = [m / 2, m - m / 2];
-    let mut out = [0; TREE_WIDTH];
-    let mut lane = 0;
-    for h in halves {
-        if h > LEAF_SIZE {
-            out[lane] = h / 2;
-            out[lane + 1] = h - h / 2;
-            lane += 2;
-        } else {
-            out[lane] = h;
-            lane += 1;
-        }
-    }
-    out
-}
-
-/// The box of a range of lights, in the world.
-#[derive(Clone, Copy)]
-struct Bounds {
-    min: DVec3,
-    max: DVec3,
-}
-
-impl Bounds {
-    fn of(lights: &[(u32, SpatialLight)]) -> Self {
-        lights.iter().fold(
-            Bounds {
-                min: DVec3::INFINITY,
-                max: DVec3::NEG_INFINITY,
-            },
-            |b, (_, l)| Bounds {
-                min: b.min.min(l.position_in_world),
-                max: b.max.max(l.position_in_world),
-            },
-        )
-    }
-
-    /// The axis of the largest extent (the first of equals).
-    fn longest_axis(&self) -> usize {
-        let e = self.max - self.min;
-        if e.x >= e.y && e.x >= e.z {
-            0
-        } else if e.y >= e.z {
-            1
-        } else {
-            2
-        }
-    }
-}
-
-/// Splits `lights` at the median along the longest axis of `bounds` (ties by scene index).
-fn split_at_median(lights: &mut [(u32, SpatialLight)], bounds: Bounds) -> usize {
-    let axis = bounds.longest_axis();
-    let mid = lights.len() / 2;
-    lights.select_nth_unstable_by(mid, |a, b| {
-        a.1.position_in_world[axis]
-            .total_cmp(&b.1.position_in_world[axis])
-            .then(a.0.cmp(&b.0))
-    });
-    mid
-}
-
-/// `(Φ, centroid)` of a range: `Σ p_i`, and `Σ w_i·y_i / Σ w_i` with `w_i = p_i / max p`
-/// (no underflow however small the powers), clamped into `bounds`.
-fn representative(lights: &[(u32, SpatialLight)], bounds: Bounds) -> (f64, DVec3) {
-    let largest = lights.iter().map(|(_, l)| l.power).fold(0.0f64, f64::max);
-    let (mut power, mut weight, mut weighted) = (0.0, 0.0, DVec3::ZERO);
-    for (_, l) in lights {
-        power += l.power;
-        let w = l.power / largest;
-        weight += w;
-        weighted += w * l.position_in_world;
-    }
-    let centroid = (weighted / weight).clamp(bounds.min, bounds.max);
-    (power, centroid)
-}
-
-/// One subtree to build: its lights (more than [`LEAF_SIZE`]), their box, its node's index
-/// and leaf-order offset, and the node slots of the subtree (its own first).
-struct Job<'a> {
-    lights: &'a mut [(u32, SpatialLight)],
-    bounds: Bounds,
-    index: usize,
-    first: usize,
-    nodes: &'a mut [TreeNode],
-    node_first: &'a mut [u32],
-}
-
-/// Fills the job's node and, depth first, its subtrees (in parallel when large).
-fn build_node(job: Job<'_>) {
-    let Job {
-        lights,
-        bounds,
-        index,
-        first,
-        nodes,
-        node_first,
-    } = job;
-    // The parts in lane order: halves at the median, each halved again if larger than a leaf
-    // (the sizes of `parts`).
-    let lights_len = lights.len();
-    let mid = split_at_median(lights, bounds);
-    let (left, right) = lights.split_at_mut(mid);
-    let mut ranges: Vec<&mut [(u32, SpatialLight)]> = Vec::with_capacity(TREE_WIDTH);
-    for half in [left, right] {
-        if half.len() > LEAF_SIZE {
-            let quarter = split_at_median(half, Bounds::of(half));
-            let (a, b) = half.split_at_mut(quarter);
-            ranges.push(a);
-            ranges.push(b);
-        } else {
-            ranges.push(half);
-        }
-    }
-    // The layout reserved node slots for exactly these sizes.
-    debug_assert!(
-        ranges
-            .iter()
-            .map(|r| r.len())
-            .eq(parts(lights_len).into_iter().filter(|&s| s > 0))
-    );
-
-    let (this, mut below) = nodes.split_at_mut(1);
-    let (this_first, mut below_first) = node_first.split_at_mut(1);
-    this_first[0] = first as u32;
-    let mut node = TreeNode::EMPTY;
-    let mut jobs = Vec::with_capacity(TREE_WIDTH);
-    let (mut next_index, mut next_first) = (index + 1, first);
-    for (lane, range) in ranges.into_iter().enumerate() {
-        let range_bounds = Bounds::of(range);
-        let (power, centroid) = representative(range, range_bounds);
-        node.power[lane] = power;
-        for (axis, coordinate) in node.centroid.iter_mut().zip(centroid.to_array()) {
-            axis[lane] = coordinate;
-        }
-        let count = internal_nodes(range.len());
-        let len = range.len();
-        if count == 0 {
-            node.child[lane] = ChildRef::leaf(next_first, len);
-        } else {
-            node.child[lane] = ChildRef::node(next_index);
-            let (slots, rest) = below.split_at_mut(count);
-            let (slots_first, rest_first) = below_first.split_at_mut(count);
-            below = rest;
-            below_first = rest_first;
-            jobs.push(Job {
-                lights: range,
-                bounds: range_bounds,
-                index: next_index,
-                first: next_first,
-                nodes: slots,
-                node_first: slots_first,
-            });
-        }
-        next_index += count;
-        next_first += len;
-    }
-    this[0] = node;
-    if jobs.iter().map(|j| j.lights.len()).sum::<usize>() > PARALLEL_BUILD {
-        rayon::scope(|s| {
-            for job in jobs {
-                s.spawn(move |_| build_node(job));
-            }
-        });
-    } else {
-        jobs.into_iter().for_each(build_node);
-    }
-}
-
 #[cfg(test)]
 mod tests {
+    use super::layout::{internal_nodes, parts};
     use super::*;
 
     #[test]

@@ -1,0 +1,201 @@
+//! The lanes' data, bottom up: each lane's normalized power `Σ p_i`, power-weighted
+//! centroid (the representative light of [`super::super::importance`]) and, for lights with
+//! emission profiles, its [`LaneBounds`]. A lane over a subtree combines its child node's
+//! four lanes; a lane over a leaf cluster sums its lights. The same pass serves the build
+//! and [`super::LightTree::refit`] (new powers, same layout), so a refit equals a fresh
+//! build bit for bit; subtrees are filled in parallel, each in a fixed order, so the result
+//! does not depend on the thread count.
+
+use glam::DVec3;
+
+use super::layout::{internal_nodes, parts};
+use super::{LEAF_SIZE, TREE_WIDTH, TreeNode};
+use crate::scene::Emission;
+use crate::spatial::{LaneBounds, SpatialLight};
+
+/// Subtrees over more lights than this are filled in parallel.
+const PARALLEL_FILL: usize = 1 << 13;
+
+/// What a lane (or a whole node) holds, summed: power, the pieces of its power-weighted
+/// centroid, the box of its lights and, with profiles, its bounds.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Aggregate {
+    /// `Σ p_i`.
+    pub(super) power: f64,
+    /// The power-weighted centroid, clamped into the box (the box's centre without power).
+    pub(super) centroid: DVec3,
+    min: DVec3,
+    max: DVec3,
+    pub(super) bounds: Option<LaneBounds>,
+}
+
+impl Aggregate {
+    const EMPTY: Aggregate = Aggregate {
+        power: 0.0,
+        centroid: DVec3::new(0.0, 0.0, 1.0),
+        min: DVec3::INFINITY,
+        max: DVec3::NEG_INFINITY,
+        bounds: None,
+    };
+
+    /// `Σ w_k·y_k / Σ w_k` with `w_k = p_k / max p` (no underflow however small the powers),
+    /// clamped into the box; the box's centre when nothing has power.
+    fn combine(
+        parts: impl Iterator<Item = (f64, DVec3, DVec3, DVec3)> + Clone,
+    ) -> (f64, DVec3, DVec3, DVec3) {
+        let largest = parts.clone().map(|(p, ..)| p).fold(0.0f64, f64::max);
+        let (mut power, mut weight, mut weighted) = (0.0, 0.0, DVec3::ZERO);
+        let (mut min, mut max) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for (p, c, lo, hi) in parts {
+            power += p;
+            min = min.min(lo);
+            max = max.max(hi);
+            if largest > 0.0 {
+                let w = p / largest;
+                weight += w;
+                weighted += w * c;
+            }
+        }
+        let centroid = if weight > 0.0 {
+            (weighted / weight).clamp(min, max)
+        } else {
+            0.5 * (min + max)
+        };
+        (power, centroid, min, max)
+    }
+
+    /// The lights `lights` (with their profiles, if any) of a leaf cluster.
+    fn of_leaf(lights: &[SpatialLight], emission: Option<&[Emission]>) -> Self {
+        let (power, centroid, min, max) = Self::combine(lights.iter().map(|l| {
+            (
+                l.power,
+                l.position_in_world,
+                l.position_in_world,
+                l.position_in_world,
+            )
+        }));
+        let bounds = emission.map(|e| {
+            lights.iter().zip(e).fold(LaneBounds::EMPTY, |b, (l, e)| {
+                LaneBounds::union(&b, &LaneBounds::of_light(l, e))
+            })
+        });
+        Aggregate {
+            power,
+            centroid,
+            min,
+            max,
+            bounds,
+        }
+    }
+
+    /// A node's lanes, together.
+    fn of_lanes(lanes: &[Aggregate; TREE_WIDTH]) -> Self {
+        let (power, centroid, min, max) =
+            Self::combine(lanes.iter().map(|a| (a.power, a.centroid, a.min, a.max)));
+        let bounds = lanes[0].bounds.map(|first| {
+            lanes[1..]
+                .iter()
+                .filter_map(|a| a.bounds)
+                .fold(first, |b, l| LaneBounds::union(&b, &l))
+        });
+        Aggregate {
+            power,
+            centroid,
+            min,
+            max,
+            bounds,
+        }
+    }
+}
+
+/// One subtree to fill: its node slots (its own first) and their bounds, its light count
+/// and leaf-order offset.
+pub(super) struct Fill<'a> {
+    pub(super) nodes: &'a mut [TreeNode],
+    pub(super) bounds: Option<&'a mut [[LaneBounds; TREE_WIDTH]]>,
+    pub(super) m: usize,
+    pub(super) first: usize,
+}
+
+/// Fills the subtree's nodes' lanes from `lights` (leaf order, with `emission` beside them
+/// when the lights have profiles) and returns the node's aggregate.
+pub(super) fn fill(
+    job: Fill<'_>,
+    lights: &[SpatialLight],
+    emission: Option<&[Emission]>,
+) -> Aggregate {
+    let Fill {
+        nodes,
+        bounds,
+        m,
+        first,
+    } = job;
+    let (this, mut below) = nodes.split_at_mut(1);
+    let (this_bounds, mut below_bounds) = match bounds {
+        Some(b) => {
+            let (t, r) = b.split_at_mut(1);
+            (Some(t), Some(r))
+        }
+        None => (None, None),
+    };
+    let sizes = parts(m);
+    // Each lane: a leaf cluster now, or a subtree to fill (in parallel when large).
+    let mut lanes = [Aggregate::EMPTY; TREE_WIDTH];
+    let mut jobs: Vec<(usize, Fill<'_>)> = Vec::with_capacity(TREE_WIDTH);
+    let mut next_first = first;
+    for (lane, &s) in sizes.iter().enumerate() {
+        if s == 0 {
+            continue;
+        }
+        if s <= LEAF_SIZE {
+            lanes[lane] = Aggregate::of_leaf(
+                &lights[next_first..next_first + s],
+                emission.map(|e| &e[next_first..next_first + s]),
+            );
+        } else {
+            let count = internal_nodes(s);
+            let (slots, rest) = below.split_at_mut(count);
+            below = rest;
+            let slot_bounds = below_bounds.take().map(|b| {
+                let (slots, rest) = b.split_at_mut(count);
+                below_bounds = Some(rest);
+                slots
+            });
+            jobs.push((
+                lane,
+                Fill {
+                    nodes: slots,
+                    bounds: slot_bounds,
+                    m: s,
+                    first: next_first,
+                },
+            ));
+        }
+        next_first += s;
+    }
+    let results: Vec<(usize, Aggregate)> = if m > PARALLEL_FILL {
+        use rayon::prelude::*;
+        jobs.into_par_iter()
+            .map(|(lane, job)| (lane, fill(job, lights, emission)))
+            .collect()
+    } else {
+        jobs.into_iter()
+            .map(|(lane, job)| (lane, fill(job, lights, emission)))
+            .collect()
+    };
+    for (lane, aggregate) in results {
+        lanes[lane] = aggregate;
+    }
+    let node = &mut this[0];
+    for (lane, a) in lanes.iter().enumerate() {
+        node.power[lane] = a.power;
+        let c = a.centroid.to_array();
+        for axis in 0..3 {
+            node.centroid[axis][lane] = c[axis];
+        }
+    }
+    if let Some(b) = this_bounds {
+        b[0] = lanes.map(|a| a.bounds.unwrap_or(LaneBounds::EMPTY));
+    }
+    Aggregate::of_lanes(&lanes)
+}
