@@ -153,7 +153,8 @@ pub fn controls_ui(ui: &mut Ui, state: &mut AppState) {
 /// The status bar: the last message, the device in use and the frame rate.
 pub fn status_ui(ui: &mut Ui, state: &AppState, device_note: &str, frame_ms: Option<f32>) {
     let dark = state.dark();
-    ui.horizontal(|ui| {
+    // Wrapped: a long message (what a file held) takes a second line rather than being cut.
+    ui.horizontal_wrapped(|ui| {
         let timing = frame_ms.map_or_else(|| "inline".to_owned(), |ms| format!("{ms:.1} ms/frame"));
         ui.label(format!("{device_note} · {timing}"))
             .on_hover_text("Where the images are rendered, and the UI's time per frame");

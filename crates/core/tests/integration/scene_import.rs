@@ -421,3 +421,29 @@ fn more_lights_than_a_scene_may_hold_are_refused_before_reading_them() {
         "{e}"
     );
 }
+
+/// `stage.glb` is the `stage` preset written as glTF (positions turned to +Y up, each spot's
+/// node rotated so that its −Z is the spot's axis, intensity `Φ/(2π·[(1 − cos θi) +
+/// (cos θi − cos θo)/3])`, plus a directional sun): read back, it is the preset's scene up
+/// to the file's `f32` (positions, rotations, intensities) and its 4-decimal intensities.
+#[test]
+fn the_stage_as_gltf_is_the_stage_preset() {
+    let glb = load(fixture("stage.glb"), &LoadOptions::default()).unwrap();
+    let preset = Scene::preset("stage").unwrap();
+    assert_eq!(glb.report.skipped.len(), 1);
+    assert_eq!(glb.scene.light_count(), preset.light_count());
+    for i in 0..preset.light_count() {
+        assert!(
+            close(glb.scene.positions[i], preset.positions[i]),
+            "light {i}"
+        );
+        let (a, b) = (glb.scene.powers.as_slice()[i], preset.powers.as_slice()[i]);
+        assert!(rel(a, b) < 1e-5, "light {i}: power {a} vs {b}");
+        let (ea, eb) = (
+            glb.scene.emission_of(i).unwrap(),
+            preset.emission_of(i).unwrap(),
+        );
+        assert!(ea.axis().angle_between(eb.axis()) < 1e-6, "light {i}: axis");
+        assert_eq!(glb.scene.name_of(i), preset.name_of(i));
+    }
+}
