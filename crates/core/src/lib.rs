@@ -20,9 +20,11 @@
 //!   lights, a light tree for many): the render-only scheme [`Scheme::Spatial`].
 //! * [`SceneSamplers`]: a scene with its alias table and spatial sampler, built once and
 //!   shared (`Arc`) by every renderer and view of it.
-//! * [`scene`], [`render`] and [`gpu`]: scenes of point lights over a receiver plane,
-//!   progressive renderers on the CPU (rayon) and the GPU (wgpu compute), error metrics.
-//! * [`draw`] renders the diagrams, plots and image sheets headless (tiny-skia → PNG).
+//! * [`scene`], [`render`] and `gpu`: scenes of point lights (and spots, ranges) over a
+//!   receiver plane, read from JSON, glTF or CSV ([`scene::load`]), progressive renderers on
+//!   the CPU (rayon) and the GPU (wgpu compute, feature `gpu`), error metrics.
+//! * `draw` renders the diagrams, plots and image sheets headless (tiny-skia → PNG,
+//!   feature `draw`).
 //!
 //! # Quick start
 //! Build a table, sample one light and a batch (the batch holds exactly the picks of as
@@ -63,8 +65,10 @@
 //! assert!(rmse(renderer.accumulator(), &reference) < error);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
-//! Draw the table diagram to PNG, headless:
+//! Draw the table diagram to PNG, headless (feature `draw`):
 //! ```
+//! # #[cfg(feature = "draw")]
+//! # {
 //! use lightpick_core::draw::{Style, encode_png, fraction_denominator, table_diagram};
 //! use lightpick_core::{AliasTable, LightPowers};
 //!
@@ -73,19 +77,38 @@
 //! let pixmap = table_diagram(&table, fraction_denominator(&powers), &Style::default())?;
 //! let png = encode_png(&pixmap)?;
 //! assert!(png.starts_with(b"\x89PNG"));
+//! # }
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //! Runnable examples: `cargo run -p lightpick-core --example quick_start` and
 //! `--example snapshot_my_powers` (a deterministic snapshot test of your own powers).
 //!
 //! Nothing here depends on a UI toolkit.
+//!
+//! # Features
+//! | feature | default | brings | adds |
+//! | --- | --- | --- | --- |
+//! | `gpu` | on | [`gpu`]: the wgpu compute renderer, histogram and spatial sampler, their WGSL | wgpu, naga, pollster (about 110 crates) |
+//! | `draw` | on | [`draw`]: table diagrams, histograms, convergence plots, image sheets, PNG/EXR | tiny-skia, ab_glyph, image |
+//!
+//! Without them (`default-features = false`) the crate is the alias table and its peers,
+//! the RNG, estimators and metrics, scenes and their importers (JSON, glTF, CSV), the CPU
+//! renderer, the spatial sampler and the light tree: 36 crates besides this one
+//! (`cargo tree -e normal`), none of the GPU or drawing stack.
+//!
+//! # Determinism
+//! Alias tables, light trees and CPU renders are the same bits whatever the thread count:
+//! work is split by fixed index blocks, never by thread, and every reduction sums in a
+//! fixed order.
 
 mod alias;
 mod cdf;
 mod chi_square;
 pub mod construction;
+#[cfg(feature = "draw")]
 pub mod draw;
 pub mod fraction;
+#[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod inspect;
 mod moments;

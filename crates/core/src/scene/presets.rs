@@ -1,4 +1,5 @@
-//! The built-in scenes of `assets/scenes/`, compiled into the binary so it runs from any
+//! The built-in scenes of `assets/scenes/` (stored in the core crate, `crates/core/assets/scenes`,
+//! so that the published crate has them; the root path links there), compiled into the binary so it runs from any
 //! directory.
 
 use super::Scene;
@@ -19,15 +20,15 @@ pub const PRESET_NAMES: [&str; 9] = [
 
 /// The embedded text of each preset, in the order of [`PRESET_NAMES`].
 const PRESET_FILES: [&str; 9] = [
-    include_str!("../../../../assets/scenes/seed.json"),
-    include_str!("../../../../assets/scenes/equal.json"),
-    include_str!("../../../../assets/scenes/dominant.json"),
-    include_str!("../../../../assets/scenes/zeros.json"),
-    include_str!("../../../../assets/scenes/heavy-tail.json"),
-    include_str!("../../../../assets/scenes/million.json"),
-    include_str!("../../../../assets/scenes/extreme-range.json"),
-    include_str!("../../../../assets/scenes/grid.json"),
-    include_str!("../../../../assets/scenes/stage.json"),
+    include_str!("../../assets/scenes/seed.json"),
+    include_str!("../../assets/scenes/equal.json"),
+    include_str!("../../assets/scenes/dominant.json"),
+    include_str!("../../assets/scenes/zeros.json"),
+    include_str!("../../assets/scenes/heavy-tail.json"),
+    include_str!("../../assets/scenes/million.json"),
+    include_str!("../../assets/scenes/extreme-range.json"),
+    include_str!("../../assets/scenes/grid.json"),
+    include_str!("../../assets/scenes/stage.json"),
 ];
 
 impl Scene {

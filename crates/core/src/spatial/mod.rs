@@ -34,7 +34,7 @@
 //! With emission profiles the contribution is `c_i(x) = p_i·G_i(x)·S_i(x)`
 //! ([`crate::scene::light_term`]): the exact pick and the leaf clusters evaluate it as it is,
 //! and a tree over such lights bounds each child's cones and ranges (pbrt-v4's
-//! `LightBounds`, see [`tree`]'s docs) so that a child no light of which can reach `x` gets
+//! `LightBounds`, see [`LightTree`]'s docs) so that a child no light of which can reach `x` gets
 //! no importance (it keeps its power share: the pick stays unbiased).
 
 mod bounds;

@@ -1,19 +1,28 @@
 //! The integration tests of `lightpick-core`, one module per concern, linked into one test
 //! binary (one link of wgpu and the core instead of one per file). Run one module with
-//! `cargo test -p lightpick-core --test integration MODULE::`.
+//! `cargo test -p lightpick-core --test integration MODULE::`. The `gpu_*` modules need
+//! the `gpu` feature (on by default); `cargo test -p lightpick-core --no-default-features`
+//! runs the rest, the lean configuration.
 
 mod gpu_common;
 
+#[cfg(feature = "gpu")]
 mod gpu_emission;
 
 mod alias_guarantees;
 mod alias_properties;
 mod extremes;
+#[cfg(feature = "gpu")]
 mod gpu_extremes;
+#[cfg(feature = "gpu")]
 mod gpu_histogram;
+#[cfg(feature = "gpu")]
 mod gpu_render;
+#[cfg(feature = "gpu")]
 mod gpu_rng;
+#[cfg(feature = "gpu")]
 mod gpu_spatial;
+#[cfg(feature = "gpu")]
 mod gpu_split;
 mod inspect;
 mod point_estimate;

@@ -51,6 +51,7 @@ fn million_preset_throughput() {
     }
 }
 
+#[cfg(feature = "draw")]
 /// Writes the exact image of every preset but `million` as a PNG (exposure: 1 over the
 /// image's mean irradiance) to `$TMPDIR/lightpick-presets/`, for looking at by eye.
 #[test]

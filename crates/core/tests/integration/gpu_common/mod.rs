@@ -6,12 +6,15 @@
 
 #![allow(dead_code)] // Each test binary uses a different subset of the helpers.
 
+#[cfg(feature = "gpu")]
 use std::sync::OnceLock;
 
+#[cfg(feature = "gpu")]
 use lightpick_core::gpu::GpuContext;
 
 /// The shared context, or `None` when GPU tests are skipped on purpose; panics (fails the
 /// test) when no adapter can be had.
+#[cfg(feature = "gpu")]
 pub fn context() -> Option<&'static GpuContext> {
     static CONTEXT: OnceLock<Result<GpuContext, String>> = OnceLock::new();
     if std::env::var("LIGHTPICK_SKIP_GPU_TESTS").as_deref() == Ok("1") {
