@@ -89,7 +89,7 @@
 //! | feature | default | brings | adds |
 //! | --- | --- | --- | --- |
 //! | `gpu` | on | [`gpu`]: the wgpu compute renderer, histogram and spatial sampler, their WGSL | wgpu, naga, pollster (about 110 crates) |
-//! | `draw` | on | [`draw`]: table diagrams, histograms, convergence plots, image sheets, PNG/EXR | tiny-skia, ab_glyph, image |
+//! | `draw` | on | [`draw`]: table diagrams, histograms, convergence plots, image sheets, PNG/EXR | tiny-skia, `ab_glyph`, image |
 //!
 //! Without them (`default-features = false`) the crate is the alias table and its peers,
 //! the RNG, estimators and metrics, scenes and their importers (JSON, glTF, CSV), the CPU

@@ -2,6 +2,8 @@
 //! remove), presets, randomize, generate `N`, and a powers text field. Rows are virtualized
 //! with `ScrollArea::show_rows`, so the `million` preset builds only the visible widgets.
 
+use std::fmt::Write as _;
+
 use egui::{RichText, Sense, Ui, vec2};
 
 use super::colors;
@@ -183,7 +185,8 @@ fn light_about(state: &AppState, i: usize) -> String {
     if let Some(e) = state.edit.emission.as_ref().and_then(|e| e.get(i)) {
         if let Some(s) = e.spot() {
             let a = e.axis();
-            text += &format!(
+            let _ = write!(
+                text,
                 "\nspot toward ({:.2}, {:.2}, {:.2}), cones {:.1}° / {:.1}°",
                 a.x,
                 a.y,
@@ -193,7 +196,7 @@ fn light_about(state: &AppState, i: usize) -> String {
             );
         }
         if let Some(r) = e.range() {
-            text += &format!("\nrange {}", super::fractions::short(r));
+            let _ = write!(text, "\nrange {}", super::fractions::short(r));
         }
     }
     text

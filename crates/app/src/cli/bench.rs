@@ -907,7 +907,7 @@ fn gpu_renders(presets: &[NamedScene], seed: u64, quick: bool) -> Vec<GpuPresetR
     let min_seconds = GPU_RENDER_SECONDS[usize::from(quick)];
     presets
         .iter()
-        .filter_map(|named| {
+        .map(|named| {
             let (name, scene) = (&named.name, &named.scene);
             let mut out = GpuPresetRender {
                 preset: name.clone(),
@@ -919,7 +919,7 @@ fn gpu_renders(presets: &[NamedScene], seed: u64, quick: bool) -> Vec<GpuPresetR
             for scheme in GPU_RENDER_SCHEMES {
                 match gpu::measure_passes(
                     &ctx,
-                    &scene,
+                    scene,
                     scheme,
                     seed,
                     1,
@@ -936,7 +936,7 @@ fn gpu_renders(presets: &[NamedScene], seed: u64, quick: bool) -> Vec<GpuPresetR
                     Err(e) => {
                         out.note = Some(format!("{scheme}: {e}"));
                         out.schemes.clear();
-                        return Some(out);
+                        return out;
                     }
                 }
             }
@@ -956,7 +956,7 @@ fn gpu_renders(presets: &[NamedScene], seed: u64, quick: bool) -> Vec<GpuPresetR
                 }
                 s.efficiency_vs_uniform = s.efficiency / uniform_efficiency;
             }
-            Some(out)
+            out
         })
         .collect()
 }

@@ -24,7 +24,7 @@ pub struct PowersArgs {
 /// Where a scene comes from: a file (lightpick JSON, glTF/GLB, CSV) or a built-in preset.
 #[derive(Debug, Args, Clone, Default)]
 pub struct SceneArgs {
-    /// A scene file: lightpick JSON, glTF 2.0 (.gltf/.glb with KHR_lights_punctual) or a
+    /// A scene file: lightpick JSON, glTF 2.0 (.gltf/.glb with `KHR_lights_punctual`) or a
     /// CSV / white-space list of x, y, z, power.
     #[arg(long, value_name = "FILE", conflicts_with = "preset")]
     pub scene: Option<PathBuf>,

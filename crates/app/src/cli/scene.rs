@@ -2,6 +2,7 @@
 //! skipped), as text or as the JSON contract scripts read; `--out` writes it as lightpick
 //! JSON for editing.
 
+use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use anyhow::{Context as _, bail};
@@ -126,10 +127,10 @@ fn scene_text(loaded: &Loaded, out: Option<&std::path::Path>) -> String {
         plane.height,
     );
     for s in &report.skipped {
-        text += &format!("  skipped '{}': {}\n", s.name, s.reason);
+        let _ = writeln!(text, "  skipped '{}': {}", s.name, s.reason);
     }
     if let Some(out) = out {
-        text += &format!("  written to {} (lightpick JSON)\n", out.display());
+        let _ = writeln!(text, "  written to {} (lightpick JSON)", out.display());
     }
     text
 }

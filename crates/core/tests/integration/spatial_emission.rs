@@ -228,7 +228,7 @@ fn lane_bounds_never_cull_a_lane_that_lights_the_point() {
         let node = &tree.nodes()[k];
         let bounds = tree.bounds(k).expect("shaped tree keeps bounds");
         let mut start = first;
-        for lane in 0..TREE_WIDTH {
+        for (lane, lane_bounds) in bounds.iter().enumerate().take(TREE_WIDTH) {
             let count = match node.child(lane).get() {
                 Child::Node(j) => {
                     stack.push((j, start));
@@ -238,7 +238,7 @@ fn lane_bounds_never_cull_a_lane_that_lights_the_point() {
                 Child::Empty => 0,
             };
             for &x in &grid {
-                if bounds[lane].reach(x) == 0.0 {
+                if lane_bounds.reach(x) == 0.0 {
                     culled += 1;
                     for &i in &order[start..start + count] {
                         let c = pmf[i as usize] * scene.light_term(i as usize, x);

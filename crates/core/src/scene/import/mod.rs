@@ -14,6 +14,7 @@
 mod csv;
 mod gltf;
 
+use std::fmt::Write as _;
 use std::path::Path;
 
 use glam::{DVec2, DVec3};
@@ -123,7 +124,8 @@ impl ImportReport {
         let n = self.points + self.spots;
         let mut out = format!("{n} {}", plural(n, "light", "lights"));
         if self.spots > 0 {
-            out += &format!(
+            let _ = write!(
+                out,
                 ": {} {}, {} {}",
                 self.points,
                 plural(self.points, "point", "points"),
@@ -140,7 +142,8 @@ impl ImportReport {
                 .collect();
             let more = self.skipped.len().saturating_sub(3);
             let k = self.skipped.len();
-            out += &format!(
+            let _ = write!(
+                out,
                 "; skipped {k} {} {}{}",
                 plural(k, "directional light", "directional lights"),
                 names.join(", "),

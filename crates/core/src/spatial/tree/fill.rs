@@ -189,9 +189,8 @@ pub(super) fn fill(
     let node = &mut this[0];
     for (lane, a) in lanes.iter().enumerate() {
         node.power[lane] = a.power;
-        let c = a.centroid.to_array();
-        for axis in 0..3 {
-            node.centroid[axis][lane] = c[axis];
+        for (axis, c) in node.centroid.iter_mut().zip(a.centroid.to_array()) {
+            axis[lane] = c;
         }
     }
     if let Some(b) = this_bounds {
