@@ -16,16 +16,23 @@
 //! `Var = 366` and needs `n_1% = 11 296` samples; picking by power (`q = 2/27, 5/27, 20/27`)
 //! has `Var = 14.85` and needs 459: 24.6 times fewer.
 //!
+//! Every lane accumulates in the unit `2^u` of [`crate::contribution_unit`] (contributions
+//! scaled by `2^-u`, exact): scaling every contribution by `2^k` leaves the lanes' sums
+//! unchanged bit for bit and scales each reported mean and standard error by `2^k`, each
+//! variance by `2^(2k)`, whatever `k` keeps the contributions finite.
+//!
 //! Each lane draws its `k`-th sample from `Rng::new(seed ^ salt, k)` with its own salt, so
 //! a run is reproducible from its seed and [`PointEstimator::advance`] in any chunks draws
 //! the same samples.
 
 use std::sync::Arc;
 
-use crate::moments::{EstimatorMoments, analytic_moments};
+use crate::moments::{EstimatorMoments, analytic_moments, contribution_unit};
+use crate::sampler::{LightSampler as _, Sampler};
 use crate::spatial::SpatialSampler;
-use crate::{AliasTable, Rng, Scheme, Uniform, Welford};
+use crate::{AliasTable, Rng, Scaled, Scheme, Uniform, Welford};
 use glam::DVec2;
+use rayon::prelude::*;
 
 /// How one lane picks a light at the shading point.
 #[derive(Clone, Debug)]
@@ -132,9 +139,9 @@ impl EstimateLane {
         &self.series
     }
 
-    /// The measured per-sample variance `s²` (0 before two samples).
-    pub fn measured_variance(&self) -> f64 {
-        self.running.variance()
+    /// The measured per-sample variance `s²` (0 before two samples), whatever its magnitude.
+    pub fn measured_variance(&self) -> Scaled {
+        self.running.variance_scaled()
     }
 
     fn point(&self) -> EstimatePoint {
@@ -148,16 +155,17 @@ impl EstimateLane {
 
 /// Samples `n_ε = Var/(ε·F)²` that bring the standard error of the mean down to the fraction
 /// `epsilon` of the exact total `exact` (at least 1; 0 samples for zero variance, infinite
-/// when `F = 0` and `Var > 0`).
-pub fn samples_for_relative_error(variance: f64, exact: f64, epsilon: f64) -> f64 {
-    if variance <= 0.0 {
+/// when `F = 0` and `Var > 0`). A ratio of scaled figures: unchanged when `F` scales by `2^k`
+/// and `Var` by `2^(2k)`, whatever their magnitude.
+pub fn samples_for_relative_error(variance: Scaled, exact: f64, epsilon: f64) -> f64 {
+    if variance.significand() <= 0.0 {
         return 0.0;
     }
-    let target = epsilon * exact;
-    if target == 0.0 {
+    let target = Scaled::from_f64(epsilon * exact);
+    if target.significand() == 0.0 {
         return f64::INFINITY;
     }
-    (variance / (target * target)).max(1.0)
+    (variance / target.square()).to_f64().max(1.0)
 }
 
 /// Running estimates of one shading point's total under several pick rules (see the module
@@ -165,6 +173,9 @@ pub fn samples_for_relative_error(variance: f64, exact: f64, epsilon: f64) -> f6
 #[derive(Clone, Debug)]
 pub struct PointEstimator {
     contributions: Vec<f64>,
+    /// `f_i·2^-u`, the contributions in the lanes' unit.
+    contributions_in_unit: Vec<f64>,
+    unit: i32,
     exact: f64,
     seed: u64,
     lanes: Vec<EstimateLane>,
@@ -217,6 +228,11 @@ impl PointEstimator {
             });
         }
         let n = contributions.len();
+        let unit = contribution_unit(&contributions);
+        let contributions_in_unit: Vec<f64> = contributions
+            .iter()
+            .map(|&f| Scaled::new(f, -unit).to_f64())
+            .collect();
         let lanes = lanes
             .into_iter()
             .enumerate()
@@ -235,15 +251,17 @@ impl PointEstimator {
                     picker,
                     // Distinct, fixed streams per lane position.
                     salt: 0x9E37_79B9_7F4A_7C15_u64.wrapping_mul(k as u64 + 1),
-                    running: Welford::new(),
+                    running: Welford::in_unit(unit),
                     series: Vec::new(),
                     next_recorded: 1,
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let exact = contributions.iter().sum();
+        let exact = Scaled::new(contributions_in_unit.iter().sum(), unit).to_f64();
         Ok(Self {
             contributions,
+            contributions_in_unit,
+            unit,
             exact,
             seed,
             lanes,
@@ -300,8 +318,8 @@ impl PointEstimator {
                 let estimate = lane
                     .picker
                     .pick(&mut rng)
-                    .map_or(0.0, |(i, q)| self.contributions[i] / q);
-                lane.running.push(estimate);
+                    .map_or(0.0, |(i, q)| self.contributions_in_unit[i] / q);
+                lane.running.push_in_unit(estimate);
                 let n = k + 1;
                 if n >= lane.next_recorded {
                     lane.series.push(lane.point());
@@ -318,11 +336,44 @@ impl PointEstimator {
     /// Forgets every sample (the streams start over from sample 0).
     pub fn reset(&mut self) {
         for lane in &mut self.lanes {
-            lane.running = Welford::new();
+            lane.running = Welford::in_unit(self.unit);
             lane.series.clear();
             lane.next_recorded = 1;
         }
     }
+}
+
+/// Samples per work item of [`sampled_mean`]: fixed, so the result does not depend on the thread
+/// count.
+const ESTIMATE_CHUNK: u64 = 1 << 16;
+
+/// Averages `f(I)/p(I)` over samples `0..count` (sample `k` picks from `Rng::new(seed, k)`).
+///
+/// The running sums are kept in the unit `2^u` of [`contribution_unit`] (each `f_i·2^-u`,
+/// exact), so a sample `f_i/p_i` and its square stay in range for contributions near
+/// `10^±300`: scaling `contrib` by `2^k` leaves the accumulator's bits unchanged and scales
+/// its mean and standard error by `2^k`. Chunks of [`ESTIMATE_CHUNK`] samples are merged in
+/// index order: the same bits for any thread count.
+pub fn sampled_mean(sampler: &Sampler, contrib: &[f64], count: u64, seed: u64) -> Welford {
+    let unit = contribution_unit(contrib);
+    let in_unit: Vec<f64> = contrib
+        .iter()
+        .map(|&f| Scaled::new(f, -unit).to_f64())
+        .collect();
+    let chunks = count.div_ceil(ESTIMATE_CHUNK);
+    let parts: Vec<Welford> = (0..chunks)
+        .into_par_iter()
+        .map(|c| {
+            let mut w = Welford::in_unit(unit);
+            let end = ((c + 1) * ESTIMATE_CHUNK).min(count);
+            for k in c * ESTIMATE_CHUNK..end {
+                let pick = sampler.pick(&mut Rng::new(seed, k));
+                w.push_in_unit(in_unit[pick.light as usize] / pick.probability);
+            }
+            w
+        })
+        .collect();
+    parts.iter().fold(Welford::in_unit(unit), |a, b| a.merge(b))
 }
 
 #[cfg(test)]
@@ -337,8 +388,8 @@ mod tests {
         let [u, a] = [&e.lanes()[0], &e.lanes()[1]];
         assert!((u.analytic.variance - SeedExample::UNIFORM_VARIANCE).abs() < 1e-9);
         assert!((a.analytic.variance - SeedExample::POWER_VARIANCE).abs() < 1e-9);
-        let n_u = samples_for_relative_error(u.analytic.variance, 18.0, 0.01);
-        let n_a = samples_for_relative_error(a.analytic.variance, 18.0, 0.01);
+        let n_u = samples_for_relative_error(u.analytic.variance_scaled, 18.0, 0.01);
+        let n_a = samples_for_relative_error(a.analytic.variance_scaled, 18.0, 0.01);
         assert!((n_u - 366.0 / 0.0324).abs() < 1e-6, "{n_u}");
         assert!((n_u / n_a - 366.0 / 14.85).abs() < 1e-9);
     }

@@ -122,6 +122,14 @@ impl LightPowers {
         (sum, unit_exponent(self.max()))
     }
 
+    /// `Σ Φ_i` whatever its magnitude: `S·2^e` of [`LightPowers::total_parts`], computed
+    /// without allocating. Scaling every power by `2^k` adds `k` to its exponent and leaves
+    /// its significand's bits alone.
+    pub fn total_scaled(&self) -> crate::Scaled {
+        let max = self.max();
+        crate::Scaled::new(self.pmf_scale().sum, unit_exponent(max))
+    }
+
     /// `log10 Σ Φ_i = log10 S + e · log10 2` from [`LightPowers::total_parts`]: finite for
     /// every valid list, so a total beyond `f64::MAX` (about `10^308.25`) can still be
     /// reported. Its absolute error is below `10^-13` (`|e| ≤ 1074` times the rounding of

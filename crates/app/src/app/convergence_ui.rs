@@ -180,13 +180,13 @@ fn figures_ui(
                     ui.label("0 (exact)").on_hover_text(format!(
                         "Every sample is the exact irradiance; the measured {} is rounding \
                          of the sums",
-                        fractions::short(image.variance)
+                        fractions::short_scaled(image.variance)
                     ));
                     ui.label(seconds);
                     ui.label("∞");
                     ui.label("∞ (zero variance)");
                 } else {
-                    ui.label(fractions::short(image.variance));
+                    ui.label(fractions::short_scaled(image.variance));
                     ui.label(seconds);
                     ui.label(
                         image
@@ -220,7 +220,9 @@ fn speedup_text(u: &SchemeImage, image: &SchemeImage, pixels: usize) -> String {
         .efficiency(pixels)
         .zip(image.efficiency(pixels))
         .map(|(eu, e)| e / eu);
-    let variance_ratio = (image.variance > 0.0).then(|| u.variance / image.variance);
+    // V̂ ratios are V ratios (same scene, same Φ_total), finite whatever the powers.
+    let variance_ratio = (image.normalized_variance > 0.0)
+        .then(|| u.normalized_variance / image.normalized_variance);
     match (speedup, variance_ratio) {
         (Some(s), Some(v)) => format!(
             "{}× (variance {}×)",

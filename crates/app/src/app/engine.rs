@@ -14,7 +14,8 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use lightpick_core::render::{
-    CpuRenderer, Reference, mean_variance_per_sample, pool_core_seconds, tonemap_rgba8,
+    CpuRenderer, Reference, mean_variance_scaled, normalized_variance_per_sample,
+    pool_core_seconds, tonemap_rgba8,
 };
 use lightpick_core::scene::Scene;
 use lightpick_core::{SceneSamplers, Scheme};
@@ -95,8 +96,12 @@ pub struct SchemeImage {
     pub last_frame_seconds: f64,
     /// RMSE against the reference.
     pub rmse: Option<f64>,
-    /// Mean per-sample variance over the pixels (for efficiency `1/(Var·T)`).
-    pub variance: f64,
+    /// Mean per-sample variance over the pixels `V`, in irradiance², whatever its
+    /// magnitude ([`lightpick_core::render::mean_variance_scaled`]).
+    pub variance: lightpick_core::Scaled,
+    /// `V̂ = V/Φ_total²`, the same in units of the total power (for the efficiency
+    /// `1/(V̂·T)`, [`lightpick_core::render::normalized_variance_per_sample`]).
+    pub normalized_variance: f64,
     /// Convergence curve.
     pub series: Vec<ConvergencePoint>,
 }
@@ -112,10 +117,11 @@ impl SchemeImage {
         }
     }
 
-    /// Efficiency `1/(Var·T)` (variance per sample times time per sample).
+    /// Efficiency `1/(V̂·T)` (normalized variance per sample times time per sample), the
+    /// figure of [`lightpick_core::render::efficiency`] and `lightpick bench`.
     pub fn efficiency(&self, pixels: usize) -> Option<f64> {
         let t = self.seconds_per_sample(pixels);
-        (self.variance > 0.0 && t > 0.0).then(|| 1.0 / (self.variance * t))
+        (self.normalized_variance > 0.0 && t > 0.0).then(|| 1.0 / (self.normalized_variance * t))
     }
 }
 
@@ -288,7 +294,6 @@ impl Job {
         let scheme_image = |lane: &Lane| {
             let acc = lane.renderer.accumulator();
             let image = acc.image();
-            let variance = mean_variance_per_sample(acc);
             SchemeImage {
                 rgba: tonemap_rgba8(&image, exposure),
                 error_rgba: full
@@ -299,7 +304,8 @@ impl Job {
                 seconds: lane.seconds,
                 last_frame_seconds: lane.last_frame_seconds,
                 rmse: Some(lightpick_core::render::rmse(acc, reference)),
-                variance,
+                variance: mean_variance_scaled(acc),
+                normalized_variance: normalized_variance_per_sample(acc),
                 series: lane.series.clone(),
             }
         };
@@ -362,9 +368,16 @@ pub(crate) fn error_map(image: &[f64], reference: &[f64], scale: f64) -> Vec<u8>
 }
 
 /// The exact reference within the core's budget (every pixel, or a fixed subset for huge
-/// `N·P`), and a note when it is a subset.
+/// `N·P`), and a note when it is a subset or when an irradiance exceeds `f64` (naming the
+/// pixel and the light).
 pub(crate) fn reference(scene: &Scene) -> (Reference, Option<String>) {
     let reference = Reference::compute(scene);
+    if let Some(overflow) = reference.overflow() {
+        return (
+            reference,
+            Some(format!("{overflow}: RMSE and images are not meaningful")),
+        );
+    }
     let note = (!reference.is_complete()).then(|| {
         format!(
             "reference at {} of {} pixels ({} lights): RMSE over those pixels, no reference image",

@@ -13,6 +13,7 @@
 
 use egui::{RichText, Ui};
 use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints};
+use lightpick_core::Scaled;
 use lightpick_core::point_estimate::{PointEstimator, samples_for_relative_error};
 
 use super::colors;
@@ -185,12 +186,12 @@ fn point_sentence_ui(
 /// One row per scheme: estimate, measured and analytic variance, samples for 1 %, ratio.
 fn figures_ui(ui: &mut Ui, estimator: &PointEstimator) {
     let exact = estimator.exact();
-    let needed = |var: f64| samples_for_relative_error(var, exact, TARGET_RELATIVE_ERROR);
+    let needed = |var: Scaled| samples_for_relative_error(var, exact, TARGET_RELATIVE_ERROR);
     let uniform_variance = estimator
         .lanes()
         .first()
-        .map_or(0.0, |l| l.analytic.variance);
-    let uniform_needed = (uniform_variance > 0.0).then(|| needed(uniform_variance));
+        .map_or(Scaled::ZERO, |l| l.analytic.variance_scaled);
+    let uniform_needed = (uniform_variance.significand() > 0.0).then(|| needed(uniform_variance));
     egui::Grid::new("estimator_figures")
         .striped(true)
         .num_columns(6)
@@ -230,24 +231,27 @@ fn figures_ui(ui: &mut Ui, estimator: &PointEstimator) {
                 } else {
                     ui.label(format!(
                         "{} ± {}",
-                        fractions::short(w.mean()),
-                        fractions::short(2.0 * w.std_error())
+                        fractions::short_scaled(w.mean_scaled()),
+                        fractions::short_scaled(w.std_error_scaled().mul_f64(2.0))
                     ));
                     ui.label(if w.count() < 2 {
                         "–".to_owned()
                     } else {
-                        fractions::short(w.variance())
+                        fractions::short_scaled(w.variance_scaled())
                     });
                 }
-                let variance = lane.analytic.variance;
+                let variance = lane.analytic.variance_scaled;
                 // The exact pick's variance is the rounding of zero (the same rule as the
-                // Convergence panel's).
-                let exact_pick = variance == 0.0
-                    || lightpick_core::render::is_zero_variance(variance, uniform_variance);
+                // Convergence panel's), compared as a ratio: the same at any scale.
+                let exact_pick = variance.significand() == 0.0
+                    || lightpick_core::render::is_zero_variance(
+                        (variance / uniform_variance).to_f64(),
+                        1.0,
+                    );
                 ui.label(if exact_pick {
                     "0 (exact)".to_owned()
                 } else {
-                    fractions::short(variance)
+                    fractions::short_scaled(variance)
                 });
                 let n = needed(variance);
                 ui.label(if exact_pick {

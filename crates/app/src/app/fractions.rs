@@ -20,6 +20,16 @@ pub fn short(value: f64) -> String {
     }
 }
 
+/// [`short`] of a figure that may lie beyond `f64` (a variance of powers near `10^200`):
+/// the plain form where it fits, else `m.mmme±X` from its `log10`.
+pub fn short_scaled(value: lightpick_core::Scaled) -> String {
+    if value.fits_f64() && (value.to_f64() != 0.0 || value.significand() == 0.0) {
+        short(value.to_f64())
+    } else {
+        format!("{value:.3}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -33,5 +43,8 @@ mod tests {
         assert_eq!(show(1.0, den), "1");
         assert_eq!(short(0.5), "0.5000");
         assert_eq!(short(1e-9), "1.000e-9");
+        let huge = lightpick_core::Scaled::from_f64(3e200).square();
+        assert_eq!(short_scaled(huge), "9.000e400");
+        assert_eq!(short_scaled(lightpick_core::Scaled::from_f64(2.5)), "2.500");
     }
 }

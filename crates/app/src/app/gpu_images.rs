@@ -15,7 +15,7 @@ use std::time::Instant;
 
 use eframe::egui_wgpu::{self, wgpu};
 use lightpick_core::gpu::{GpuContext, GpuRenderer};
-use lightpick_core::render::{Reference, mean_variance_per_sample};
+use lightpick_core::render::{Reference, mean_variance_scaled, normalized_variance_per_sample};
 use lightpick_core::scene::Scene;
 use lightpick_core::{SceneSamplers, Scheme};
 
@@ -362,7 +362,8 @@ impl GpuImages {
                 }
                 lane.readback_due = false;
                 let acc = lane.renderer.readback().map_err(|e| e.to_string())?;
-                lane.image.variance = mean_variance_per_sample(&acc);
+                lane.image.variance = mean_variance_scaled(&acc);
+                lane.image.normalized_variance = normalized_variance_per_sample(&acc);
                 if let Some(r) = reference.as_ref() {
                     let rmse = lightpick_core::render::rmse(&acc, r);
                     lane.image.rmse = Some(rmse);

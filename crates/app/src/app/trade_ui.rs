@@ -11,6 +11,7 @@
 
 use egui::Ui;
 use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
+use lightpick_core::Scaled;
 use lightpick_core::render::SeriesPoint;
 
 use super::colors;
@@ -102,17 +103,18 @@ pub fn trade_ui(ui: &mut Ui, state: &mut AppState) {
     plot_ui(ui, m, state.settings.spp_per_frame, dark);
 }
 
-/// The largest variance per sample measured: what a zero variance is judged against.
+/// The largest normalized variance per sample measured (`V̂ = V/Φ_total²`, the same at any
+/// scale of the powers): what a zero variance is judged against.
 fn largest_variance(m: &TradeMeasurement) -> f64 {
     m.rows
         .iter()
-        .map(|r| r.efficiency.variance_per_sample)
+        .map(|r| r.efficiency.normalized_variance)
         .fold(0.0f64, f64::max)
 }
 
 /// Whether a row is a zero-variance estimator up to rounding (the exact spatial pick).
 fn is_exact(row: &TradeRow, largest: f64) -> bool {
-    lightpick_core::render::is_zero_variance(row.efficiency.variance_per_sample, largest)
+    lightpick_core::render::is_zero_variance(row.efficiency.normalized_variance, largest)
 }
 
 /// The table of `T`, `V`, `1/(V·T)` and the final RMSE per scheme. A zero-variance row (the
@@ -138,8 +140,10 @@ fn figures_ui(ui: &mut Ui, m: &TradeMeasurement) {
             ui.strong("V (per sample)").on_hover_text(
                 "Mean per-pixel variance of one sample's estimate, in irradiance² units",
             );
-            ui.strong("1/(V·T) (1/s)").on_hover_text(
-                "Efficiency: higher reaches a given error sooner (per second of render time)",
+            ui.strong("1/(V/Φ²·T) (1/s)").on_hover_text(
+                "Efficiency: higher reaches a given error sooner (per second of render time). \
+                 V/Φ² is the variance in units of the total power Φ, so the figure does not \
+                 change when every power is scaled; its ratios are those of 1/(V·T)",
             );
             ui.strong("relative")
                 .on_hover_text("Efficiency over the most efficient scheme");
@@ -150,7 +154,9 @@ fn figures_ui(ui: &mut Ui, m: &TradeMeasurement) {
                 let e = row.efficiency;
                 ui.colored_label(colors::scheme(row.scheme), scheme_label(row.scheme));
                 ui.label(fractions::short(e.seconds_per_sample * 1e9));
-                ui.label(fractions::short(e.variance_per_sample));
+                ui.label(fractions::short_scaled(Scaled::from_log10(
+                    e.variance_log10,
+                )));
                 let exact = is_exact(row, largest);
                 ui.label(if exact {
                     "∞ (exact)".to_owned()

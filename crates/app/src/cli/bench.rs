@@ -9,7 +9,7 @@
 //! * GPU: samples per second of `gpu::histogram` (alias, two randoms), where an adapter
 //!   exists.
 //! * Renders: for each preset, at a small resolution, the variance per sample `V`, the
-//!   time per sample `T` and the efficiency `1/(V·T)` of each scheme on the CPU, and the
+//!   time per sample `T` and the efficiency `1/(V̂·T)` (`V̂ = V/Φ_total²`) of each scheme on the CPU, and the
 //!   RMSE each reaches at the same rendering time (the shortest of the schemes' runs,
 //!   interpolated log-log on its convergence series). The spatial (contribution-aware)
 //!   scheme is one of them; each row also gives the sampler's build time (the light tree's
@@ -615,15 +615,18 @@ pub struct SchemeRender {
     pub scheme: Scheme,
     /// `V`, mean variance of one sample over the pixels.
     pub variance_per_sample: f64,
+    /// `V̂ = V/Φ_total²`, the same per unit of total power (the efficiencies divide by it, so
+    /// they do not change when the powers are scaled).
+    pub normalized_variance: f64,
     /// `T`, seconds per pixel sample (wall time on rayon's threads).
     pub seconds_per_sample: f64,
     /// Core seconds per pixel sample: the CPU time of rayon's threads in the passes
     /// (`pool_core_seconds`), what the app's CPU images show (its render pool leaves a core
     /// to the window, and the window shares the cores, so its wall time is not comparable).
     pub core_seconds_per_sample: f64,
-    /// `1/(V·T_core)`, the app's CPU efficiency; infinite (`null`) for zero variance.
+    /// `1/(V̂·T_core)`, the app's CPU efficiency; infinite (`null`) for zero variance.
     pub core_efficiency: f64,
-    /// `1/(V·T)`; infinite (`null` in JSON) for a zero-variance scheme.
+    /// `1/(V̂·T)`; infinite (`null` in JSON) for a zero-variance scheme.
     pub efficiency: f64,
     /// Whether `V` is the rounding of zero (the exact spatial pick on few lights:
     /// [`lightpick_core::render::is_zero_variance`] against the uniform scheme's `V`).
@@ -704,9 +707,10 @@ fn render_preset(
         schemes.push(SchemeRender {
             scheme,
             variance_per_sample: e.variance_per_sample,
+            normalized_variance: e.normalized_variance,
             seconds_per_sample: e.seconds_per_sample,
             core_seconds_per_sample: core_seconds / samples,
-            core_efficiency: 1.0 / (e.variance_per_sample * core_seconds / samples),
+            core_efficiency: 1.0 / (e.normalized_variance * core_seconds / samples),
             efficiency: e.efficiency,
             zero_variance: false,
             efficiency_vs_uniform: 0.0,
@@ -721,11 +725,11 @@ fn render_preset(
         .filter_map(|s| s.series.last().map(|p| p.seconds))
         .fold(f64::INFINITY, f64::min);
     let uniform_eff = schemes[0].efficiency;
-    let uniform_variance = schemes[0].variance_per_sample;
+    let uniform_variance = schemes[0].normalized_variance;
     for s in &mut schemes {
         s.rmse_at_equal_time = rmse_at(&s.series, equal_time);
         s.zero_variance =
-            lightpick_core::render::is_zero_variance(s.variance_per_sample, uniform_variance);
+            lightpick_core::render::is_zero_variance(s.normalized_variance, uniform_variance);
         if s.zero_variance {
             s.efficiency = f64::INFINITY;
             s.core_efficiency = f64::INFINITY;
@@ -762,7 +766,7 @@ pub struct AppSchemeRender {
     /// The measurement: spp, core seconds, `T` (core), `V`.
     #[serde(flatten)]
     pub measured: lightpick_core::render::CpuPassMeasurement,
-    /// `1/(V·T)` with `T` in core seconds; infinite (`null`) for zero variance.
+    /// `1/(V̂·T)` with `T` in core seconds; infinite (`null`) for zero variance.
     pub efficiency: f64,
     /// Whether `V` is zero up to rounding (the exact spatial pick).
     pub zero_variance: bool,
@@ -800,16 +804,16 @@ fn app_cpu_renders(
                     );
                     AppSchemeRender {
                         efficiency: 1.0
-                            / (measured.variance_per_sample * measured.core_seconds_per_sample),
+                            / (measured.normalized_variance * measured.core_seconds_per_sample),
                         zero_variance: exact_pick && scheme == Scheme::Spatial,
                         measured,
                     }
                 })
                 .collect();
-            let uniform_variance = schemes[0].measured.variance_per_sample;
+            let uniform_variance = schemes[0].measured.normalized_variance;
             for s in &mut schemes {
                 s.zero_variance |= lightpick_core::render::is_zero_variance(
-                    s.measured.variance_per_sample,
+                    s.measured.normalized_variance,
                     uniform_variance,
                 );
                 if s.zero_variance {
@@ -874,7 +878,7 @@ pub struct GpuSchemeRender {
     /// The measurement ([`gpu::measure_passes`]): spp, pass seconds, `T`, `V`, clock.
     #[serde(flatten)]
     pub measured: gpu::GpuPassMeasurement,
-    /// `1/(V·T)`; infinite (`null` in JSON) for a zero-variance scheme.
+    /// `1/(V̂·T)`; infinite (`null` in JSON) for a zero-variance scheme.
     pub efficiency: f64,
     /// Whether `V` is the rounding of zero (the exact spatial pick).
     pub zero_variance: bool,
@@ -929,7 +933,7 @@ fn gpu_renders(presets: &[NamedScene], seed: u64, quick: bool) -> Vec<GpuPresetR
                     Ok(measured) => out.schemes.push(GpuSchemeRender {
                         measured,
                         efficiency: 1.0
-                            / (measured.variance_per_sample * measured.seconds_per_sample),
+                            / (measured.normalized_variance * measured.seconds_per_sample),
                         zero_variance: false,
                         efficiency_vs_uniform: 0.0,
                     }),
@@ -940,7 +944,7 @@ fn gpu_renders(presets: &[NamedScene], seed: u64, quick: bool) -> Vec<GpuPresetR
                     }
                 }
             }
-            let uniform_variance = out.schemes[0].measured.variance_per_sample;
+            let uniform_variance = out.schemes[0].measured.normalized_variance;
             let uniform_efficiency = out.schemes[0].efficiency;
             let exact_pick = lightpick_core::spatial::uses_exact_pick(scene.light_count());
             for s in &mut out.schemes {
@@ -948,7 +952,7 @@ fn gpu_renders(presets: &[NamedScene], seed: u64, quick: bool) -> Vec<GpuPresetR
                 // rounding variance near 1e-7 of the signal, far above the f64 test's.
                 s.zero_variance = (exact_pick && s.measured.scheme == Scheme::Spatial)
                     || lightpick_core::render::is_zero_variance(
-                        s.measured.variance_per_sample,
+                        s.measured.normalized_variance,
                         uniform_variance,
                     );
                 if s.zero_variance {

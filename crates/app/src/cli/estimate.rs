@@ -2,10 +2,8 @@
 
 use anyhow::bail;
 use clap::Args;
-use lightpick_core::{
-    Construction, LightSampler as _, Rng, Sampler, Scheme, Welford, analytic_moments,
-};
-use rayon::prelude::*;
+use lightpick_core::point_estimate::sampled_mean;
+use lightpick_core::{Construction, LightSampler as _, Sampler, Scaled, Scheme, analytic_moments};
 use serde_json::json;
 
 use super::input::{PowersArgs, parse_numbers};
@@ -54,10 +52,14 @@ pub fn run(args: &EstimateArgs) -> anyhow::Result<()> {
         bail!("--contrib: item {i} is not finite ({})", contrib[i]);
     }
     let sampler = Sampler::try_build_with(args.scheme, &powers, args.construction)?;
-    let stats = estimate(&sampler, &contrib, args.count, args.seed);
+    let stats = sampled_mean(&sampler, &contrib, args.count, args.seed);
     let moments = analytic_moments(&contrib, |i| sampler.probability(i));
-    let z = if stats.std_error() > 0.0 {
-        (stats.mean() - moments.mean) / stats.std_error()
+    // In the samples' unit, so that the z-score is the same at any scale.
+    let unit = Scaled::pow2(-stats.unit_exponent());
+    let std_error_in_unit = (stats.std_error_scaled() * unit).to_f64();
+    let z = if std_error_in_unit > 0.0 {
+        (stats.mean_in_unit() - (Scaled::from_f64(moments.mean) * unit).to_f64())
+            / std_error_in_unit
     } else {
         0.0
     };
@@ -70,9 +72,11 @@ pub fn run(args: &EstimateArgs) -> anyhow::Result<()> {
             "mean": stats.mean(),
             "exact": moments.exact,
             "bias": moments.bias(),
-            "variance": stats.variance(),
-            "analytic_variance": moments.variance,
-            "std_error": stats.std_error(),
+            "variance": stats.variance_scaled(),
+            "variance_log10": stats.variance_scaled().log10(),
+            "analytic_variance": moments.variance_scaled,
+            "analytic_variance_log10": moments.variance_scaled.log10(),
+            "std_error": stats.std_error_scaled(),
             "z_score": z,
         }))
     } else {
@@ -83,7 +87,7 @@ pub fn run(args: &EstimateArgs) -> anyhow::Result<()> {
         println!(
             "mean      {:.6} ± {:.6} (standard error)",
             stats.mean(),
-            stats.std_error()
+            fixed6(stats.std_error_scaled())
         );
         println!("exact     {:.6}", moments.exact);
         if moments.bias() != 0.0 {
@@ -94,28 +98,20 @@ pub fn run(args: &EstimateArgs) -> anyhow::Result<()> {
         }
         println!(
             "variance  {:.6} per sample (analytic {:.6})",
-            stats.variance(),
-            moments.variance
+            fixed6(stats.variance_scaled()),
+            fixed6(moments.variance_scaled)
         );
         println!("z-score   {z:.3} (mean − expected, in standard errors)");
         Ok(())
     }
 }
 
-/// Averages `f(I)/p(I)` over samples `0..count` (sample `k` picks from `Rng::new(seed, k)`).
-pub fn estimate(sampler: &Sampler, contrib: &[f64], count: u64, seed: u64) -> Welford {
-    let chunks = rayon::current_num_threads().max(1) as u64 * 4;
-    let per_chunk = count.div_ceil(chunks);
-    (0..chunks)
-        .into_par_iter()
-        .map(|c| {
-            let mut w = Welford::new();
-            let end = ((c + 1) * per_chunk).min(count);
-            for k in (c * per_chunk).min(end)..end {
-                let pick = sampler.pick(&mut Rng::new(seed, k));
-                w.push(contrib[pick.light as usize] / pick.probability);
-            }
-            w
-        })
-        .reduce(Welford::new, |a, b| a.merge(&b))
+/// `{:.6}` of a figure that fits `f64`, else its `m.mmmmmme±X` form (a variance of
+/// contributions near `10^200`).
+fn fixed6(x: Scaled) -> String {
+    if x.fits_f64() && (x.to_f64() != 0.0 || x.significand() == 0.0) {
+        format!("{:.6}", x.to_f64())
+    } else {
+        format!("{x:.6}")
+    }
 }

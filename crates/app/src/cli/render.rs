@@ -119,6 +119,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     let reference = Reference::compute(&scene);
     let reference_seconds = started.elapsed().as_secs_f64();
+    if let Some(overflow) = reference.overflow() {
+        anyhow::bail!("{overflow}");
+    }
 
     let mut renderer = match &ctx {
         Some(ctx) => Progressive::Gpu(Box::new(GpuRenderer::new(
@@ -155,10 +158,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         "width": acc.width,
         "height": acc.height,
         "rmse": metrics.rmse,
+        "rmse_log10": metrics.rmse_log10,
         "rel_mse": metrics.rel_mse,
         "seconds": seconds,
         "samples_per_second": samples / seconds,
         "variance_per_sample": eff.variance_per_sample,
+        "variance_log10": eff.variance_log10,
+        "normalized_variance": eff.normalized_variance,
         "seconds_per_sample": eff.seconds_per_sample,
         "efficiency": eff.efficiency,
         "exposure": exposure,

@@ -31,7 +31,7 @@ fn spatial_is_a_third_image_and_curve_and_wins_on_spread_out_lights() {
     // Measured variance ratio ≈ 16 on this preset (`lightpick bench`): RMSE ≈ 4× lower.
     assert!(s * 2.0 < a, "spatial RMSE {s} vs importance {a}");
     assert!(
-        published.spatial.variance > 0.0,
+        published.spatial.variance.significand() > 0.0,
         "a tree, not the exact pick"
     );
     assert!(

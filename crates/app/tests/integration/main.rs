@@ -10,6 +10,7 @@ mod app_gpu_images;
 mod app_inspector;
 mod app_interaction;
 mod app_lights;
+mod app_scale;
 mod app_scene_files;
 mod app_snapshots;
 mod app_spatial;

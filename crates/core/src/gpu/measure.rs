@@ -5,7 +5,7 @@
 use super::pass_timer::PassClock;
 use super::{GpuContext, GpuError, GpuRenderer};
 use crate::Scheme;
-use crate::render::mean_variance_per_sample;
+use crate::render::{mean_variance_per_sample, normalized_variance_per_sample};
 use crate::scene::Scene;
 
 /// One scheme's measured cost and variance on the GPU.
@@ -23,6 +23,9 @@ pub struct GpuPassMeasurement {
     pub seconds_per_sample: f64,
     /// `V`: mean variance of one normalized sample over the pixels.
     pub variance_per_sample: f64,
+    /// `V̂ = V/Φ_total²`: the same in units of the total power, what the efficiency
+    /// `1/(V̂·T)` divides by ([`crate::render::efficiency`]).
+    pub normalized_variance: f64,
     /// Where the time comes from.
     pub clock: PassClock,
 }
@@ -67,6 +70,7 @@ pub fn measure_passes(
         seconds,
         seconds_per_sample: seconds / (f64::from(spp) * pixels as f64),
         variance_per_sample: mean_variance_per_sample(&acc),
+        normalized_variance: normalized_variance_per_sample(&acc),
         clock: renderer.pass_clock(),
     })
 }

@@ -123,6 +123,10 @@ pub struct GpuRenderer {
     samplers: SceneSamplers,
     spatial: Option<SpatialGpu>,
     total_power: f64,
+    /// `Φ_total` whatever its magnitude, and the scene's accumulation shift `s`
+    /// ([`crate::scene::Scene::irradiance_shift`]) the read-back sums are put in.
+    total_scaled: crate::Scaled,
+    shift: i32,
     samples_per_pixel: u32,
     /// Rows `0..band_row` already hold sample `k = samples_per_pixel` (a pass in progress,
     /// [`GpuRenderer::accumulate_rows`]); 0 when none is.
@@ -321,6 +325,8 @@ impl GpuRenderer {
             samplers: samplers.clone(),
             spatial: None,
             total_power: 0.0,
+            total_scaled: crate::Scaled::ZERO,
+            shift: 0,
             samples_per_pixel: 0,
             band_row: 0,
             plane,
@@ -414,6 +420,8 @@ impl GpuRenderer {
             bytemuck::cast_slice(&lights),
         )?;
         self.total_power = scene.powers.total();
+        self.total_scaled = scene.powers.total_scaled();
+        self.shift = scene.irradiance_shift();
         self.spatial = None;
         if self.scheme == Scheme::Spatial {
             self.ensure_spatial()?;
@@ -627,7 +635,8 @@ impl GpuRenderer {
     }
 
     /// Waits for the queued samples and returns the sums as an [`Accumulator`] (`f32`
-    /// sums widened to `f64`, scale `Φ_total` computed in `f64`).
+    /// sums widened to `f64` and put in the CPU renderer's unit: `Σê·2^-s`, `Σê²·2^-2s`,
+    /// exact scalings, with the same total power and shift `s`).
     ///
     /// Precision: each `Σ ê` is a running `f32` sum of non-negative terms, so it is within
     /// `(spp − 1)·2^-24` relative of the exact sum of the `f32` estimates (typically
@@ -643,16 +652,17 @@ impl GpuRenderer {
         let pixels = u64::from(self.width) * u64::from(self.height);
         let bytes = super::read_buffer(&self.ctx, "pixel sums", &self.sums, pixels * 8)?;
         let words = super::words(&bytes);
-        let mut acc = Accumulator::new(self.width, self.height, self.total_power);
+        let mut acc = Accumulator::new(self.width, self.height, self.total_scaled, self.shift);
         acc.samples_per_pixel = self.samples_per_pixel;
+        let to_unit = crate::Scaled::pow2(-self.shift).to_f64();
         for ((sum, sum_sq), pair) in acc
             .sum
             .iter_mut()
             .zip(acc.sum_sq.iter_mut())
             .zip(words.chunks_exact(2))
         {
-            *sum = f64::from(f32::from_bits(pair[0]));
-            *sum_sq = f64::from(f32::from_bits(pair[1]));
+            *sum = f64::from(f32::from_bits(pair[0])) * to_unit;
+            *sum_sq = f64::from(f32::from_bits(pair[1])) * to_unit * to_unit;
         }
         Ok(acc)
     }

@@ -20,15 +20,16 @@ use crate::{Construction, SceneSamplers};
 /// How lights are picked: a point-free [`Sampler`], or by contribution at the pixel.
 #[derive(Clone, Debug)]
 enum Picker {
-    /// A power-only (or uniform) sampler: `ê = w_i · G_i(x)`.
+    /// A power-only (or uniform) sampler: `ê' = w_i · G_i(x)`.
     Power(Sampler),
     /// [`Scheme::Spatial`]: `ê = p_i·G_i(x) / P(i | x)` ([`SpatialSampler`]).
     Spatial(Arc<SpatialSampler>),
 }
 
 /// What a sample needs of light `i`, in one 32-byte record (a single cache line access):
-/// its position and the weight `w_i` with normalized estimate `ê = w_i · G_i(x)`,
-/// `w_i = N·p_i` for uniform picking and `w_i = 1` for power-proportional picking.
+/// its position and the weight `w_i` with the estimate in the accumulation unit
+/// `ê' = w_i · G_i(x)`, `w_i = N·p_i·2^-s` for uniform picking and `w_i = 2^-s` for
+/// power-proportional picking (`s` the scene's [`Scene::irradiance_shift`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(32))]
 struct LightRecord {
@@ -40,9 +41,10 @@ struct LightRecord {
 ///
 /// Pixel `p = py·width + px`, sample `k` (counted from 0 across passes) uses the stream
 /// `Rng::new(seed, (k << 32) | p)`, picks light `i` with [`Sampler::pick_light`] and adds
-/// the normalized estimate `ê = w_i · G_i(x_p)` (see [`crate::render`]) and `ê²` to the
-/// pixel's sums. `E[ê] = Σ_i p_i·G_i(x_p)`, so `Φ_total · Σê / spp` is an unbiased estimate of
-/// the irradiance `E(x_p) = Σ_i Φ_i·G_i(x_p)`.
+/// the normalized estimate `ê = N·p_i·G_i(x_p)` or `G_i(x_p)` (see [`crate::render`]) in
+/// the accumulator's unit, `ê' = ê·2^-s` (exact), and `ê'²` to the pixel's sums.
+/// `E[ê] = Σ_i p_i·G_i(x_p)`, so `Φ_total·2^s · Σê' / spp` is an unbiased estimate of the
+/// irradiance `E(x_p) = Σ_i Φ_i·G_i(x_p)`.
 ///
 /// With [`Scheme::Spatial`] the sample instead draws from the same stream through
 /// [`SpatialSampler::estimate`] at `x_p`: `ê = p_i·G_i(x_p) / P(i | x_p)`, same expectation.
@@ -54,7 +56,25 @@ pub struct CpuRenderer {
     /// The lights' emission profiles (spots, ranges), when the scene has any.
     emission: Option<Arc<[Emission]>>,
     seed: u64,
+    /// `2^-s`, the factor from a normalized estimate into the accumulation unit.
+    to_unit: f64,
     accumulator: Accumulator,
+}
+
+/// The accumulator of `scene` (its total power and [`Scene::irradiance_shift`]) and the
+/// factor `2^-s` into its unit.
+fn accumulator_for(scene: &Scene) -> (Accumulator, f64) {
+    let shift = scene.irradiance_shift();
+    let plane = &scene.plane;
+    (
+        Accumulator::new(
+            plane.width,
+            plane.height,
+            scene.powers.total_scaled(),
+            shift,
+        ),
+        crate::Scaled::pow2(-shift).to_f64(),
+    )
 }
 
 impl CpuRenderer {
@@ -103,14 +123,14 @@ impl CpuRenderer {
             scene.light_count(),
             "sampler built for another scene"
         );
-        let plane = scene.plane.clone();
-        let accumulator = Accumulator::new(plane.width, plane.height, scene.powers.total());
+        let (accumulator, to_unit) = accumulator_for(scene);
         Self {
-            plane,
+            plane: scene.plane.clone(),
             picker: Picker::Spatial(spatial),
             lights: Vec::new(),
             emission: None,
             seed,
+            to_unit,
             accumulator,
         }
     }
@@ -130,23 +150,23 @@ impl CpuRenderer {
         let n = scene.light_count() as f64;
         let uniform = sampler.scheme() == Scheme::Uniform;
         let pmf = scene.powers.pmf();
+        let (accumulator, to_unit) = accumulator_for(scene);
         let lights = scene
             .positions
             .iter()
             .zip(&pmf)
             .map(|(&position, &p)| LightRecord {
                 position,
-                weight: if uniform { n * p } else { 1.0 },
+                weight: if uniform { n * p * to_unit } else { to_unit },
             })
             .collect();
-        let plane = scene.plane.clone();
-        let accumulator = Accumulator::new(plane.width, plane.height, scene.powers.total());
         Self {
-            plane,
+            plane: scene.plane.clone(),
             picker: Picker::Power(sampler),
             lights,
             emission: scene.emission.as_deref().map(Arc::from),
             seed,
+            to_unit,
             accumulator,
         }
     }
@@ -167,9 +187,10 @@ impl CpuRenderer {
             lights,
             emission,
             seed,
+            to_unit,
             accumulator,
         } = self;
-        let (plane, picker, seed) = (&*plane, &*picker, *seed);
+        let (plane, picker, seed, to_unit) = (&*plane, &*picker, *seed, *to_unit);
         let lights = Lights {
             records: lights.as_slice(),
             emission: emission.as_deref(),
@@ -193,7 +214,15 @@ impl CpuRenderer {
                     );
                 }
                 Picker::Spatial(spatial) => {
-                    render_row_spatial(plane, spatial, seed, py as u32, (k0, spp), sum_row, sq_row);
+                    render_row_spatial(
+                        plane,
+                        (spatial, to_unit),
+                        seed,
+                        py as u32,
+                        (k0, spp),
+                        sum_row,
+                        sq_row,
+                    );
                 }
             });
         accumulator.samples_per_pixel = k0 + spp;
@@ -211,8 +240,7 @@ impl CpuRenderer {
 
     /// Drops every sample (the next pass starts again at `k = 0`).
     pub fn reset(&mut self) {
-        let a = &mut self.accumulator;
-        *a = Accumulator::new(a.width, a.height, a.scale);
+        self.accumulator = self.accumulator.emptied();
     }
 
     /// The scheme lights are picked with.
@@ -346,13 +374,13 @@ fn render_row(
 const SPATIAL_BATCH: usize = 8;
 
 /// [`render_row`] for [`Scheme::Spatial`]: sample `k` of pixel `p` is
-/// `spatial.estimate(x_p, &mut Rng::new(seed, (k << 32) | p))`, drawn for
+/// `spatial.estimate(x_p, &mut Rng::new(seed, (k << 32) | p))` times `to_unit = 2^-s`, drawn for
 /// [`SPATIAL_BATCH`] neighbouring pixels at a time (their descents interleaved), each pixel
 /// still adding its samples in increasing `k`: the same sums, bit for bit.
 #[inline]
 fn render_row_spatial(
     plane: &ReceiverPlane,
-    spatial: &SpatialSampler,
+    (spatial, to_unit): (&SpatialSampler, f64),
     seed: u64,
     py: u32,
     (k0, spp): (u32, u32),
@@ -370,6 +398,7 @@ fn render_row_spatial(
             let mut rngs = std::array::from_fn(|j| stream(k, first + j));
             let estimates = spatial.estimate_many(&points, &mut rngs);
             for (j, e) in estimates.into_iter().enumerate() {
+                let e = e * to_unit;
                 sum_row[first + j] += e;
                 sq_row[first + j] += e * e;
             }
@@ -378,7 +407,7 @@ fn render_row_spatial(
     for px in batches * SPATIAL_BATCH..sum_row.len() {
         let x = pixel_center(plane, px as u32, py);
         for k in k0..k0 + spp {
-            let e = spatial.estimate(x, &mut stream(k, px));
+            let e = spatial.estimate(x, &mut stream(k, px)) * to_unit;
             sum_row[px] += e;
             sq_row[px] += e * e;
         }

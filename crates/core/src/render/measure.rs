@@ -4,7 +4,9 @@
 //! bench` prints it beside its convergence runs (which use large passes on a small image,
 //! where a sample costs less: fewer cache misses per pixel row).
 
-use super::{CpuRenderer, mean_variance_per_sample, pool_core_seconds};
+use super::{
+    CpuRenderer, mean_variance_per_sample, normalized_variance_per_sample, pool_core_seconds,
+};
 use crate::{SceneSamplers, Scheme};
 
 /// One scheme's measured core time and variance on the CPU.
@@ -22,6 +24,9 @@ pub struct CpuPassMeasurement {
     pub core_seconds_per_sample: f64,
     /// `V`: mean variance of one normalized sample over the pixels.
     pub variance_per_sample: f64,
+    /// `V̂ = V/Φ_total²`: the same in units of the total power, what the efficiency
+    /// `1/(V̂·T)` divides by ([`crate::render::efficiency`]).
+    pub normalized_variance: f64,
 }
 
 /// Renders `samplers`' scene with `scheme` on the current rayon pool: one untimed warm-up
@@ -58,5 +63,6 @@ pub fn measure_cpu_passes(
         core_seconds,
         core_seconds_per_sample: core_seconds / (f64::from(spp) * pixels as f64),
         variance_per_sample: mean_variance_per_sample(acc),
+        normalized_variance: normalized_variance_per_sample(acc),
     }
 }

@@ -15,14 +15,26 @@
 //! * variance per sample `V = (1/P) Σ_p s_p²`, with `s_p²` the unbiased sample variance of one
 //!   sample at pixel `p` ([`Accumulator::variance_per_sample`]): `E[(Ê_p − E_p)²] = σ_p²/n`;
 //! * time per sample `T = seconds / (n·P)`;
-//! * efficiency `1/(V·T)`: inverse of the error-variance × time product, so a scheme twice as
-//!   efficient reaches a given MSE in half the time.
+//! * efficiency `1/(V̂·T)` with `V̂ = V/Φ_total²` the variance per sample of the normalized
+//!   estimate (irradiance per unit of total power): the inverse of the error-variance × time
+//!   product, so a scheme twice as efficient reaches a given MSE in half the time. Measured
+//!   in units of the scene's total power, it does not change when every power is scaled,
+//!   and its ratios between schemes are those of `1/(V·T)`.
+//!
+//! # Scale
+//! Every figure is computed from the sums in the accumulation unit `U = Φ_total·2^s`
+//! ([`Accumulator::unit`], [`Reference::in_unit`]) and scaled out at the end through
+//! [`Scaled`]: scaling every power by `2^k` multiplies the RMSE by exactly `2^k` and `V` by
+//! `2^(2k)`, and leaves relMSE, `V̂` and the efficiency unchanged bit for bit (while nothing
+//! is subnormal). A `V` beyond `f64` is reported as `inf` with its finite
+//! [`Efficiency::variance_log10`], never as 0 or NaN.
 
 use std::time::Instant;
 
 use super::Accumulator;
 use super::cpu::CpuRenderer;
 use super::reference::Reference;
+use crate::Scaled;
 use crate::sampler::Scheme;
 use crate::scene::Scene;
 
@@ -50,8 +62,10 @@ pub fn is_zero_variance(variance: f64, reference: f64) -> bool {
 /// RMSE and relMSE of an image against a reference (see the module docs for the formulas).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct ErrorMetrics {
-    /// `√((1/M) Σ (Ê_p − E_p)²)` over the reference's pixels.
+    /// `√((1/M) Σ (Ê_p − E_p)²)` over the reference's pixels (`inf` beyond `f64`).
     pub rmse: f64,
+    /// `log10` of the RMSE, finite whatever its magnitude (`-inf` for 0).
+    pub rmse_log10: f64,
     /// `(1/M) Σ (Ê_p − E_p)²/(E_p² + ε)` over the reference's pixels.
     pub rel_mse: f64,
     /// `M`, the number of pixels compared.
@@ -61,11 +75,17 @@ pub struct ErrorMetrics {
 /// Variance, time and efficiency of a rendering (see the module docs for the formulas).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Efficiency {
-    /// `V = (1/P) Σ_p s_p²`, the mean variance of one sample, in irradiance² units.
+    /// `V = (1/P) Σ_p s_p²`, the mean variance of one sample, in irradiance² units (`inf`
+    /// beyond `f64`).
     pub variance_per_sample: f64,
+    /// `log10 V`, finite whatever its magnitude (`-inf` for 0).
+    pub variance_log10: f64,
+    /// `V̂ = V/Φ_total²`, the variance of one sample of irradiance per unit of total power:
+    /// unchanged when the powers are scaled.
+    pub normalized_variance: f64,
     /// `T = seconds/(n·P)`, seconds per pixel sample.
     pub seconds_per_sample: f64,
-    /// `1/(V·T)` (`+inf` when `V = 0`, a zero-variance estimator).
+    /// `1/(V̂·T)` (`+inf` when `V = 0`, a zero-variance estimator).
     pub efficiency: f64,
 }
 
@@ -100,15 +120,19 @@ pub fn error_metrics(acc: &Accumulator, reference: &Reference) -> ErrorMetrics {
     if m == 0 {
         return ErrorMetrics {
             rmse: 0.0,
+            rmse_log10: f64::NEG_INFINITY,
             rel_mse: 0.0,
             pixels: 0,
         };
     }
-    let mean_ref = reference.values().iter().sum::<f64>() / m as f64;
+    // Both in the reference's unit: 1 for a renderer of the same scene.
+    let to_reference_unit = (acc.unit() / reference.unit()).to_f64();
+    let exact_in_unit = reference.in_unit();
+    let mean_ref = exact_in_unit.iter().sum::<f64>() / m as f64;
     let eps = REL_MSE_EPSILON * mean_ref * mean_ref;
     let (mut se, mut rel) = (0.0, 0.0);
-    for (p, exact) in reference.iter() {
-        let d = acc.mean(p) - exact;
+    for (&p, &exact) in reference.pixels().iter().zip(exact_in_unit) {
+        let d = acc.mean_in_unit(p as usize) * to_reference_unit - exact;
         se += d * d;
         let denominator = exact * exact + eps;
         // Zero only when the whole reference is 0 (every light below the plane), where the
@@ -117,8 +141,10 @@ pub fn error_metrics(acc: &Accumulator, reference: &Reference) -> ErrorMetrics {
             rel += d * d / denominator;
         }
     }
+    let rmse = reference.unit().mul_f64((se / m as f64).sqrt());
     ErrorMetrics {
-        rmse: (se / m as f64).sqrt(),
+        rmse: rmse.to_f64(),
+        rmse_log10: rmse.log10(),
         rel_mse: rel / m as f64,
         pixels: m,
     }
@@ -133,28 +159,47 @@ pub fn rmse(acc: &Accumulator, reference: &Reference) -> f64 {
 }
 
 /// `V = (1/P) Σ_p s_p²`, the mean over all pixels of [`Accumulator::variance_per_sample`]
-/// (0 before two samples).
+/// (0 before two samples; `inf` beyond `f64`: [`mean_variance_scaled`] keeps it).
 pub fn mean_variance_per_sample(acc: &Accumulator) -> f64 {
+    mean_variance_scaled(acc).to_f64()
+}
+
+/// `V` whatever its magnitude: the mean in the squared unit, times `U²`.
+pub fn mean_variance_scaled(acc: &Accumulator) -> Scaled {
+    acc.unit().square().mul_f64(mean_variance_in_unit(acc))
+}
+
+/// `V̂ = V/Φ_total²`, the variance per sample of irradiance per unit of total power: the
+/// mean in the squared unit times `2^(2s)`; unchanged when the powers are scaled.
+pub fn normalized_variance_per_sample(acc: &Accumulator) -> f64 {
+    Scaled::new(mean_variance_in_unit(acc), 2 * acc.shift).to_f64()
+}
+
+/// `(1/P) Σ_p s_p²` in the accumulator's squared unit.
+fn mean_variance_in_unit(acc: &Accumulator) -> f64 {
     let p = acc.sum.len();
     if p == 0 {
         return 0.0;
     }
-    (0..p).map(|i| acc.variance_per_sample(i)).sum::<f64>() / p as f64
+    (0..p).map(|i| acc.variance_in_unit(i)).sum::<f64>() / p as f64
 }
 
 /// [`Efficiency`] of `acc`, rendered in `seconds` of wall time.
 pub fn efficiency(acc: &Accumulator, seconds: f64) -> Efficiency {
     let samples = f64::from(acc.samples_per_pixel) * acc.sum.len() as f64;
-    let variance = mean_variance_per_sample(acc);
+    let variance = mean_variance_scaled(acc);
+    let normalized = normalized_variance_per_sample(acc);
     let per_sample = if samples > 0.0 {
         seconds / samples
     } else {
         0.0
     };
     Efficiency {
-        variance_per_sample: variance,
+        variance_per_sample: variance.to_f64(),
+        variance_log10: variance.log10(),
+        normalized_variance: normalized,
         seconds_per_sample: per_sample,
-        efficiency: 1.0 / (variance * per_sample),
+        efficiency: 1.0 / (normalized * per_sample),
     }
 }
 

@@ -43,10 +43,11 @@ pub use measure::{CpuPassMeasurement, measure_cpu_passes};
 pub use metrics::{
     Efficiency, ErrorMetrics, ProgressiveRenderer, REL_MSE_EPSILON, SchemeSeries, SeriesPoint,
     ZERO_VARIANCE_RTOL, convergence_series, cpu_convergence, efficiency, error_metrics,
-    is_zero_variance, mean_variance_per_sample, rmse, series_spp,
+    is_zero_variance, mean_variance_per_sample, mean_variance_scaled,
+    normalized_variance_per_sample, rmse, series_spp,
 };
 pub use reference::{
-    DEFAULT_REFERENCE_BUDGET, LIGHT_CHUNK, MIN_REFERENCE_PIXELS, PIXEL_BLOCK, Reference,
-    subset_pixels,
+    DEFAULT_REFERENCE_BUDGET, IrradianceOverflow, LIGHT_CHUNK, MIN_REFERENCE_PIXELS, PIXEL_BLOCK,
+    Reference, subset_pixels,
 };
 pub use tonemap::{linear_to_srgb, tonemap_rgba8, tonemap_value};

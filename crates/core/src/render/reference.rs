@@ -9,6 +9,14 @@
 //! (algebraically `Σ p_i·G_i`; the rounding differs by a few ulps). A scene with spots or
 //! ranges sums `p_i·G_i(x)·S_i(x)` ([`crate::scene::light_term`]) light by light instead.
 //!
+//! # Scale
+//! The sums run in the renderers' accumulation unit `U = Φ_total·2^s`
+//! ([`crate::render::Accumulator::unit`]): `c_i = p_i·z_i·2^-s`, so they neither overflow
+//! nor vanish whatever the powers, and scaling every power by `2^k` leaves them unchanged bit
+//! for bit ([`Reference::in_unit`]). [`Reference::values`] are `U` times them, in `f64`.
+//! Where a light is so close to a pixel that the irradiance itself exceeds `f64` (a light
+//! `10^-160` above a pixel centre), [`Reference::overflow`] names the pixel and the light.
+//!
 //! # Pixel subset
 //! A full reference costs `N·P` light evaluations. When that exceeds the budget `B`
 //! ([`DEFAULT_REFERENCE_BUDGET`] unless given), the reference covers
@@ -30,6 +38,7 @@
 use glam::DVec2;
 use rayon::prelude::*;
 
+use crate::Scaled;
 use crate::scene::{Scene, light_term, pixel_center};
 
 /// Default light-pixel evaluation budget `B = 2^30 ≈ 1.07·10^9` (about a second on two
@@ -47,6 +56,10 @@ pub const PIXEL_BLOCK: usize = 16;
 /// Lights per cache-resident chunk (`4 · 8 · 1024` bytes = 32 KiB of light data).
 pub const LIGHT_CHUNK: usize = 1024;
 
+/// Below this height (`2^-300`) a light's `r³` may underflow: the reference then sums
+/// `(c/r)/r²` (two divisions) instead of `c/r³`.
+const CLOSE_HEIGHT: f64 = 4.909_093_465_297_727e-91;
+
 /// Independent partial sums per pixel and chunk (vectorizable lanes).
 const LANES: usize = 4;
 
@@ -60,6 +73,25 @@ pub struct Reference {
     height: u32,
     pixels: Vec<u32>,
     values: Vec<f64>,
+    in_unit: Vec<f64>,
+    unit: Scaled,
+    overflow: Option<IrradianceOverflow>,
+}
+
+/// A pixel whose irradiance exceeds `f64`, and the light that makes it so.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "the irradiance at pixel ({x}, {y}) exceeds f64: light {light} is too close to it \
+     (a light closer than about 1e-154 to the plane overflows)"
+)]
+pub struct IrradianceOverflow {
+    /// Pixel column.
+    pub x: u32,
+    /// Pixel row.
+    pub y: u32,
+    /// The light (0-based) whose contribution there is beyond `f64`, or the largest one
+    /// when only their sum is.
+    pub light: usize,
 }
 
 /// The lights in structure-of-arrays form, zero contributors dropped, padded to a multiple
@@ -72,7 +104,7 @@ struct LightArrays {
 }
 
 impl LightArrays {
-    fn new(scene: &Scene) -> Self {
+    fn new(scene: &Scene, to_unit: f64) -> Self {
         let pmf = scene.powers.pmf();
         let mut arrays = LightArrays {
             x: Vec::new(),
@@ -82,7 +114,7 @@ impl LightArrays {
         };
         for (pos, &p) in scene.positions.iter().zip(&pmf) {
             if pos.z > 0.0 && p > 0.0 {
-                arrays.push(pos.x, pos.y, pos.z, p * pos.z);
+                arrays.push(pos.x, pos.y, pos.z, p * pos.z * to_unit);
             }
         }
         while !arrays.c.len().is_multiple_of(LANES) {
@@ -100,9 +132,10 @@ impl LightArrays {
 }
 
 /// `Σ_i c_i / (r_i²·√(r_i²))` over one chunk (its length a multiple of [`LANES`]), in
-/// [`LANES`] partial sums added in a fixed order.
+/// [`LANES`] partial sums added in a fixed order. `CLOSE`: lights so low (`z < 2^-300`)
+/// that `r³` may underflow, summed as `(c_i/r_i)/r_i²` instead.
 #[inline]
-fn chunk_sum(x: &[f64], y: &[f64], z: &[f64], c: &[f64], at: DVec2) -> f64 {
+fn chunk_sum<const CLOSE: bool>(x: &[f64], y: &[f64], z: &[f64], c: &[f64], at: DVec2) -> f64 {
     let mut lanes = [0.0f64; LANES];
     for (((xs, ys), zs), cs) in x
         .chunks_exact(LANES)
@@ -114,7 +147,11 @@ fn chunk_sum(x: &[f64], y: &[f64], z: &[f64], c: &[f64], at: DVec2) -> f64 {
             let dx = xs[l] - at.x;
             let dy = ys[l] - at.y;
             let r2 = dx * dx + dy * dy + zs[l] * zs[l];
-            lanes[l] += cs[l] / (r2 * r2.sqrt());
+            lanes[l] += if CLOSE {
+                (cs[l] / r2.sqrt()) / r2
+            } else {
+                cs[l] / (r2 * r2.sqrt())
+            };
         }
     }
     (lanes[0] + lanes[1]) + (lanes[2] + lanes[3])
@@ -160,10 +197,12 @@ impl Reference {
             );
         }
         let width = plane.width;
+        let shift = scene.irradiance_shift();
+        let to_unit = Scaled::pow2(-shift).to_f64();
+        let unit = scene.powers.total_scaled() * Scaled::pow2(shift);
         let mut values = vec![0.0; pixels.len()];
         if let Some(emission) = &scene.emission {
             let pmf = scene.powers.pmf();
-            let total = scene.powers.total();
             values
                 .par_chunks_mut(PIXEL_BLOCK)
                 .zip(pixels.par_chunks(PIXEL_BLOCK))
@@ -175,20 +214,15 @@ impl Reference {
                             .iter()
                             .zip(&pmf)
                             .zip(emission)
-                            .map(|((&pos, &pi), e)| pi * light_term(pos, Some(e), at))
+                            .map(|((&pos, &pi), e)| pi * to_unit * light_term(pos, Some(e), at))
                             .sum();
-                        *o = total * sum;
+                        *o = sum;
                     }
                 });
-            return Self {
-                width: plane.width,
-                height: plane.height,
-                pixels,
-                values,
-            };
+            return Self::from_unit_values(scene, pixels, values, unit, to_unit);
         }
-        let lights = LightArrays::new(scene);
-        let scale = scene.powers.total() / (4.0 * std::f64::consts::PI);
+        let lights = LightArrays::new(scene, to_unit);
+        let close = lights.z.iter().any(|&z| z < CLOSE_HEIGHT);
         values
             .par_chunks_mut(PIXEL_BLOCK)
             .zip(pixels.par_chunks(PIXEL_BLOCK))
@@ -207,19 +241,57 @@ impl Reference {
                         &lights.c[start..end],
                     );
                     for (sum, &at) in sums.iter_mut().zip(&centers) {
-                        *sum += chunk_sum(x, y, z, c, at);
+                        *sum += if close {
+                            chunk_sum::<true>(x, y, z, c, at)
+                        } else {
+                            chunk_sum::<false>(x, y, z, c, at)
+                        };
                     }
                 }
                 for (o, s) in out.iter_mut().zip(sums) {
-                    *o = scale * s;
+                    *o = s / (4.0 * std::f64::consts::PI);
                 }
             });
+        Self::from_unit_values(scene, pixels, values, unit, to_unit)
+    }
+
+    /// The reference from its values in the unit `unit`, with the first pixel whose value
+    /// is not finite named with its light.
+    fn from_unit_values(
+        scene: &Scene,
+        pixels: Vec<u32>,
+        in_unit: Vec<f64>,
+        unit: Scaled,
+        to_unit: f64,
+    ) -> Self {
+        let overflow = find_overflow(scene, &pixels, &in_unit, to_unit);
+        let values = in_unit.iter().map(|&v| unit.mul_f64(v).to_f64()).collect();
         Self {
-            width: plane.width,
-            height: plane.height,
+            width: scene.plane.width,
+            height: scene.plane.height,
             pixels,
             values,
+            in_unit,
+            unit,
+            overflow,
         }
+    }
+
+    /// The values in the accumulation unit ([`Reference::unit`]), in the order of
+    /// [`Reference::pixels`]: the same bits whatever power of two scales the powers.
+    pub fn in_unit(&self) -> &[f64] {
+        &self.in_unit
+    }
+
+    /// The unit `U = Φ_total·2^s` of [`Reference::in_unit`] (that of the CPU renderer's
+    /// [`crate::render::Accumulator`] for the same scene).
+    pub fn unit(&self) -> Scaled {
+        self.unit
+    }
+
+    /// The first covered pixel whose irradiance exceeds `f64`, with the light responsible.
+    pub fn overflow(&self) -> Option<IrradianceOverflow> {
+        self.overflow
     }
 
     /// Image width in pixels.
@@ -259,6 +331,47 @@ impl Reference {
     pub fn image(&self) -> Option<&[f64]> {
         self.is_complete().then_some(self.values.as_slice())
     }
+}
+
+/// The first covered pixel whose irradiance does not fit `f64`, and its light: a light whose
+/// term `p_i·2^-s·G_i(x)` is not finite there (only lights with `z ≲ 10^-154` can have
+/// one: they are found first, in `O(N)`, then checked at the covered pixels), or, where the
+/// sum alone overflows, the largest term of that pixel.
+fn find_overflow(
+    scene: &Scene,
+    pixels: &[u32],
+    in_unit: &[f64],
+    to_unit: f64,
+) -> Option<IrradianceOverflow> {
+    let width = scene.plane.width;
+    let pmf = scene.powers.pmf_scale();
+    let term = |i: usize, at: DVec2| {
+        pmf.of(scene.powers.as_slice()[i]) * to_unit * scene.light_term(i, at)
+    };
+    let at = |p: u32| pixel_center(&scene.plane, p % width, p / width);
+    let named = |p: u32, light: usize| IrradianceOverflow {
+        x: p % width,
+        y: p / width,
+        light,
+    };
+    let close: Vec<usize> = (0..scene.light_count())
+        .filter(|&i| {
+            let z = scene.positions[i].z;
+            z > 0.0 && !(1.0 / (z * z)).is_finite() && scene.powers.as_slice()[i] > 0.0
+        })
+        .collect();
+    if !close.is_empty() {
+        for &p in pixels {
+            if let Some(&i) = close.iter().find(|&&i| !term(i, at(p)).is_finite()) {
+                return Some(named(p, i));
+            }
+        }
+    }
+    let (&p, _) = pixels.iter().zip(in_unit).find(|(_, v)| !v.is_finite())?;
+    let light = (0..scene.light_count())
+        .max_by(|&a, &b| term(a, at(p)).total_cmp(&term(b, at(p))))
+        .unwrap_or(0);
+    Some(named(p, light))
 }
 
 /// The R2 subset of about `m` pixels of a `width × height` image (see the module docs),

@@ -15,7 +15,14 @@ pub fn geometry_term(light_in_world: DVec3, point_on_plane: DVec2) -> f64 {
     }
     // r² = |light.xy − x|² + z², summed in this order (x, then y, then z).
     let r2 = (light_in_world.truncate() - point_on_plane).length_squared() + z * z;
-    z / (4.0 * std::f64::consts::PI * r2 * r2.sqrt())
+    let denominator = 4.0 * std::f64::consts::PI * r2 * r2.sqrt();
+    if denominator >= f64::MIN_POSITIVE {
+        z / denominator
+    } else {
+        // r³ underflows for r < 10^-102.7: (z/r)/(4π r²) keeps G finite while it fits f64
+        // (a light 10^-150 above the point gives 8·10^298).
+        (z / r2.sqrt()) / (4.0 * std::f64::consts::PI * r2)
+    }
 }
 
 /// `G(x)·S(x)`: the irradiance at `point_on_plane` per unit power of the light at
@@ -74,5 +81,20 @@ mod tests {
         let r2 = dx * dx + dy * dy + z * z;
         let written = z / (4.0 * std::f64::consts::PI * r2 * r2.sqrt());
         assert_eq!(geometry_term(light, x).to_bits(), written.to_bits());
+    }
+
+    #[test]
+    fn a_light_next_to_the_plane_stays_finite_while_it_fits() {
+        // 10^-150 above the point: r³ = 10^-450 underflows, G = 1/(4π·10^-300) does not.
+        let g = geometry_term(DVec3::new(0.0, 0.0, 1e-150), DVec2::ZERO);
+        assert!(
+            (g * 4.0 * std::f64::consts::PI / 1e300 - 1.0).abs() < 1e-14,
+            "{g:e}"
+        );
+        // 10^-160: G ≈ 8·10^318 does not fit f64.
+        assert_eq!(
+            geometry_term(DVec3::new(0.0, 0.0, 1e-160), DVec2::ZERO),
+            f64::INFINITY
+        );
     }
 }

@@ -109,6 +109,35 @@ impl Scene {
         light_term(self.positions[i], self.emission_of(i), point_on_plane)
     }
 
+    /// The binary exponent `s` of the renderers' accumulation unit: the largest irradiance
+    /// per unit power any light can deliver, `max_i g_i/(4π z_i²)` over the lights above the
+    /// plane (`g_i` a spot's gain, 1 otherwise), is `≈ 2^s`. Estimates are summed as
+    /// `ê·2^-s` so their squares stay in range for a light `10^-150` above the plane as for
+    /// one at height 1. It depends on positions and cones only: scaling the powers leaves it
+    /// unchanged. Clamped to `[-1000, 1000]`; 0 for a scene with no light above the plane.
+    /// A light so low that its bound exceeds `f64` (`z ≲ 10^-154`) is left out: the
+    /// irradiance under it does not fit `f64` in any unit, and the reference reports it
+    /// ([`crate::render::Reference::overflow`]).
+    pub fn irradiance_shift(&self) -> i32 {
+        let max = self
+            .positions
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.z > 0.0)
+            .map(|(i, p)| {
+                let gain = self.emission_of(i).map_or(1.0, Emission::gain);
+                // gain/(4π z²) without overflowing for tiny z: (gain/z)/(4π z).
+                (gain / p.z) / (4.0 * std::f64::consts::PI * p.z)
+            })
+            .filter(|g| g.is_finite())
+            .fold(0.0f64, f64::max);
+        if max > 0.0 {
+            crate::Scaled::from_f64(max).exponent().clamp(-1000, 1000)
+        } else {
+            0
+        }
+    }
+
     /// Light `i`'s name, when the scene's source named it.
     pub fn name_of(&self, i: usize) -> Option<&str> {
         self.names

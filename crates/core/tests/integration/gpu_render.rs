@@ -153,7 +153,8 @@ fn check_against_cpu(scene: &Scene, seed: u64, what: &str) {
         renderer.accumulate(9).expect("accumulate 9");
         let acc = renderer.readback().expect("readback");
         assert_eq!(acc.samples_per_pixel, 16);
-        assert_eq!(acc.scale, scene.powers.total());
+        assert_eq!(acc.total_power, scene.powers.total_scaled());
+        assert_eq!(acc.shift, scene.irradiance_shift());
         let cpu = cpu_image(scene, scheme, seed, 16);
         assert!(cpu.iter().any(|&c| c > 0.0), "{what}: the scene is lit");
         assert_images_close(

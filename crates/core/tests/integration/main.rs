@@ -30,6 +30,7 @@ mod precision_lab;
 mod render_cpu;
 mod render_metrics;
 mod render_speed;
+mod scale_property;
 mod scene_files;
 mod scene_import;
 mod spatial;

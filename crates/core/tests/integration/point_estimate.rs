@@ -63,8 +63,8 @@ fn seed_point_converges_to_18_with_variances_366_and_14_85() {
         assert_eq!(last.mean, w.mean());
     }
     let [u, a] = [&e.lanes()[0], &e.lanes()[1]];
-    let ratio = samples_for_relative_error(u.analytic.variance, 18.0, 0.01)
-        / samples_for_relative_error(a.analytic.variance, 18.0, 0.01);
+    let ratio = samples_for_relative_error(u.analytic.variance_scaled, 18.0, 0.01)
+        / samples_for_relative_error(a.analytic.variance_scaled, 18.0, 0.01);
     assert!((ratio - 366.0 / 14.85).abs() < 1e-9, "{ratio}");
 }
 

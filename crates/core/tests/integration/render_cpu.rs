@@ -113,6 +113,8 @@ fn pixel_sums_follow_the_stream_contract() {
                 } else {
                     g
                 };
+                // In the accumulation unit: ê·2^-s, an exact scaling.
+                let e = e * lightpick_core::Scaled::pow2(-scene.irradiance_shift()).to_f64();
                 sum += e;
                 sq += e * e;
             }
@@ -120,7 +122,9 @@ fn pixel_sums_follow_the_stream_contract() {
             assert_eq!(acc.sum_sq[p], sq, "{scheme} pixel {p}");
         }
         assert_eq!(acc.samples_per_pixel, 5);
-        assert_eq!(acc.scale, scene.powers.total());
+        assert_eq!(acc.total_power, scene.powers.total_scaled());
+        assert_eq!(acc.total_power.to_f64(), scene.powers.total());
+        assert_eq!(acc.shift, scene.irradiance_shift());
         assert_eq!(r.scheme(), scheme);
         assert_eq!(sampler.light_count(), scene.light_count());
     }
@@ -177,6 +181,8 @@ fn batched_picks_equal_pick_light_through_rejected_draws() {
     );
     assert!(rejected > 10, "{rejected}");
     let pmf = scene.powers.pmf();
+    // The renderer's accumulation unit 2^-s (an exact scaling).
+    let to_unit = lightpick_core::Scaled::pow2(-scene.irradiance_shift()).to_f64();
     for scheme in [Scheme::Alias, Scheme::Uniform] {
         let sampler = Sampler::build(scheme, &scene.powers);
         let mut r = CpuRenderer::with_sampler(&scene, sampler.clone(), seed);
@@ -194,7 +200,7 @@ fn batched_picks_equal_pick_light_through_rejected_draws() {
                         f64::from(n) * pmf[i] * g
                     } else {
                         g
-                    };
+                    } * to_unit;
                     sum += e;
                     sq += e * e;
                 }

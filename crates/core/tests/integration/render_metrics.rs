@@ -4,13 +4,13 @@
 #![allow(clippy::unwrap_used)] // Tests unwrap: a failure is the test failing.
 
 use glam::{dvec2, dvec3};
-use lightpick_core::Scheme;
 use lightpick_core::render::{
     Accumulator, CpuRenderer, MIN_REFERENCE_PIXELS, REL_MSE_EPSILON, Reference, SeriesPoint,
     cpu_convergence, efficiency, error_metrics, mean_variance_per_sample, rmse, series_spp,
     subset_pixels,
 };
 use lightpick_core::scene::{ReceiverPlane, Scene, pixel_center};
+use lightpick_core::{Scaled, Scheme};
 
 fn preset_at(name: &str, side: u32) -> Scene {
     let mut scene = Scene::preset(name).unwrap();
@@ -153,7 +153,8 @@ fn two_pixels() -> (Reference, Accumulator) {
     )
     .unwrap();
     let reference = Reference::compute(&scene);
-    let mut acc = Accumulator::new(2, 1, 4.0);
+    // Total power 4 and shift 0: the unit is 4.
+    let mut acc = Accumulator::new(2, 1, Scaled::from_f64(4.0), 0);
     acc.samples_per_pixel = 4;
     // Normalized samples: pixel 0 saw 1, 2, 3, 4; pixel 1 saw 0.5 four times.
     acc.sum = vec![1.0 + 2.0 + 3.0 + 4.0, 4.0 * 0.5];
@@ -212,15 +213,24 @@ fn variance_time_and_efficiency_follow_their_definitions() {
     let eff = efficiency(&acc, 2.0);
     assert_eq!(eff.variance_per_sample, v);
     assert_eq!(eff.seconds_per_sample, 2.0 / 8.0);
-    assert!(rel(eff.efficiency, 1.0 / (v * 0.25)) < 1e-15);
-    assert_eq!(mean_variance_per_sample(&Accumulator::new(3, 3, 1.0)), 0.0);
+    // V̂ = V/Φ² (Φ = 4): the efficiency in units of the total power.
+    assert!(rel(eff.normalized_variance, v / 16.0) < 1e-15);
+    assert!(rel(eff.efficiency, 1.0 / (v / 16.0 * 0.25)) < 1e-15);
+    assert!((eff.variance_log10 - v.log10()).abs() < 1e-14);
+    assert_eq!(
+        mean_variance_per_sample(&Accumulator::new(3, 3, Scaled::from_f64(1.0), 0)),
+        0.0
+    );
 }
 
 #[test]
 #[should_panic(expected = "accumulator 3×3 vs reference 2×1")]
 fn metrics_refuse_mismatched_sizes() {
     let (reference, _) = two_pixels();
-    error_metrics(&Accumulator::new(3, 3, 1.0), &reference);
+    error_metrics(
+        &Accumulator::new(3, 3, Scaled::from_f64(1.0), 0),
+        &reference,
+    );
 }
 
 // ---------------------------------------------------------------- series

@@ -399,8 +399,10 @@ fn renderer_uses_the_sampler_at_pixel_centres() {
         for px in 0..8 {
             let p = u64::from(py * 8 + px);
             let x = pixel_center(&scene.plane, px, py);
+            // In the renderer's accumulation unit, 2^-s (exact).
+            let to_unit = lightpick_core::Scaled::pow2(-scene.irradiance_shift()).to_f64();
             let sum: f64 = (0..3u64)
-                .map(|k| sampler.estimate(x, &mut Rng::new(77, (k << 32) | p)))
+                .map(|k| sampler.estimate(x, &mut Rng::new(77, (k << 32) | p)) * to_unit)
                 .sum();
             assert_eq!(r.accumulator().sum[p as usize], sum);
         }
@@ -466,13 +468,14 @@ fn interleaved_descents_equal_single_ones_bit_for_bit() {
     r.accumulate(2);
     r.accumulate(3);
     let sampler = SpatialSampler::Tree(tree);
+    let to_unit = lightpick_core::Scaled::pow2(-scene.irradiance_shift()).to_f64();
     for py in 0..5 {
         for px in 0..11 {
             let p = u64::from(py * 11 + px);
             let x = pixel_center(&scene.plane, px, py);
             let (mut sum, mut sq) = (0.0, 0.0);
             for k in 0..5u64 {
-                let e = sampler.estimate(x, &mut Rng::new(19, (k << 32) | p));
+                let e = sampler.estimate(x, &mut Rng::new(19, (k << 32) | p)) * to_unit;
                 sum += e;
                 sq += e * e;
             }
