@@ -125,9 +125,9 @@ pub fn controls_ui(ui: &mut Ui, state: &mut AppState) {
     let speed = s.exposure * 0.01;
     ui.add(
         egui::DragValue::new(&mut s.exposure)
-            .range(1e-12..=1e12)
+            .range(1e-300..=1e300)
             .speed(speed)
-            .max_decimals(4),
+            .custom_formatter(|v, _| super::fractions::three_significant(v)),
     )
     .labelled_by(label.id)
     .on_hover_text("Tonemap exposure: irradiance is multiplied by this before display");

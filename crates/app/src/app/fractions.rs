@@ -20,6 +20,21 @@ pub fn short(value: f64) -> String {
     }
 }
 
+/// `value` with three significant digits at any magnitude: `1.23`, `0.0123`, `123`,
+/// `1.23e-5`, `4.56e7` (never `0.0000` for a small positive value).
+pub fn three_significant(value: f64) -> String {
+    if value == 0.0 || !value.is_finite() {
+        return format!("{value}");
+    }
+    let magnitude = value.abs().log10().floor();
+    if (-3.0..5.0).contains(&magnitude) {
+        let decimals = (2.0 - magnitude).max(0.0) as usize;
+        format!("{value:.decimals$}")
+    } else {
+        format!("{value:.2e}")
+    }
+}
+
 /// [`short`] of a figure that may lie beyond `f64` (a variance of powers near `10^200`):
 /// the plain form where it fits, else `m.mmme±X` from its `log10`.
 pub fn short_scaled(value: lightpick_core::Scaled) -> String {
@@ -43,6 +58,11 @@ mod tests {
         assert_eq!(show(1.0, den), "1");
         assert_eq!(short(0.5), "0.5000");
         assert_eq!(short(1e-9), "1.000e-9");
+        assert_eq!(three_significant(1.234_5e-5), "1.23e-5");
+        assert_eq!(three_significant(0.001_14), "0.00114");
+        assert_eq!(three_significant(1.0), "1.00");
+        assert_eq!(three_significant(123.4), "123");
+        assert_eq!(three_significant(45_600_000.0), "4.56e7");
         let huge = lightpick_core::Scaled::from_f64(3e200).square();
         assert_eq!(short_scaled(huge), "9.000e400");
         assert_eq!(short_scaled(lightpick_core::Scaled::from_f64(2.5)), "2.500");

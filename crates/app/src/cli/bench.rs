@@ -130,8 +130,12 @@ pub struct Case {
     /// `rand_distr::WeightedAliasIndex`, which has no in-place rebuild: its build).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rebuild_ns: Option<f64>,
-    /// Median time per sample, nanoseconds.
+    /// Median time per sample, nanoseconds (for `tree-build` and `tree-refit`: one pick of
+    /// the light tree at a shading point).
     pub sample_ns: f64,
+    /// Threads the timed build ran on: 1 for the sequential constructions, rayon's pool for
+    /// the light tree's (`tree-build`, `tree-refit`).
+    pub threads: usize,
 }
 
 /// Timing plan: repetitions and batch sizes.
@@ -331,6 +335,7 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
             build_ns,
             rebuild_ns,
             sample_ns,
+            threads: 1,
         });
     };
 
@@ -455,7 +460,55 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
     let mut small = SmallRng::seed_from_u64(seed);
     let wi_sample = median_ns(reps, samples, |_| wi.sample(&mut small));
     push("rand::WeightedIndex", "SmallRng", wi_build, None, wi_sample);
+    cases.extend(time_tree(n, &powers, &other, seed, reps));
     Ok(cases)
+}
+
+/// The light tree at `N` lights spread over a unit square at heights `0.1 … 1`: `tree-build`
+/// (layout by positions and lanes, `O(N log N)`) and `tree-refit` (new powers, same
+/// positions: [`lightpick_core::spatial::LightTree::refit`], `O(N)` bottom up, in `build_ns`),
+/// each with the time of one pick at a shading point.
+fn time_tree(
+    n: usize,
+    powers: &LightPowers,
+    other: &LightPowers,
+    seed: u64,
+    reps: usize,
+) -> Vec<Case> {
+    use lightpick_core::spatial::LightTree;
+    let unit = |i: usize, salt: u64| {
+        f64::from(lightpick_core::pcg_hash(
+            (i as u32) ^ (seed as u32) ^ salt as u32,
+        )) / f64::from(u32::MAX)
+    };
+    let positions: Vec<glam::DVec3> = (0..n)
+        .map(|i| glam::dvec3(unit(i, 1), unit(i, 2), 0.1 + 0.9 * unit(i, 3)))
+        .collect();
+    let threads = rayon::current_num_threads();
+    let build_ns = median_ns(reps.min(3), 1, |_| LightTree::build(&positions, powers));
+    let mut tree = LightTree::build(&positions, powers);
+    let refit_ns = median_ns(reps, 1, |rep| {
+        tree.refit(if rep % 2 == 0 { other } else { powers });
+    });
+    let picks = 1 << 16;
+    let sample_ns = median_ns(reps, picks, |k| {
+        let mut rng = Rng::new(seed, k as u64);
+        let x = glam::dvec2(unit(k, 4), unit(k, 5));
+        tree.sample(x, &mut rng).map_or(0, |p| p.light)
+    });
+    ["tree-build", "tree-refit"]
+        .into_iter()
+        .zip([build_ns, refit_ns])
+        .map(|(method, build_ns)| Case {
+            n,
+            method,
+            rng: "pcg",
+            build_ns,
+            rebuild_ns: None,
+            sample_ns,
+            threads,
+        })
+        .collect()
 }
 
 /// One construction's timings and its table (built from `powers`).

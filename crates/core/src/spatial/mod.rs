@@ -145,6 +145,20 @@ impl SpatialSampler {
         Self::build_with_emission(&scene.positions, &scene.powers, scene.emission.as_deref())
     }
 
+    /// New powers for the same lights: `scene` has the positions, cones and ranges this
+    /// sampler was built over ([`Scene::same_geometry`]) and new powers. The light tree is
+    /// refitted bottom up ([`LightTree::refit`], `O(N)`, no allocation) and then equals a
+    /// fresh [`SpatialSampler::for_scene`] bit for bit; the exact pick (`N ≤ 16`) is rebuilt.
+    ///
+    /// # Panics
+    /// If `scene` holds a different number of lights.
+    pub fn refit(&mut self, scene: &Scene) {
+        match self {
+            SpatialSampler::Exact(_) => *self = Self::for_scene(scene),
+            SpatialSampler::Tree(tree) => tree.refit(&scene.powers),
+        }
+    }
+
     /// Picks a light for shading point `x` from the next draws of `rng`, or `None` when no
     /// light contributes at `x` (then `ê = 0`).
     #[inline]

@@ -11,6 +11,7 @@ mod gpu_emission;
 
 mod alias_guarantees;
 mod alias_properties;
+mod determinism;
 mod extremes;
 #[cfg(feature = "gpu")]
 mod gpu_extremes;

@@ -61,6 +61,37 @@ impl Built {
         }
     }
 
+    /// [`Built::new`] for a scene whose lights stand where `previous`'s do
+    /// ([`Scene::same_geometry`]) with new powers (a power edit): the table is rebuilt and
+    /// the light tree refitted in `O(N)` ([`SceneSamplers::repowered`]) instead of the tree
+    /// being rebuilt in `O(N log N)` (0.2 s at 10^6 lights). The same tables and tree, bit
+    /// for bit.
+    pub fn repowered(generation: u64, scene: Scene, previous: &SceneSamplers) -> Self {
+        let scene = Arc::new(scene);
+        let samplers = previous.repowered(Arc::clone(&scene));
+        samplers.spatial();
+        let table = Arc::clone(samplers.table());
+        let denominator = lightpick_core::draw::fraction_denominator(&scene.powers);
+        let total_power = scene.powers.as_slice().iter().sum();
+        Self {
+            generation,
+            scene,
+            table,
+            samplers,
+            denominator,
+            total_power,
+        }
+    }
+
+    /// [`Built::repowered`] when `scene` keeps `previous`'s geometry, else [`Built::new`].
+    pub fn from_edit(generation: u64, scene: Scene, previous: &SceneSamplers) -> Self {
+        if previous.scene().same_geometry(&scene) {
+            Self::repowered(generation, scene, previous)
+        } else {
+            Self::new(generation, scene)
+        }
+    }
+
     /// Number of lights.
     pub fn len(&self) -> usize {
         self.table.len()

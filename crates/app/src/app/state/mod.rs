@@ -15,7 +15,9 @@ use std::sync::{Arc, mpsc};
 
 use glam::DVec3;
 use lightpick_core::scene::{Emission, ReceiverPlane, Scene};
-use lightpick_core::{ChiSquare, LightPowers, PowersError, Rng, Uniform, chi_square};
+use lightpick_core::{
+    ChiSquare, LightPowers, PowersError, Rng, SceneSamplers, Uniform, chi_square,
+};
 
 use super::scene_io::{self, PowerDistribution};
 
@@ -532,11 +534,13 @@ impl AppState {
                     self.pending = None;
                     self.rebuild_queued = false;
                     let generation = self.take_generation();
-                    self.install(Built::new(generation, scene));
+                    let built = Built::from_edit(generation, scene, &self.built.samplers);
+                    self.install(built);
                 } else if self.pending.is_some() {
                     self.rebuild_queued = true;
                 } else {
-                    self.spawn_build(scene);
+                    // A power edit keeps the geometry: the worker refits the tree.
+                    self.spawn_build_from(scene, Some(self.built.samplers.clone()));
                 }
             }
         }
@@ -627,9 +631,18 @@ impl AppState {
         self.after_structure_change();
     }
 
-    /// Replaces the scene by `count` random lights over the current plane.
+    /// Replaces the scene by `count` random lights over the current plane, `1 ..= 2^24`
+    /// ([`lightpick_core::scene::MAX_LIGHTS`]); another count is refused with a message, never
+    /// clamped.
     pub fn generate(&mut self, count: usize) {
-        let count = count.clamp(1, 2_000_000);
+        let max = lightpick_core::scene::MAX_LIGHTS;
+        if !(1..=max).contains(&count) {
+            self.message(
+                format!("Generate: {count} lights is outside 1 ..= {max} (the scene limit 2^24)"),
+                MessageKind::Error,
+            );
+            return;
+        }
         let seed = self.settings.seed;
         let powers = scene_io::random_powers(count, self.settings.distribution, 10.0, seed);
         let positions = scene_io::random_positions(count, &self.edit.plane, seed);
@@ -683,12 +696,22 @@ impl AppState {
     }
 
     fn spawn_build(&mut self, scene: Scene) {
+        self.spawn_build_from(scene, None);
+    }
+
+    /// Builds on a worker thread: [`Built::from_edit`] when the previous samplers are given
+    /// (a refit when the geometry is kept), else [`Built::new`].
+    fn spawn_build_from(&mut self, scene: Scene, previous: Option<SceneSamplers>) {
         let generation = self.take_generation();
         let (sender, receiver) = mpsc::channel();
         let spawned = std::thread::Builder::new()
             .name("lightpick-table".to_owned())
             .spawn(move || {
-                let _ = sender.send(Built::new(generation, scene));
+                let built = match previous {
+                    Some(previous) => Built::from_edit(generation, scene, &previous),
+                    None => Built::new(generation, scene),
+                };
+                let _ = sender.send(built);
             });
         match spawned {
             Ok(_) => {
@@ -1006,6 +1029,24 @@ mod tests {
     fn errors_are_one_based() {
         let e = LightPowers::new(vec![1.0, -2.0]).unwrap_err();
         assert!(describe_powers_error(&e).starts_with("light 2: power -2 is negative"));
+    }
+
+    #[test]
+    fn generate_refuses_counts_beyond_the_scene_limit_by_name() {
+        let mut state = AppState::new(scene_io::seed_scene(), Settings::default());
+        let max = lightpick_core::scene::MAX_LIGHTS;
+        for count in [0, max + 1] {
+            state.generate(count);
+            let (text, kind) = state.status.clone().expect("a message");
+            assert_eq!(kind, MessageKind::Error);
+            assert!(
+                text.contains(&count.to_string()) && text.contains("2^24"),
+                "{text}"
+            );
+            assert_eq!(state.built.len(), 3, "the seed scene stays");
+        }
+        state.generate(5);
+        assert_eq!(state.built.len(), 5);
     }
 
     #[test]
