@@ -1160,8 +1160,8 @@ fn text(
     );
     let _ = writeln!(
         out,
-        "{:>9}  {:<31} {:>9} {:>14} {:>14} {:>10}",
-        "N", "method", "rng", "build ns", "rebuild ns", "sample ns"
+        "{:>9}  {:<31} {:>9} {:>14} {:>14} {:>10} {:>7}",
+        "N", "method", "rng", "build ns", "rebuild ns", "sample ns", "threads"
     );
     for c in cases {
         let rebuild = c
@@ -1169,8 +1169,8 @@ fn text(
             .map_or_else(|| "-".to_owned(), |r| format!("{r:.1}"));
         let _ = writeln!(
             out,
-            "{:>9}  {:<31} {:>9} {:>14.1} {:>14} {:>10.2}",
-            c.n, c.method, c.rng, c.build_ns, rebuild, c.sample_ns
+            "{:>9}  {:<31} {:>9} {:>14.1} {:>14} {:>10.2} {:>7}",
+            c.n, c.method, c.rng, c.build_ns, rebuild, c.sample_ns, c.threads
         );
     }
     let _ = writeln!(

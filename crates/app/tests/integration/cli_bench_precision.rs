@@ -116,11 +116,16 @@ fn bench_json_has_every_case_and_the_peers() {
         "uniform",
         "rand_distr::WeightedAliasIndex",
         "rand::WeightedIndex",
+        "tree-build",
+        "tree-refit",
     ] {
         assert!(methods.contains(&m), "{m} missing from {methods:?}");
     }
     for c in cases {
         assert_eq!(c["n"], 1000);
+        let threads = c["threads"].as_u64().expect("a thread count per case");
+        let parallel = c["method"].as_str().is_some_and(|m| m.starts_with("tree-"));
+        assert!(threads >= 1 && (parallel || threads == 1), "{c}");
         assert!(f(&c["build_ns"]) > 0.0 && f(&c["sample_ns"]) > 0.0, "{c}");
         // The tables that can be rebuilt in place say how long it takes (the peer alias
         // table, which cannot, reports its build); the others carry no rebuild figure.
