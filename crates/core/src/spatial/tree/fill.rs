@@ -141,7 +141,8 @@ pub(super) fn fill(
     let sizes = parts(m);
     // Each lane: a leaf cluster now, or a subtree to fill (in parallel when large).
     let mut lanes = [Aggregate::EMPTY; TREE_WIDTH];
-    let mut jobs: Vec<(usize, Fill<'_>)> = Vec::with_capacity(TREE_WIDTH);
+    // At most one subtree per lane, in arrays: the pass allocates nothing.
+    let mut jobs: [Option<Fill<'_>>; TREE_WIDTH] = std::array::from_fn(|_| None);
     let mut next_first = first;
     for (lane, &s) in sizes.iter().enumerate() {
         if s == 0 {
@@ -161,30 +162,34 @@ pub(super) fn fill(
                 below_bounds = Some(rest);
                 slots
             });
-            jobs.push((
-                lane,
-                Fill {
-                    nodes: slots,
-                    bounds: slot_bounds,
-                    m: s,
-                    first: next_first,
-                },
-            ));
+            jobs[lane] = Some(Fill {
+                nodes: slots,
+                bounds: slot_bounds,
+                m: s,
+                first: next_first,
+            });
         }
         next_first += s;
     }
-    let results: Vec<(usize, Aggregate)> = if m > PARALLEL_FILL {
-        use rayon::prelude::*;
-        jobs.into_par_iter()
-            .map(|(lane, job)| (lane, fill(job, lights, emission)))
-            .collect()
-    } else {
-        jobs.into_iter()
-            .map(|(lane, job)| (lane, fill(job, lights, emission)))
-            .collect()
+    let mut results: [Option<Aggregate>; TREE_WIDTH] = [None; TREE_WIDTH];
+    let fill_one = |(result, job): (&mut Option<Aggregate>, &mut Option<Fill<'_>>)| {
+        if let Some(job) = job.take() {
+            *result = Some(fill(job, lights, emission));
+        }
     };
-    for (lane, aggregate) in results {
-        lanes[lane] = aggregate;
+    if m > PARALLEL_FILL {
+        use rayon::prelude::*;
+        results
+            .par_iter_mut()
+            .zip(jobs.par_iter_mut())
+            .for_each(fill_one);
+    } else {
+        results.iter_mut().zip(jobs.iter_mut()).for_each(fill_one);
+    }
+    for (lane, result) in lanes.iter_mut().zip(results) {
+        if let Some(aggregate) = result {
+            *lane = aggregate;
+        }
     }
     let node = &mut this[0];
     for (lane, a) in lanes.iter().enumerate() {

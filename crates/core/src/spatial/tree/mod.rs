@@ -326,11 +326,15 @@ impl LightTree {
     /// If `powers` holds a different number of lights.
     pub fn refit(&mut self, powers: &LightPowers) {
         assert_eq!(powers.len(), self.n, "one power per light of the tree");
+        use rayon::prelude::*;
         let raw = powers.as_slice();
         let pmf = powers.pmf_scale();
-        for (l, &i) in self.lights.iter_mut().zip(&self.order) {
-            l.power = pmf.of(raw[i as usize]);
-        }
+        // Each light's new share is a function of its own power: any split gives the same.
+        self.lights
+            .par_iter_mut()
+            .zip(self.order.par_iter())
+            .with_min_len(1 << 14)
+            .for_each(|(l, &i)| l.power = pmf.of(raw[i as usize]));
         self.fill_lanes();
     }
 
