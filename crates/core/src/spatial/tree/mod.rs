@@ -325,8 +325,8 @@ impl LightTree {
     /// # Panics
     /// If `powers` holds a different number of lights.
     pub fn refit(&mut self, powers: &LightPowers) {
-        assert_eq!(powers.len(), self.n, "one power per light of the tree");
         use rayon::prelude::*;
+        assert_eq!(powers.len(), self.n, "one power per light of the tree");
         let raw = powers.as_slice();
         let pmf = powers.pmf_scale();
         // Each light's new share is a function of its own power: any split gives the same.
