@@ -1,6 +1,6 @@
 //! The convergence panel: log-log RMSE against samples per pixel and against seconds for
 //! the three schemes (uniform, importance, spatial), the `−1/2` slope of Monte Carlo
-//! convergence, efficiency `1/(Var·T)` and the speed-ups of importance and spatial sampling
+//! convergence, efficiency `1/(V̂·T)` (`V̂ = Var/Φ²`) and the speed-ups of importance and spatial sampling
 //! over uniform selection. The exact spatial pick (few lights) has zero variance: its RMSE
 //! is rounding only, its efficiency infinite (shown as "∞").
 
@@ -136,7 +136,7 @@ const SCHEMES: [(&str, Scheme); 3] = [
     ("spatial", Scheme::Spatial),
 ];
 
-/// One row per scheme: variance and time per sample, efficiency `1/(Var·T)`, and the
+/// One row per scheme: variance and time per sample, efficiency `1/(V̂·T)`, and the
 /// efficiency and variance ratios over uniform selection. With `spatial_exact` the spatial
 /// row is the exact pick: variance 0 by construction (the measured rounding on hover),
 /// efficiency ∞.
@@ -156,12 +156,14 @@ fn figures_ui(
                 ("scheme", "How each light is picked"),
                 (
                     "Var/sample",
-                    "Mean per-pixel variance of one sample (normalized irradiance)",
+                    "Mean per-pixel variance of one sample, in irradiance² units",
                 ),
                 ("T/sample", time_source),
                 (
-                    "1/(Var·T)",
-                    "Efficiency: the inverse of variance times time",
+                    "1/(V/Φ²·T)",
+                    "Efficiency: the inverse of variance times time, the variance taken per unit \
+                     of total power Φ (the figure of lightpick bench; it does not change when \
+                     every power is scaled, and its ratios are those of 1/(Var·T))",
                 ),
                 (
                     "vs uniform",

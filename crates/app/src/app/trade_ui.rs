@@ -1,5 +1,5 @@
 //! The trade-off panel: for the current scene, what each sampling scheme costs and buys —
-//! time per sample `T`, variance per sample `V`, efficiency `1/(V·T)` — and where each
+//! time per sample `T`, variance per sample `V`, efficiency `1/(V̂·T)` (`V̂ = V/Φ²`) — and where each
 //! scheme and each samples-per-pixel count sits on the error-against-time plane.
 //!
 //! The figures come from a small copy of the scene (at most [`TRADE_SIDE`] pixels a side),
@@ -117,7 +117,7 @@ fn is_exact(row: &TradeRow, largest: f64) -> bool {
     lightpick_core::render::is_zero_variance(row.efficiency.normalized_variance, largest)
 }
 
-/// The table of `T`, `V`, `1/(V·T)` and the final RMSE per scheme. A zero-variance row (the
+/// The table of `T`, `V`, `1/(V̂·T)` and the final RMSE per scheme. A zero-variance row (the
 /// exact spatial pick on few lights) has an infinite efficiency, shown as "∞ (exact)" and left
 /// out of the relative column's best.
 fn figures_ui(ui: &mut Ui, m: &TradeMeasurement) {
