@@ -76,6 +76,14 @@ impl Scaled {
         self.to_f64().is_finite()
     }
 
+    /// The plain value where `f64` holds it: finite, and nonzero unless the value is 0
+    /// (`None` beyond `f64::MAX` or below the least subnormal): whether to print the number
+    /// itself or its `m.mmme±X` form.
+    pub fn as_f64(self) -> Option<f64> {
+        let x = self.to_f64();
+        (x.is_finite() && (x != 0.0 || self.significand == 0.0)).then_some(x)
+    }
+
     /// `m · 2^e` as an `f64`: exact in the normal range, rounded among the subnormals,
     /// `±inf` beyond `f64::MAX` and `±0` below the least subnormal.
     pub fn to_f64(self) -> f64 {
@@ -175,7 +183,7 @@ impl fmt::Display for Scaled {
     /// `4.00e400` rather than `inf`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let x = self.to_f64();
-        if x.is_finite() && (x != 0.0 || self.significand == 0.0) || !self.is_finite() {
+        if self.as_f64().is_some() || !self.is_finite() {
             return match f.precision() {
                 Some(p) => write!(f, "{x:.p$e}"),
                 None => write!(f, "{x:e}"),

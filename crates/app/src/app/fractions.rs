@@ -38,11 +38,7 @@ pub fn three_significant(value: f64) -> String {
 /// [`short`] of a figure that may lie beyond `f64` (a variance of powers near `10^200`):
 /// the plain form where it fits, else `m.mmme±X` from its `log10`.
 pub fn short_scaled(value: lightpick_core::Scaled) -> String {
-    if value.fits_f64() && (value.to_f64() != 0.0 || value.significand() == 0.0) {
-        short(value.to_f64())
-    } else {
-        format!("{value:.3}")
-    }
+    value.as_f64().map_or_else(|| format!("{value:.3}"), short)
 }
 
 #[cfg(test)]

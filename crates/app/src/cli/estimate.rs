@@ -109,9 +109,6 @@ pub fn run(args: &EstimateArgs) -> anyhow::Result<()> {
 /// `{:.6}` of a figure that fits `f64`, else its `m.mmmmmme±X` form (a variance of
 /// contributions near `10^200`).
 fn fixed6(x: Scaled) -> String {
-    if x.fits_f64() && (x.to_f64() != 0.0 || x.significand() == 0.0) {
-        format!("{:.6}", x.to_f64())
-    } else {
-        format!("{x:.6}")
-    }
+    x.as_f64()
+        .map_or_else(|| format!("{x:.6}"), |plain| format!("{plain:.6}"))
 }
