@@ -46,19 +46,10 @@ impl Built {
             &scene.powers,
             construction_for(scene.powers.len()),
         ));
-        let scene = Arc::new(scene);
-        let samplers = SceneSamplers::with_table(Arc::clone(&scene), Arc::clone(&table));
-        samplers.spatial();
-        let denominator = lightpick_core::draw::fraction_denominator(&scene.powers);
-        let total_power = scene.powers.as_slice().iter().sum();
-        Self {
+        Self::with_samplers(
             generation,
-            scene,
-            table,
-            samplers,
-            denominator,
-            total_power,
-        }
+            SceneSamplers::with_table(Arc::new(scene), table),
+        )
     }
 
     /// [`Built::new`] for a scene whose lights stand where `previous`'s do
@@ -67,9 +58,14 @@ impl Built {
     /// being rebuilt in `O(N log N)` (0.2 s at 10^6 lights). The same tables and tree, bit
     /// for bit.
     pub fn repowered(generation: u64, scene: Scene, previous: &SceneSamplers) -> Self {
-        let scene = Arc::new(scene);
-        let samplers = previous.repowered(Arc::clone(&scene));
+        Self::with_samplers(generation, previous.repowered(Arc::new(scene)))
+    }
+
+    /// The state around samplers whose table is built: the spatial sampler built now (off
+    /// the UI thread for large scenes), the display helpers derived from the scene.
+    fn with_samplers(generation: u64, samplers: SceneSamplers) -> Self {
         samplers.spatial();
+        let scene = Arc::clone(samplers.scene());
         let table = Arc::clone(samplers.table());
         let denominator = lightpick_core::draw::fraction_denominator(&scene.powers);
         let total_power = scene.powers.as_slice().iter().sum();
