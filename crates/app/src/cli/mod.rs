@@ -1,6 +1,7 @@
 //! The headless subcommands. Every one prints text for people or, with `--json`, one JSON
 //! object for scripts. Any error prints one line `error: …` on stderr and exits with code 2.
 
+pub mod animation;
 mod bench;
 mod device;
 mod estimate;
@@ -48,7 +49,8 @@ pub enum Command {
     Sample(sample::SampleArgs),
     /// Estimate a sum of light contributions by sampling one light at a time.
     Estimate(estimate::EstimateArgs),
-    /// Draw the app's pictures headless: table, histogram, convergence, sheet (PNG).
+    /// Draw the app's pictures headless: table, histogram, convergence, sheet (PNG), and the
+    /// convergence animation (GIF).
     Plot(plot::PlotArgs),
     /// Render a scene progressively; report its error against the exact reference.
     Render(render::RenderArgs),

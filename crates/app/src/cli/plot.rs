@@ -1,6 +1,6 @@
 //! `lightpick plot`: the app's pictures drawn headless (tiny-skia → PNG), for handouts and
-//! snapshot tests: the alias-table diagram, the pmf histogram, the convergence plot and the
-//! image sheet.
+//! snapshot tests: the alias-table diagram, the pmf histogram, the convergence plot, the
+//! image sheet, and the convergence animation (GIF, [`super::animation`]).
 
 use std::path::PathBuf;
 
@@ -101,6 +101,12 @@ pub enum PlotKind {
         #[command(flatten)]
         output: OutputArgs,
     },
+    /// An animated GIF of the uniform, alias and spatial images converging side by side,
+    /// each frame captioned with every panel's spp and RMSE (for slides).
+    ///
+    /// Frames are spaced geometrically from 1 spp to --max-spp; the same arguments write the
+    /// same bytes.
+    Animation(super::animation::AnimationArgs),
 }
 
 /// The convergence plot's horizontal axis.
@@ -266,6 +272,7 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
             };
             output.write(&draw::image_sheet(&images, &style)?)
         }
+        PlotKind::Animation(args) => super::animation::run(args),
     }
 }
 

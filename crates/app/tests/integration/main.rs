@@ -6,6 +6,7 @@ mod common;
 
 mod app_classroom;
 mod app_estimator;
+mod app_export_animation;
 mod app_gpu_images;
 mod app_inspector;
 mod app_interaction;
@@ -15,6 +16,7 @@ mod app_scene_files;
 mod app_snapshots;
 mod app_spatial;
 mod app_trade_precision;
+mod cli_animation;
 mod cli_bench_precision;
 mod cli_device;
 mod cli_e2e;

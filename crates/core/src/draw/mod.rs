@@ -7,11 +7,14 @@
 //! * [`table_diagram`]: the alias table as unit-height columns split at their thresholds;
 //! * [`histogram`]: expected pmf beside empirical frequencies per scheme, with χ² fits;
 //! * [`convergence`]: log-log RMSE against samples per pixel or seconds;
-//! * [`image_sheet`]: uniform | importance | spatial | reference and their error maps.
+//! * [`image_sheet`]: uniform | importance | spatial | reference and their error maps;
+//! * [`animation_frame`]: one frame of a convergence animation (schemes side by side,
+//!   captioned with spp and RMSE).
 //!
 //! Colours come from [`palette`], text from [`text`] (a bundled `DejaVu Sans` subset).
 //! [`encode_png`] and [`write_png`] turn any of them into a PNG.
 
+mod animation;
 mod axes;
 mod canvas;
 mod convergence;
@@ -26,6 +29,10 @@ use std::path::{Path, PathBuf};
 /// The canvas every drawing returns (re-exported so callers need no tiny-skia dependency).
 pub use tiny_skia::Pixmap;
 
+pub use animation::{
+    AnimationFrame, AnimationPanel, MAX_ZOOM, MIN_CELL_WIDTH, TARGET_PANEL_WIDTH, animation_frame,
+    animation_frame_size, animation_zoom, rmse_caption,
+};
 pub use convergence::{
     ConvergenceAxis, ConvergencePoint, ConvergenceSeries, convergence, zero_variance_series,
 };

@@ -21,6 +21,7 @@ use lightpick_core::{
 
 use super::scene_io::{self, PowerDistribution};
 
+pub mod animation_export;
 pub mod built;
 pub mod estimator;
 pub mod inspector;
@@ -407,6 +408,8 @@ pub struct AppState {
     pub stepper: stepper::StepperState,
     /// The estimator view (one shading point, sample by sample).
     pub estimator: estimator::EstimatorState,
+    /// File → "Export animation…": its window, the export running and the last outcome.
+    pub animation_export: animation_export::AnimationExport,
     /// What the table and its diagram highlight this frame (set by the walkthrough).
     pub table_highlight: Option<lightpick_core::walkthrough::Highlight>,
     /// The preset the scene is, unedited (set by [`AppState::load_preset`], cleared by any
@@ -442,6 +445,7 @@ impl AppState {
             walkthrough: walkthrough::WalkthroughState::default(),
             stepper: stepper::StepperState::default(),
             estimator: estimator::EstimatorState::default(),
+            animation_export: animation_export::AnimationExport::default(),
             table_highlight: None,
             unedited_preset: None,
             next_generation: 2,
