@@ -81,6 +81,14 @@ fn build(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new("build/alias", n), &validated, |b, p| {
             b.iter(|| AliasTable::build(black_box(p)));
         });
+        // The same table on one thread (rayon's pool of one): the parallel build's baseline.
+        let one_thread = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .expect("a one-thread pool");
+        group.bench_with_input(BenchmarkId::new("build/alias-1t", n), &validated, |b, p| {
+            b.iter(|| one_thread.install(|| AliasTable::build(black_box(p))));
+        });
         group.bench_with_input(
             BenchmarkId::new("build/alias-exact", n),
             &validated,
@@ -101,6 +109,14 @@ fn build(c: &mut Criterion) {
                 });
             });
         }
+        let mut table = AliasTable::build(&validated);
+        let mut flip = false;
+        group.bench_function(BenchmarkId::new("rebuild/alias-integer-1t", n), |b| {
+            b.iter(|| {
+                flip = !flip;
+                one_thread.install(|| table.rebuild(if flip { &other } else { &validated }));
+            });
+        });
         group.bench_with_input(BenchmarkId::new("build/cdf", n), &validated, |b, p| {
             b.iter(|| CdfTable::build(black_box(p)));
         });

@@ -5,7 +5,9 @@
 //!   one random), the inverse CDF and uniform picking, all drawing from the project's
 //!   [`Rng`]; the alias table again drawing from `SmallRng`, beside the peers
 //!   `rand_distr::weighted::WeightedAliasIndex` and `rand::distr::weighted::WeightedIndex`
-//!   (which draw from `SmallRng`), so the peer ratios compare like with like.
+//!   (which draw from `SmallRng`), so the peer ratios compare like with like. The integer
+//!   table builds on rayon's pool (`alias`, `threads` = the pool) and again on one thread
+//!   (`alias-1t`): the same table bit for bit, so the two rows time the same work.
 //! * GPU: samples per second of `gpu::histogram` (alias, two randoms), where an adapter
 //!   exists.
 //! * Renders: for each preset, at a small resolution, the variance per sample `V`, the
@@ -133,8 +135,9 @@ pub struct Case {
     /// Median time per sample, nanoseconds (for `tree-build` and `tree-refit`: one pick of
     /// the light tree at a shading point).
     pub sample_ns: f64,
-    /// Threads the timed build ran on: 1 for the sequential constructions, rayon's pool for
-    /// the light tree's (`tree-build`, `tree-refit`).
+    /// Threads the timed build ran on: rayon's pool for the integer alias table (`alias`,
+    /// `alias-batch`) and the light tree (`tree-build`, `tree-refit`), 1 for `alias-1t` and
+    /// the sequential constructions and peers. Picks always run on one thread.
     pub threads: usize,
 }
 
@@ -327,7 +330,15 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
     let reps = if n >= 4_000_000 { 3 } else { plan.repetitions };
     let samples = plan.samples_per_batch;
     let mut cases = Vec::new();
+    // The integer table builds on rayon's pool (the rows that report its build); every
+    // other figure comes from one thread.
+    let pool = rayon::current_num_threads();
     let mut push = |method, rng, build_ns, rebuild_ns, sample_ns| {
+        let threads = if ["alias", "alias-batch"].contains(&method) {
+            pool
+        } else {
+            1
+        };
         cases.push(Case {
             n,
             method,
@@ -335,7 +346,7 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
             build_ns,
             rebuild_ns,
             sample_ns,
-            threads: 1,
+            threads,
         });
     };
 
@@ -359,6 +370,30 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
         Some(integer.rebuild),
         integer.sample,
     );
+    // The same construction on one thread (the same table, bit for bit).
+    let single = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .context("a one-thread pool")?;
+    let one_thread = single.install(|| {
+        time_construction(
+            Construction::Integer,
+            &powers,
+            &other,
+            seed,
+            reps,
+            build_batch,
+            samples,
+        )
+    });
+    push(
+        "alias-1t",
+        "pcg",
+        one_thread.build,
+        Some(one_thread.rebuild),
+        one_thread.sample,
+    );
+    drop(one_thread);
     let exact = time_construction(
         Construction::Exact,
         &powers,
@@ -600,6 +635,7 @@ fn ratios(cases: &[Case]) -> Vec<serde_json::Value> {
         let row: Vec<serde_json::Value> = [
             ratio("rand_distr::WeightedAliasIndex", alias_small),
             ratio("rand::WeightedIndex", alias_small),
+            ratio("alias-1t", alias),
             ratio("alias-exact", alias),
             ratio("cdf", alias),
             ratio("alias-one-random", alias),

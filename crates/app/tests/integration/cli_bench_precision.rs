@@ -108,6 +108,7 @@ fn bench_json_has_every_case_and_the_peers() {
         .collect();
     for m in [
         "alias",
+        "alias-1t",
         "alias-exact",
         "alias-batch",
         "alias-one-random",
@@ -124,13 +125,21 @@ fn bench_json_has_every_case_and_the_peers() {
     for c in cases {
         assert_eq!(c["n"], 1000);
         let threads = c["threads"].as_u64().expect("a thread count per case");
-        let parallel = c["method"].as_str().is_some_and(|m| m.starts_with("tree-"));
+        // Builds on rayon's pool: the light tree and the integer table (whose one-thread
+        // twin is `alias-1t`); the rest run on one thread.
+        let parallel = c["method"]
+            .as_str()
+            .is_some_and(|m| m.starts_with("tree-") || m == "alias" || m == "alias-batch");
         assert!(threads >= 1 && (parallel || threads == 1), "{c}");
+        if c["method"] == "alias-1t" {
+            assert_eq!(threads, 1, "{c}");
+        }
         assert!(f(&c["build_ns"]) > 0.0 && f(&c["sample_ns"]) > 0.0, "{c}");
         // The tables that can be rebuilt in place say how long it takes (the peer alias
         // table, which cannot, reports its build); the others carry no rebuild figure.
         let rebuilds = [
             "alias",
+            "alias-1t",
             "alias-exact",
             "alias-batch",
             "rand_distr::WeightedAliasIndex",

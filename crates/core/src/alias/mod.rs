@@ -158,7 +158,10 @@ impl PartialEq for AliasTable {
 
 impl AliasTable {
     /// Builds the table with the default, fastest construction
-    /// ([`Construction::Integer`]; the exact one beyond `2^31 − 1` lights). `O(N)`.
+    /// ([`Construction::Integer`]; the exact one beyond `2^31 − 1` lights). `O(N)`, on the
+    /// current rayon pool: the passes work on fixed chunks of 16384 lights and the sweep is
+    /// cut at states of the sequential sweep, so the table is bit for bit the one a single
+    /// thread builds, whatever the pool's size.
     pub fn build(powers: &LightPowers) -> Self {
         Self::build_with(powers, Construction::Integer)
     }
@@ -197,12 +200,7 @@ impl AliasTable {
         self.derived = OnceLock::new();
         if self.construction == Construction::Integer && n <= integer::MAX_LEN {
             self.exact = exact::ExactParts::default();
-            integer::build(
-                powers.as_slice(),
-                powers.max(),
-                &mut self.words,
-                &mut self.scratch,
-            );
+            integer::build(powers.as_slice(), &mut self.words, &mut self.scratch);
         } else {
             exact::build(powers, &mut self.exact, &mut self.words);
         }
@@ -409,3 +407,49 @@ impl AliasTable {
 
 #[cfg(test)]
 mod tests;
+
+impl AliasTable {
+    /// Column `column`'s keep probability, [`AliasTable::thresholds`]`()[column]`, read from
+    /// the stored `f64` table or the packed entry without deriving the `f64` views of an
+    /// integer-built table (20 bytes per light) for a panel that shows a few columns.
+    pub fn threshold(&self, column: usize) -> f64 {
+        if self.has_exact_parts() {
+            return self.exact.threshold[column];
+        }
+        let e = self.packed()[column];
+        if e.threshold == u32::MAX && e.alias as usize == column {
+            1.0
+        } else {
+            f64::from(e.threshold) * (1.0 / 4_294_967_296.0)
+        }
+    }
+
+    /// Column `column`'s alias, [`AliasTable::aliases`]`()[column]`, without deriving the
+    /// `f64` views ([`AliasTable::threshold`]).
+    pub fn alias(&self, column: usize) -> u32 {
+        if self.has_exact_parts() {
+            self.exact.alias[column]
+        } else {
+            self.packed()[column].alias
+        }
+    }
+
+    /// Heap bytes the table holds, by capacity: the packed words (8 bytes per light), the
+    /// integer sweep's index lists kept for the next rebuild, the exact construction's `f64`
+    /// table, and the `f64` views of an integer-built table once something derived them
+    /// ([`AliasTable::thresholds`], [`AliasTable::aliases`], [`AliasTable::pmf_slice`]: 20
+    /// bytes per light).
+    pub fn heap_bytes(&self) -> usize {
+        use std::mem::size_of;
+        let exact = &self.exact;
+        let derived = self.derived.get().map_or(0, |d| {
+            (d.threshold.capacity() + d.pmf.capacity()) * size_of::<f64>()
+                + d.alias.capacity() * size_of::<u32>()
+        });
+        self.words.capacity() * size_of::<u64>()
+            + self.scratch.capacity() * size_of::<u32>()
+            + (exact.threshold.capacity() + exact.pmf.capacity()) * size_of::<f64>()
+            + exact.alias.capacity() * size_of::<u32>()
+            + derived
+    }
+}

@@ -55,6 +55,26 @@ fn tables_are_the_same_on_every_pool() {
 }
 
 #[test]
+fn a_many_chunk_table_is_the_same_on_every_pool() {
+    // Thirteen of the build's chunks of 16384 lights, so its passes and its sweep split
+    // differently on every pool: a heavy tail with zeros and lights too dim for one unit.
+    let powers: Vec<f64> = (0..200_003u32)
+        .map(|i| {
+            let u = f64::from(lightpick_core::pcg_hash(i)) / f64::from(u32::MAX);
+            match i % 11 {
+                0 => 0.0,
+                1 => u * 1e-290,
+                _ => (1.0 - u).max(1e-9).powf(-1.5),
+            }
+        })
+        .collect();
+    let powers = LightPowers::new(powers).expect("valid powers");
+    same_on_every_pool("200003-light integer table", || {
+        AliasTable::build(&powers).packed().to_vec()
+    });
+}
+
+#[test]
 fn trees_renders_references_and_estimates_are_the_same_on_every_pool() {
     let scene = heavy_tail();
     same_on_every_pool("light tree", || SpatialSampler::for_scene(&scene));

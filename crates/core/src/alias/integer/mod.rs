@@ -1,0 +1,115 @@
+//! The exact integer construction: powers quantized to integer masses that sum to exactly
+//! `N·2^32`, then an exact integer sweep. No rounding happens after the quantization, so
+//! the packed table realizes exactly the quantized pmf `m_i / (N·2^32)`.
+//!
+//! # Quantization (one pass, cumulative rounding)
+//! With `C = 2^32` (one column's capacity) and `k = N·C / S` (`S = Σ w_i`, a double-double
+//! sum of the powers scaled by a power of two), the ideal mass of light `i` is
+//! `x_i = w_i·k`. The masses are the increments of the rounded prefix sums,
+//! `m_i = round(X_i) − round(X_{i−1})` with `X_i = Σ_{j≤i} x_j`, accumulated in 32.32 fixed
+//! point (integer part and fraction in `u64`s, so the prefix never rounds). Hence
+//! `|m_i − x_i| < 1` for every light and `Σ m_i = round(X_N)`. `k` is carried as
+//! `k_hi + k_lo` so that `X_N = N·C` up to the products' own roundings; whatever integer
+//! remainder `D = N·C − Σ m_i` these leave (0 for all but huge `N`, a few units at most) is
+//! given one unit each to lights whose `x_i − m_i` has the sign of `D`, which keeps them
+//! within one unit too.
+//!
+//! # The sweep (Hübschle-Schneider & Sanders, "Parallel Weighted Random Sampling", 2019)
+//! A light is *small* if `m < C`, else *large*. The quantization lists the small indices
+//! and the large ones in ascending order (per chunk, see below; branch-free). Then the
+//! current large column `h`, holding the unassigned rest `w` of its mass, either fills the
+//! next small column `l` (threshold `m_l`, alias `h`, `w −= C − m_l`) while `w ≥ C`, or
+//! becomes a column itself (threshold `w`, alias the next large `h'`, which continues with
+//! `w' = m_{h'} − (C − w)`, and may itself turn at once). Both cursors only move forward.
+//! Integer arithmetic conserves the total exactly, so once the small columns have run out
+//! and the current large one holds `w ≥ C`, it and every remaining large one hold exactly
+//! `C`: threshold "full" (`2^32 − 1` with alias itself, the same light either way).
+//!
+//! # Reachability
+//! A positive power whose mass rounds to 0 is flagged (bit 63 of its mass word) and its
+//! column gets threshold 1 instead of 0: one unit taken from the column's alias. So every
+//! positive light is sampled, a zero power never is (threshold 0 and nobody aliases to it),
+//! and a light `i` that `a_i` columns alias to is off by at most `1 + a_i` units:
+//! `|P(i) − p_i| ≤ (1 + a_i)·2^-32/N`, and `< 2^-32/N` for every light no flagged column
+//! aliases to (all of them unless some `p_i < 2^-32/N`).
+//!
+//! The masses live in the output array itself (each `u64` slot is later overwritten by its
+//! packed entry), so a build writes 8 bytes per light plus a 4-byte index scratch, and a
+//! rebuild into an existing table allocates only its per-chunk bookkeeping (48 bytes per
+//! 16384 lights).
+//!
+//! # On every core, the same bits for any thread count
+//! Every pass works on fixed chunks of [`CHUNK`] lights, whatever the thread count:
+//! 1. **Total** (`quantize.rs`): per chunk its largest power and the double-double sum of
+//!    its powers scaled by that chunk's power of two; the chunks' sums are rescaled (exactly,
+//!    by powers of two) and added in chunk order.
+//! 2. **Fractions**: per chunk `Σ frac(x_i)` in units of `2^-32`. These are integers, so
+//!    their exclusive prefix over the chunks is exact: each chunk knows the fixed-point
+//!    prefix `X` it starts from, and
+//! 3. **masses** computes its `m_i` exactly as a single pass would, listing its small
+//!    indices from the chunk's front and its large ones from its back, with its counts,
+//!    its deficit `Σ (C − m)` over small lights and its excess `Σ (m − C)` over large ones.
+//! 4. **Sweep** (`sweep.rs`): the sequential sweep fills the next small column while the
+//!    excess opened so far, `E(t+1) = Σ_{j≤t} (m_{h_j} − C)`, covers the deficits filled so
+//!    far plus the next, `D(s+1)`; otherwise the current large column turns. That is the
+//!    *merge* of the two nondecreasing sequences `D(s)` and `E(t+1)` (ties to the small
+//!    side), so cutting it at a value `V` (everything `< V` before, the rest after) is a
+//!    state `(s, t)` of the sequential sweep, with `h = h_t` and rest
+//!    `w = E(t+1) − D(s) + C`, found from the chunks' prefix sums and one chunk scan. The
+//!    pieces between cuts run in parallel and write disjoint columns (each small column is
+//!    filled once, each large one turns once), so the table is exactly the sequential
+//!    sweep's, for any cuts and any thread count. Cuts are taken at chunk starts
+//!    (`V = D` there).
+//!
+//! Nothing above depends on how many threads run, so the packed table is bit for bit the
+//! same on one thread or sixteen (tested with `rayon::ThreadPoolBuilder`).
+
+mod lists;
+mod quantize;
+#[cfg(test)]
+mod reference;
+mod sweep;
+#[cfg(test)]
+mod tests;
+
+use super::PackedAliasEntry;
+
+/// One column's capacity, `C = 2^32`.
+const CAPACITY: u64 = 1 << 32;
+/// Marks the mass word of a positive light whose mass rounded to 0.
+const REACH_FLAG: u64 = 1 << 63;
+/// The largest `N` the integer construction takes: `N·C` and the flag must fit in a `u64`.
+pub(crate) const MAX_LEN: usize = (1 << 31) - 1;
+/// Lights per chunk of every pass. Fixed, so no result depends on the thread count; large
+/// enough that a chunk's masses (128 KiB) and lists stay in L2 while it is listed.
+pub(crate) const CHUNK: usize = 1 << 14;
+
+/// The packed entry as one `u64` word (the same bytes as [`PackedAliasEntry`]).
+#[inline]
+fn word(threshold: u32, alias: u32) -> u64 {
+    bytemuck::cast(PackedAliasEntry { threshold, alias })
+}
+
+/// The "keep always" entry of column `i`.
+#[inline]
+fn full(i: usize) -> u64 {
+    word(u32::MAX, i as u32)
+}
+
+/// Builds the packed table of `powers` (finite, `≥ 0`, not all zero, `1 ≤ N ≤ MAX_LEN`)
+/// into `table` (one word per light, see [`PackedAliasEntry`]) using `scratch` for the
+/// small/large index lists. Both are resized to `N`; at equal `N` only the per-chunk
+/// bookkeeping is allocated. Runs on the current rayon pool; the result does not depend on
+/// its size.
+pub(crate) fn build(powers: &[f64], table: &mut Vec<u64>, scratch: &mut Vec<u32>) {
+    let n = powers.len();
+    debug_assert!((1..=MAX_LEN).contains(&n));
+    table.resize(n, 0);
+    scratch.resize(n, 0);
+    if n == 1 {
+        table[0] = full(0);
+        return;
+    }
+    let lists = quantize::quantize(powers, table, scratch);
+    sweep::sweep(table, scratch, &lists, sweep::Order::Parallel);
+}
