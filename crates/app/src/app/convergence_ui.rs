@@ -31,7 +31,6 @@ pub fn convergence_ui(
     axis: &mut ConvergenceAxis,
 ) {
     ui.horizontal(|ui| {
-        ui.heading("Convergence");
         ui.selectable_value(axis, ConvergenceAxis::Spp, "vs spp")
             .on_hover_text("RMSE against samples per pixel (log-log)");
         ui.selectable_value(axis, ConvergenceAxis::Seconds, "vs seconds")

@@ -13,7 +13,6 @@ use super::table_ui;
 pub fn sampling_ui(ui: &mut Ui, state: &mut AppState) {
     let dark = state.dark();
     ui.horizontal(|ui| {
-        ui.heading("Sampling");
         ui.label(format!("{} picks per scheme", state.sampling.picks))
             .on_hover_text(
                 "Light picks drawn so far by each scheme (both restart when the table changes)",

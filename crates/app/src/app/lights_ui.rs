@@ -15,7 +15,6 @@ const ROW_HEIGHT: f32 = 22.0;
 
 /// The whole panel.
 pub fn lights_ui(ui: &mut Ui, state: &mut AppState) {
-    ui.heading("Lights");
     presets_ui(ui, state);
     floor_ui(ui, state);
     ui.separator();

@@ -6,7 +6,9 @@
 //! [`trade_ui`] (speed against accuracy) and [`precision_ui`] (optional windows, from the
 //! View menu), the classroom's [`walkthrough_ui`] and [`stepper_ui`] (windows too), the
 //! [`inspector_ui`] (a window opened by clicking a pixel of an image),
-//! [`controls_ui`] (menu, run controls, status bar) and [`file_dialog_ui`]. Progressive
+//! [`controls_ui`] (menu, run controls, status bar) and [`file_dialog_ui`]; [`layout`]
+//! decides where the five main panels go at the window's size and [`layout_ui`] draws them
+//! there (columns, tabs, maximize and restore). Progressive
 //! images come from the [`engine`], on a worker thread in the app and inline in tests.
 //! [`LightpickApp::ui`] draws the whole window into any [`egui::Ui`], so tests drive it with
 //! `egui_kittest` without eframe.
@@ -23,6 +25,8 @@ pub mod frame_budget;
 pub mod gpu_images;
 pub mod histogram_ui;
 pub mod inspector_ui;
+pub mod layout;
+pub mod layout_ui;
 pub mod lights_ui;
 pub mod log_axes;
 pub mod placement;
@@ -49,14 +53,13 @@ use engine::{Engine, EngineConfig, Published};
 use render_ui::ImageTextures;
 use state::{FileAction, MessageKind};
 
-/// The least height of the Convergence panel under the images (figures and a readable plot).
-const MIN_CONVERGENCE_HEIGHT: f32 = 260.0;
-
 /// The shortest time between frames while running (about 60 frames per second).
 const FRAME_PERIOD: std::time::Duration = std::time::Duration::from_millis(16);
 
 /// Storage key of the persisted [`Settings`].
 const SETTINGS_KEY: &str = "lightpick.settings";
+/// Storage key of the persisted [`layout::Layout`] (the maximized panel, the tabs chosen).
+const LAYOUT_KEY: &str = "lightpick.layout";
 /// Storage key of the persisted scene (JSON).
 const SCENE_KEY: &str = "lightpick.scene";
 /// Storage key of the preset name, for a large scene that is an unedited preset.
@@ -153,8 +156,9 @@ fn display_available() -> bool {
     }
 }
 
-/// One panel of the app, for [`LightpickApp::panel_ui`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// One panel of the app, for [`LightpickApp::panel_ui`]; the first five are the main
+/// window's ([`layout::PANES`]), which the [`layout`] places and the presenter can maximize.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum PanelKind {
     /// The lights editor.
     Lights,
@@ -182,6 +186,8 @@ pub enum PanelKind {
 pub struct LightpickApp {
     /// Everything the panels show.
     pub state: AppState,
+    /// Where the main panels go, and which one is maximized (persisted).
+    pub layout: layout::Layout,
     engine: Option<Engine>,
     threaded: bool,
     textures: ImageTextures,
@@ -213,7 +219,9 @@ impl LightpickApp {
         let mut settings = Settings::default();
         let mut scene = None;
         let mut restore_error = None;
+        let mut layout = None;
         if let Some(storage) = cc.storage {
+            layout = eframe::get_value::<layout::Layout>(storage, LAYOUT_KEY);
             if let Some(s) = eframe::get_value::<Settings>(storage, SETTINGS_KEY) {
                 settings = s;
             }
@@ -237,6 +245,9 @@ impl LightpickApp {
             seed
         });
         let mut app = Self::with_state(AppState::new(scene, settings), true);
+        if let Some(layout) = layout {
+            app.layout = layout;
+        }
         if let Some(e) = restore_error {
             app.state.message(e, MessageKind::Error);
         }
@@ -250,6 +261,7 @@ impl LightpickApp {
         state.precision.inline = !threaded;
         Self {
             state,
+            layout: layout::Layout::default(),
             engine: None,
             threaded,
             textures: ImageTextures::default(),
@@ -370,56 +382,13 @@ impl LightpickApp {
             .show(ui, |ui| {
                 controls_ui::status_ui(ui, &self.state, &device_note, frame_ms);
             });
-        // Default widths in proportion to the window (a 1280-pixel projector and a 1920
-        // monitor both show the whole table and the images); resizable, and remembered.
-        let width = ui.available_width();
-        egui::Panel::left("lightpick_lights")
-            .frame(frame)
-            .resizable(true)
-            .default_size((0.25 * width).clamp(300.0, 440.0))
-            .show(ui, |ui| {
-                lights_ui::lights_ui(ui, &mut self.state);
-            });
-        egui::Panel::right("lightpick_images")
-            .frame(frame)
-            .resizable(true)
-            .default_size((0.42 * width).clamp(420.0, 900.0))
-            .show(ui, |ui| {
-                // The images take the height their width allows (every frame, so a resized
-                // window keeps them as large as it can), leaving Convergence at least
-                // MIN_CONVERGENCE_HEIGHT; Convergence fills the rest.
-                let width = ui.available_width();
-                let images_height =
-                    render_ui::wanted_height(ui, width, &self.state, &self.textures)
-                        .min(ui.available_height() - MIN_CONVERGENCE_HEIGHT)
-                        .max(0.0);
-                ui.allocate_ui(egui::vec2(width, images_height), |ui| {
-                    render_ui::images_ui(ui, &mut self.state, published.as_deref(), &self.textures);
-                });
-                ui.separator();
-                convergence_ui::convergence_ui(
-                    ui,
-                    &self.state,
-                    published.as_deref(),
-                    &mut self.axis,
-                );
-            });
-        egui::CentralPanel::default().frame(frame).show(ui, |ui| {
-            egui::Panel::bottom("lightpick_sampling")
-                // A little room on the left for the plot's rotated axis label.
-                .frame(egui::Frame::NONE.inner_margin(egui::Margin {
-                    left: 4,
-                    ..egui::Margin::ZERO
-                }))
-                .resizable(true)
-                .default_size(360.0)
-                .show(ui, |ui| {
-                    histogram_ui::sampling_ui(ui, &mut self.state);
-                });
-            egui::CentralPanel::no_frame().show(ui, |ui| {
-                table_ui::table_panel_ui(ui, &mut self.state);
-            });
-        });
+        let mut panes = MainPanes {
+            state: &mut self.state,
+            textures: &self.textures,
+            axis: &mut self.axis,
+            published: published.as_deref(),
+        };
+        layout_ui::panes_ui(ui, &mut self.layout, &mut panes, frame);
         self.lab_windows(ui.ctx());
         self.end_frame(ui, published.as_deref());
         self.measure(started);
@@ -429,28 +398,18 @@ impl LightpickApp {
     /// [`Self::ui`]: for tests and for embedding.
     pub fn panel_ui(&mut self, ui: &mut Ui, panel: PanelKind) {
         let published = self.begin_frame(ui.ctx());
-        egui::CentralPanel::default().show(ui, |ui| match panel {
-            PanelKind::Lights => lights_ui::lights_ui(ui, &mut self.state),
-            PanelKind::Table => table_ui::table_panel_ui(ui, &mut self.state),
-            PanelKind::Sampling => histogram_ui::sampling_ui(ui, &mut self.state),
-            PanelKind::Images => {
-                render_ui::images_ui(ui, &mut self.state, published.as_deref(), &self.textures);
+        let mut panes = MainPanes {
+            state: &mut self.state,
+            textures: &self.textures,
+            axis: &mut self.axis,
+            published: published.as_deref(),
+        };
+        egui::CentralPanel::default().show(ui, |ui| {
+            // The main panels' titles are their headers' in the window.
+            if layout::PANES.contains(&panel) {
+                ui.heading(layout::title(panel));
             }
-            PanelKind::Convergence => {
-                convergence_ui::convergence_ui(
-                    ui,
-                    &self.state,
-                    published.as_deref(),
-                    &mut self.axis,
-                );
-            }
-            PanelKind::Controls => {
-                ui.horizontal_wrapped(|ui| controls_ui::controls_ui(ui, &mut self.state));
-            }
-            PanelKind::Trade => trade_ui::trade_ui(ui, &mut self.state),
-            PanelKind::Precision => precision_ui::precision_ui(ui, &mut self.state),
-            PanelKind::Inspector => inspector_ui::inspector_ui(ui, &mut self.state),
-            PanelKind::Estimator => estimator_ui::estimator_ui(ui, &mut self.state),
+            layout_ui::PaneContents::pane_ui(&mut panes, ui, panel);
         });
         self.end_frame(ui, published.as_deref());
     }
@@ -516,7 +475,8 @@ impl LightpickApp {
         }
     }
 
-    /// Keyboard: Space pauses, R resets, N steps, Ctrl+O / Ctrl+S open and save.
+    /// Keyboard: Space pauses, R resets, N steps, Escape restores a maximized panel,
+    /// Ctrl+O / Ctrl+S open and save.
     fn shortcuts(&mut self, ctx: &egui::Context) {
         let open = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
         let save = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
@@ -529,6 +489,11 @@ impl LightpickApp {
         // Plain keys only when no text field (or drag value being typed into) has focus.
         if ctx.text_edit_focused() || self.state.file_dialog.action.is_some() {
             return;
+        }
+        if self.layout.maximized.is_some()
+            && ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Escape))
+        {
+            self.layout.restore();
         }
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Space)) {
             self.state.settings.paused = !self.state.settings.paused;
@@ -759,6 +724,54 @@ impl LightpickApp {
     }
 }
 
+/// The panels' contents, drawn by the layout (and by [`LightpickApp::panel_ui`]) over the
+/// app's state for one frame.
+struct MainPanes<'a> {
+    state: &'a mut AppState,
+    textures: &'a ImageTextures,
+    axis: &'a mut ConvergenceAxis,
+    published: Option<&'a Published>,
+}
+
+impl layout_ui::PaneContents for MainPanes<'_> {
+    fn pane_ui(&mut self, ui: &mut Ui, pane: PanelKind) {
+        let state = &mut *self.state;
+        match pane {
+            PanelKind::Lights => lights_ui::lights_ui(ui, state),
+            PanelKind::Table => table_ui::table_panel_ui(ui, state),
+            PanelKind::Sampling => {
+                // A little room on the left for the plot's rotated axis label.
+                egui::Frame::NONE
+                    .inner_margin(egui::Margin {
+                        left: 4,
+                        ..egui::Margin::ZERO
+                    })
+                    .show(ui, |ui| histogram_ui::sampling_ui(ui, state));
+            }
+            PanelKind::Images => {
+                render_ui::images_ui(ui, state, self.published, self.textures);
+            }
+            PanelKind::Convergence => {
+                convergence_ui::convergence_ui(ui, state, self.published, self.axis);
+            }
+            PanelKind::Controls => {
+                ui.horizontal_wrapped(|ui| controls_ui::controls_ui(ui, state));
+            }
+            PanelKind::Trade => trade_ui::trade_ui(ui, state),
+            PanelKind::Precision => precision_ui::precision_ui(ui, state),
+            PanelKind::Inspector => inspector_ui::inspector_ui(ui, state),
+            PanelKind::Estimator => estimator_ui::estimator_ui(ui, state),
+        }
+    }
+
+    fn wanted_height(&self, ui: &Ui, pane: PanelKind, width: f32) -> Option<f32> {
+        // The images take the height their width allows (every frame, so a resized window
+        // keeps them as large as it can); the panel under them fills the rest.
+        (pane == PanelKind::Images)
+            .then(|| render_ui::wanted_height(ui, width, self.state, self.textures))
+    }
+}
+
 /// A veil over the window while files are dragged over it, saying what a drop does.
 fn drop_hint_ui(ui: &Ui) {
     let rect = ui.ctx().content_rect();
@@ -883,6 +896,7 @@ impl eframe::App for LightpickApp {
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         eframe::set_value(storage, SETTINGS_KEY, &self.state.settings);
+        eframe::set_value(storage, LAYOUT_KEY, &self.layout);
         // While the walkthrough shows the classic scene, the user's own scene is the one kept.
         let scene = self
             .state

@@ -116,7 +116,6 @@ pub fn images_ui(
     textures: &ImageTextures,
 ) {
     ui.horizontal_wrapped(|ui| {
-        ui.heading("Images");
         ui.checkbox(&mut state.settings.show_reference, "reference")
             .on_hover_text("Show the exact reference image (sum over every light)");
         ui.checkbox(&mut state.settings.show_error, "error maps")

@@ -18,7 +18,6 @@ const ROW_HEIGHT: f32 = 18.0;
 pub fn table_panel_ui(ui: &mut Ui, state: &mut AppState) {
     let built = std::sync::Arc::clone(&state.built);
     ui.horizontal_wrapped(|ui| {
-        ui.heading("Alias table");
         ui.label(format!(
             "N = {}   ΣΦ = {}",
             built.len(),
@@ -225,12 +224,16 @@ pub fn diagram_ui(ui: &mut Ui, state: &mut AppState, height: Option<f32>) {
     let shown = (n - first).min(DIAGRAM_MAX_COLUMNS);
     // Small tables need few rows: the diagram takes what the table leaves.
     let table_height = (n.min(12) as f32 + 2.5) * (ROW_HEIGHT + ui.spacing().item_spacing.y);
+    // A small table's rows are all reserved: the diagram takes the rest, however large (a
+    // maximized panel on a projector); a large table keeps the rest for its rows.
+    let most = if n <= 12 { f32::INFINITY } else { 380.0 };
     let height =
-        height.unwrap_or_else(|| (ui.available_height() - table_height).clamp(140.0, 380.0));
+        height.unwrap_or_else(|| (ui.available_height() - table_height).clamp(140.0, most));
     let (response, painter) =
         ui.allocate_painter(vec2(ui.available_width(), height), Sense::hover());
     let outer = response.rect;
-    let font = FontId::proportional(12.0);
+    // Labels grow with the diagram (up to 16 points), for the back of a classroom.
+    let font = FontId::proportional((height / 24.0).clamp(12.0, 16.0));
     let fg = colors::foreground(dark);
     let muted = colors::muted(dark);
     // Plot area: leave room for the axis labels.

@@ -1,8 +1,9 @@
 //! Snapshots of every panel on the seed scene (goldens in `tests/snapshots/`), rendered
 //! with wgpu (lavapipe without a GPU). Update with `UPDATE_SNAPSHOTS=1`.
 
+use egui_kittest::kittest::Queryable as _;
 use egui_kittest::{Harness, SnapshotOptions};
-use lightpick::app::{LightpickApp, PanelKind};
+use lightpick::app::{LightpickApp, PanelKind, layout};
 
 fn options() -> SnapshotOptions {
     SnapshotOptions::new().output_path(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/snapshots"))
@@ -80,4 +81,151 @@ fn whole_app() {
         );
     harness.run();
     harness.snapshot_options("app_whole", &options());
+}
+
+/// The whole window at `size` on the seed scene after eight paused steps (images, curves
+/// and histograms drawn).
+fn window(size: [f32; 2]) -> Harness<'static, LightpickApp> {
+    let mut harness = Harness::builder().with_size(size).wgpu().build_ui_state(
+        |ui, app: &mut LightpickApp| app.ui(ui),
+        LightpickApp::for_tests(),
+    );
+    harness.run();
+    for _ in 0..8 {
+        harness.state_mut().step();
+        harness.run();
+    }
+    harness
+}
+
+/// Every panel the layout drew is at least its least readable size (width and height,
+/// below its header); returns the panels drawn.
+fn assert_readable(harness: &Harness<'_, LightpickApp>) -> Vec<PanelKind> {
+    let layout = &harness.state().layout;
+    for &(pane, rect) in &layout.placed {
+        assert!(
+            rect.width() >= layout::min_width(pane),
+            "{pane:?} is {} wide, less than {} ({:?})",
+            rect.width(),
+            layout::min_width(pane),
+            layout.arrangement
+        );
+        assert!(
+            rect.height() >= layout::min_height(pane) + layout::HEADER_HEIGHT - 1.0,
+            "{pane:?} is {} high ({:?})",
+            rect.height(),
+            layout.arrangement
+        );
+    }
+    layout.placed.iter().map(|(p, _)| *p).collect()
+}
+
+/// The table's last header cell ("alias") lies whole inside the table panel: no column of
+/// the table is cut by the panel beside it.
+fn assert_table_whole(harness: &Harness<'_, LightpickApp>) {
+    let table = harness
+        .state()
+        .layout
+        .pane_rect(PanelKind::Table)
+        .expect("the table is drawn");
+    assert!(
+        table.width() >= layout::TABLE_MIN_WIDTH,
+        "table {} wide",
+        table.width()
+    );
+    for label in ["threshold", "alias"] {
+        let cell = harness.get_by_label(label).rect();
+        assert!(
+            table.contains_rect(cell),
+            "the table's {label:?} header {cell:?} is cut (table panel {table:?})"
+        );
+    }
+}
+
+#[test]
+fn window_1024x768() {
+    let mut harness = window([1024.0, 768.0]);
+    assert_eq!(
+        harness.state().layout.arrangement,
+        layout::Arrangement::TwoColumns
+    );
+    let drawn = assert_readable(&harness);
+    assert_table_whole(&harness);
+    // The lights over the table; the other three are tabs of one column.
+    assert!(drawn.contains(&PanelKind::Lights) && drawn.contains(&PanelKind::Table));
+    assert_eq!(drawn.len(), 3, "{drawn:?}");
+    for tab in ["Sampling", "Images", "Convergence"] {
+        assert!(harness.query_by_label(tab).is_some(), "no {tab} tab");
+    }
+    // Choosing a tab shows that panel, readable too.
+    harness.get_by_label("Convergence").click();
+    harness.run();
+    assert!(assert_readable(&harness).contains(&PanelKind::Convergence));
+    harness.get_by_label("Images").click();
+    harness.run();
+    harness.snapshot_options("app_window_1024x768", &options());
+}
+
+#[test]
+fn window_1280x720() {
+    let mut harness = window([1280.0, 720.0]);
+    assert_eq!(
+        harness.state().layout.arrangement,
+        layout::Arrangement::ThreeColumns
+    );
+    // The table over the histograms; the images and the curves are tabs of one column.
+    assert_eq!(
+        assert_readable(&harness),
+        [
+            PanelKind::Lights,
+            PanelKind::Table,
+            PanelKind::Sampling,
+            PanelKind::Images
+        ]
+    );
+    assert_table_whole(&harness);
+    harness.get_by_label("Convergence").click();
+    harness.run();
+    assert!(assert_readable(&harness).contains(&PanelKind::Convergence));
+    harness.get_by_label("Images").click();
+    harness.run();
+    harness.snapshot_options("app_window_1280x720", &options());
+}
+
+#[test]
+fn window_1920x1080() {
+    let mut harness = window([1920.0, 1080.0]);
+    assert_eq!(assert_readable(&harness).len(), 5);
+    assert_table_whole(&harness);
+    harness.snapshot_options("app_window_1920x1080", &options());
+}
+
+#[test]
+fn window_table_maximized() {
+    let mut harness = window([1024.0, 768.0]);
+    harness.get_by_label("Maximize Alias table").click();
+    harness.run();
+    let layout = &harness.state().layout;
+    assert_eq!(layout.maximized, Some(PanelKind::Table));
+    let drawn = assert_readable(&harness);
+    assert_eq!(drawn, [PanelKind::Table]);
+    let table = harness
+        .state()
+        .layout
+        .pane_rect(PanelKind::Table)
+        .expect("drawn");
+    assert!(table.width() > 950.0, "{table:?}");
+    assert_table_whole(&harness);
+    harness.snapshot_options("app_window_table_maximized", &options());
+    // Escape restores every panel; Restore does too.
+    harness.key_press(egui::Key::Escape);
+    harness.run();
+    assert_eq!(harness.state().layout.maximized, None);
+    assert_eq!(assert_readable(&harness).len(), 3);
+    harness.get_by_label("Maximize Images").click();
+    harness.run();
+    assert_eq!(harness.state().layout.maximized, Some(PanelKind::Images));
+    harness.get_by_label("Restore").click();
+    harness.run();
+    assert_eq!(harness.state().layout.maximized, None);
 }
