@@ -309,6 +309,19 @@ impl PointEstimator {
         self.lanes.first().map_or(0, |l| l.running.count())
     }
 
+    /// Heap bytes held, by capacity: every light's contribution in two units (16 bytes per
+    /// light) and each lane's recorded series (its picker is shared, not counted).
+    pub fn heap_bytes(&self) -> usize {
+        use std::mem::size_of;
+        (self.contributions.capacity() + self.contributions_in_unit.capacity()) * size_of::<f64>()
+            + self.lanes.capacity() * size_of::<EstimateLane>()
+            + self
+                .lanes
+                .iter()
+                .map(|l| l.series.capacity() * size_of::<EstimatePoint>())
+                .sum::<usize>()
+    }
+
     /// Adds `count` samples to every lane, continuing each lane's stream.
     pub fn advance(&mut self, count: u64) {
         for lane in &mut self.lanes {

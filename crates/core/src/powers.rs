@@ -79,6 +79,11 @@ impl LightPowers {
         self.powers.len()
     }
 
+    /// Heap bytes held: the powers' capacity, 8 bytes per light.
+    pub fn heap_bytes(&self) -> usize {
+        self.powers.capacity() * std::mem::size_of::<f64>()
+    }
+
     /// Always `false`: validation refuses empty lists. Present for API symmetry.
     pub fn is_empty(&self) -> bool {
         self.powers.is_empty()

@@ -11,16 +11,18 @@
 use std::sync::{Arc, OnceLock};
 
 use crate::alias::{AliasTable, Construction};
+use crate::render::CpuLights;
 use crate::scene::Scene;
 use crate::spatial::SpatialSampler;
 
-/// A scene with its alias table and (built on first use, once) its spatial sampler.
-/// Cloning shares everything.
+/// A scene with its alias table and (built on first use, once) its spatial sampler and the
+/// CPU renderers' light records. Cloning shares everything.
 #[derive(Clone, Debug)]
 pub struct SceneSamplers {
     scene: Arc<Scene>,
     table: Arc<AliasTable>,
     spatial: Arc<OnceLock<Arc<SpatialSampler>>>,
+    cpu_lights: Arc<OnceLock<CpuLights>>,
 }
 
 impl SceneSamplers {
@@ -45,6 +47,7 @@ impl SceneSamplers {
             scene,
             table,
             spatial: Arc::new(OnceLock::new()),
+            cpu_lights: Arc::new(OnceLock::new()),
         }
     }
 
@@ -93,7 +96,14 @@ impl SceneSamplers {
             scene,
             table: Arc::new(table),
             spatial: Arc::new(spatial),
+            cpu_lights: Arc::new(OnceLock::new()),
         }
+    }
+
+    /// The light records every power-picking CPU renderer of the scene reads, built by the
+    /// first of them, once for every clone.
+    pub(crate) fn cpu_lights(&self) -> &CpuLights {
+        self.cpu_lights.get_or_init(|| CpuLights::of(&self.scene))
     }
 
     /// The spatial sampler if some caller has built it already.

@@ -65,6 +65,8 @@ pub enum Command {
     Step,
     /// The UI has taken the last published frame (the worker may render the next).
     Shown,
+    /// Drop the job (another renderer shows the images).
+    Release,
 }
 
 /// One point of a convergence curve.
@@ -172,6 +174,18 @@ impl Published {
     }
 }
 
+/// What a scene's renderers hold beyond the scene, its table and its spatial sampler (which
+/// the app's `Built` owns and counts), in heap bytes (on the GPU: device bytes, which a
+/// software device such as lavapipe keeps in the process).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RendererBytes {
+    /// Per light: the lanes' light records, emission profiles and uploaded trees, each
+    /// counted once where lanes share them.
+    pub lights: usize,
+    /// Per pixel: the lanes' sums and outputs and the exact reference.
+    pub pixels: usize,
+}
+
 /// One scheme's renderer and totals.
 struct Lane {
     renderer: CpuRenderer,
@@ -232,6 +246,28 @@ impl Job {
 
     fn pixels(&self) -> usize {
         self.samplers.scene().plane.pixel_count()
+    }
+
+    /// What the three lanes and the reference hold.
+    fn bytes(&self) -> RendererBytes {
+        let lanes = [&self.uniform, &self.importance, &self.spatial];
+        // Records shared with an earlier lane are held once.
+        let lights = (0..lanes.len())
+            .filter(|&k| {
+                !lanes[..k]
+                    .iter()
+                    .any(|l| lanes[k].renderer.shares_lights_with(&l.renderer))
+            })
+            .map(|k| lanes[k].renderer.light_bytes())
+            .sum();
+        RendererBytes {
+            lights,
+            pixels: lanes
+                .iter()
+                .map(|l| l.renderer.pixel_bytes())
+                .sum::<usize>()
+                + self.reference.heap_bytes(),
+        }
     }
 
     /// The worker's frame: [`Job::advance`] again while the batch took less than
@@ -397,6 +433,8 @@ enum Mode {
         sender: mpsc::Sender<Command>,
         shared: Arc<Mutex<Option<Arc<Published>>>>,
         last_seen: Option<u64>,
+        /// What the worker's job holds, as it last reported.
+        bytes: Arc<Mutex<RendererBytes>>,
     },
     /// On the caller's thread, with virtual timings (tests).
     Inline {
@@ -428,10 +466,12 @@ impl Engine {
         let (sender, receiver) = mpsc::channel();
         let shared = Arc::new(Mutex::new(None));
         let worker_shared = Arc::clone(&shared);
+        let bytes = Arc::new(Mutex::new(RendererBytes::default()));
+        let worker_bytes = Arc::clone(&bytes);
         let ctx = ctx.clone();
         let spawned = std::thread::Builder::new()
             .name("lightpick-render".to_owned())
-            .spawn(move || worker(&receiver, &worker_shared, &ctx));
+            .spawn(move || worker(&receiver, &worker_shared, &worker_bytes, &ctx));
         if spawned.is_err() {
             // Without a thread the engine still works, on the UI thread.
             return Self::inline();
@@ -441,6 +481,7 @@ impl Engine {
                 sender,
                 shared,
                 last_seen: None,
+                bytes,
             },
             generation: None,
             config: None,
@@ -466,6 +507,14 @@ impl Engine {
         matches!(self.mode, Mode::Threaded { .. })
     }
 
+    /// What the current job holds (threaded: as the worker last reported it).
+    pub fn bytes(&self) -> RendererBytes {
+        match &self.mode {
+            Mode::Threaded { bytes, .. } => bytes.lock().map(|b| *b).unwrap_or_default(),
+            Mode::Inline { job, .. } => job.as_ref().map(Job::bytes).unwrap_or_default(),
+        }
+    }
+
     /// Restarts on the scene of `samplers` (its table and spatial sampler shared, not
     /// rebuilt) when its generation differs from the current one (or `force`).
     pub fn sync_scene(&mut self, generation: u64, samplers: &SceneSamplers, force: bool) {
@@ -477,6 +526,14 @@ impl Engine {
             generation,
             samplers: samplers.clone(),
         });
+    }
+
+    /// Drops the current job, its light records, sums, reference and last frame, while
+    /// another renderer shows the images; the next [`Engine::sync_scene`] starts afresh.
+    pub fn release(&mut self) {
+        if self.generation.take().is_some() {
+            self.send(Command::Release);
+        }
     }
 
     /// Sends the settings when they changed.
@@ -516,6 +573,7 @@ impl Engine {
                 shared,
                 sender,
                 last_seen,
+                ..
             } => {
                 let latest = shared.lock().ok().and_then(|g| g.clone());
                 if let Some(p) = &latest
@@ -542,9 +600,11 @@ impl Engine {
                 latest,
             } => {
                 handle(command, job, config, true);
-                if let (Some(job), Some(config)) = (job.as_mut(), config.as_ref()) {
-                    *latest = Some(Arc::new(job.publish(config, INLINE_NOTE)));
-                }
+                *latest = match (job.as_mut(), config.as_ref()) {
+                    (Some(job), Some(config)) => Some(Arc::new(job.publish(config, INLINE_NOTE))),
+                    (None, _) => None,
+                    (Some(_), None) => latest.take(),
+                };
             }
         }
     }
@@ -563,6 +623,8 @@ fn handle(
             samplers,
         } => {
             let seed = config.map_or(1, |c| c.seed);
+            // The old job goes first: two scenes' lanes are never held at once.
+            *job = None;
             *job = Some(Job::new(generation, samplers, seed));
             false
         }
@@ -581,6 +643,10 @@ fn handle(
             false
         }
         Command::Shown => false,
+        Command::Release => {
+            *job = None;
+            false
+        }
     }
 }
 
@@ -591,6 +657,7 @@ fn handle(
 fn worker(
     receiver: &mpsc::Receiver<Command>,
     shared: &Mutex<Option<Arc<Published>>>,
+    bytes: &Mutex<RendererBytes>,
     ctx: &egui::Context,
 ) {
     let threads =
@@ -663,6 +730,16 @@ fn worker(
                     }
                 }
             }
+        }
+        if changed && let Ok(mut slot) = bytes.lock() {
+            *slot = job.as_ref().map(Job::bytes).unwrap_or_default();
+        }
+        if changed
+            && job.is_none()
+            && let Ok(mut slot) = shared.lock()
+        {
+            // Released: its last frame goes too.
+            *slot = None;
         }
         let running = job.is_some() && config.is_some_and(|c| c.running);
         let rested = rest_until.is_none_or(|t| t <= Instant::now());

@@ -19,7 +19,7 @@ use lightpick_core::render::{Reference, mean_variance_scaled, normalized_varianc
 use lightpick_core::scene::Scene;
 use lightpick_core::{SceneSamplers, Scheme};
 
-use super::engine::{self, ConvergencePoint, EngineConfig, Published, SchemeImage};
+use super::engine::{self, ConvergencePoint, EngineConfig, Published, RendererBytes, SchemeImage};
 use super::frame_budget::{self, FrameBudget, LaneWork};
 use super::state::SYNC_BUILD_LIMIT;
 
@@ -64,16 +64,18 @@ impl Lanes {
 /// The three renderers of a scene: uniform, importance, spatial.
 type Trio = (GpuRenderer, GpuRenderer, GpuRenderer);
 
-/// Every renderer of a scene: `O(N)` uploads of the scene's shared table and light data,
-/// and of its shared light tree (nothing is built again here).
+/// Every renderer of a scene: one `O(N)` upload of the scene's shared table and light data
+/// that the three read ([`GpuRenderer::from_samplers_sharing`]), and one of its shared light
+/// tree (nothing is built again here).
 fn build_trio(ctx: &GpuContext, samplers: &SceneSamplers, seed: u64) -> Result<Trio, String> {
-    let build =
-        |scheme| GpuRenderer::from_samplers(ctx, samplers, scheme, seed).map_err(|e| e.to_string());
-    Ok((
-        build(Scheme::Uniform)?,
-        build(Scheme::Alias)?,
-        build(Scheme::Spatial)?,
-    ))
+    let uniform = GpuRenderer::from_samplers(ctx, samplers, Scheme::Uniform, seed)
+        .map_err(|e| e.to_string())?;
+    let sharing = |scheme| {
+        GpuRenderer::from_samplers_sharing(ctx, samplers, scheme, seed, &uniform)
+            .map_err(|e| e.to_string())
+    };
+    let (importance, spatial) = (sharing(Scheme::Alias)?, sharing(Scheme::Spatial)?);
+    Ok((uniform, importance, spatial))
 }
 
 /// Renderers being built on a worker thread.
@@ -122,6 +124,47 @@ impl GpuImages {
             reference_job: None,
             budget: FrameBudget::default(),
         }
+    }
+
+    /// What the lanes hold on the device (lavapipe's device memory is the process's) and the
+    /// reference on the CPU; the scene, table and tree they were uploaded from are the
+    /// app's `Built`.
+    pub fn bytes(&self) -> RendererBytes {
+        let Some(lanes) = &self.lanes else {
+            return RendererBytes::default();
+        };
+        let renderers = [
+            &lanes.uniform.renderer,
+            &lanes.importance.renderer,
+            &lanes.spatial.renderer,
+        ];
+        let all: u64 = renderers.iter().map(|r| r.gpu_bytes()).sum();
+        // Lights shared with an earlier lane are held once.
+        let shared: u64 = (1..renderers.len())
+            .filter(|&k| {
+                renderers[..k]
+                    .iter()
+                    .any(|r| renderers[k].shares_lights_with(r))
+            })
+            .map(|k| renderers[k].lights_upload_bytes())
+            .sum();
+        let lights = renderers.iter().map(|r| r.gpu_light_bytes()).sum::<u64>() - shared;
+        let all = all - shared;
+        RendererBytes {
+            lights: lights as usize,
+            pixels: (all - lights) as usize
+                + lanes.reference.as_ref().map_or(0, Reference::heap_bytes),
+        }
+    }
+
+    /// Drops the lanes (their light buffers, tree, sums and reference) and the last frame
+    /// while the CPU renders the images; the next [`GpuImages::frame`] builds them again.
+    pub fn release(&mut self) {
+        self.lanes = None;
+        self.pending = None;
+        self.reference_job = None;
+        self.latest = None;
+        self.exposure = None;
     }
 
     /// Whether the adapter is a software rasterizer on the CPU (llvmpipe, lavapipe).

@@ -29,6 +29,7 @@ pub mod layout;
 pub mod layout_ui;
 pub mod lights_ui;
 pub mod log_axes;
+mod memory;
 pub mod placement;
 pub mod precision_ui;
 pub mod render_ui;
@@ -522,6 +523,11 @@ impl LightpickApp {
     /// frame when running or stepped.
     fn advance(&mut self, ctx: &egui::Context) {
         let use_gpu = self.uses_gpu();
+        // Once the renderer is chosen, the idle one holds nothing (its per-light copies
+        // would double what the images cost); while `Auto` measures, both keep theirs.
+        let keep_idle = self
+            .placement
+            .is_measuring(self.state.settings.device, self.adapter());
         let threaded = self.threaded;
         let engine = self.engine.get_or_insert_with(|| {
             if threaded {
@@ -546,7 +552,11 @@ impl LightpickApp {
         });
         let reset = std::mem::take(&mut self.state.reset_requested);
         let built = Arc::clone(&self.state.built);
-        engine.sync_scene(built.generation, &built.samplers, reset);
+        if use_gpu && !keep_idle {
+            engine.release();
+        } else {
+            engine.sync_scene(built.generation, &built.samplers, reset);
+        }
         if reset {
             self.state.restart_sampling();
         }
@@ -560,6 +570,9 @@ impl LightpickApp {
                 self.gpu_error = Some(e);
             }
         } else {
+            if !keep_idle && let Some(gpu) = self.gpu.as_mut() {
+                gpu.release();
+            }
             if step {
                 engine.step();
             }

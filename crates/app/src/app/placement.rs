@@ -57,6 +57,12 @@ pub enum Adapter {
 }
 
 impl Placement {
+    /// Whether `Auto` on a software adapter is still measuring which renderer is faster:
+    /// until it decides, both keep their images (the app drops the idle one's afterwards).
+    pub fn is_measuring(&self, device: Device, adapter: Adapter) -> bool {
+        device == Device::Auto && adapter == Adapter::Software && self.decided.is_none()
+    }
+
     /// The renderer for this frame under `device` on `adapter`.
     pub fn renderer(&self, device: Device, adapter: Adapter) -> Renderer {
         match (device, adapter) {

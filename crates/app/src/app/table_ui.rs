@@ -43,9 +43,8 @@ pub fn table_ui(ui: &mut Ui, state: &AppState) {
     let built = &state.built;
     let den = built.denominator;
     let powers = built.scene.powers.as_slice();
-    let pmf = built.table.pmf_slice();
-    let thresholds = built.table.thresholds();
-    let aliases = built.table.aliases();
+    let pmf = built.pmf();
+    let table = &built.table;
     let highlight = state.table_highlight.as_ref();
     // Column widths at full size, narrowed (down to 55 %) to fit a narrow panel so that the
     // threshold and alias columns stay visible.
@@ -108,13 +107,13 @@ pub fn table_ui(ui: &mut Ui, state: &AppState) {
                     let t = ui
                         .add_sized(
                             [widths[3], ROW_HEIGHT],
-                            egui::Label::new(fractions::show(thresholds[i], den)),
+                            egui::Label::new(fractions::show(table.threshold(i), den)),
                         )
-                        .on_hover_text(format!("threshold = {:.12}", thresholds[i]));
+                        .on_hover_text(format!("threshold = {:.12}", table.threshold(i)));
                     mark_cell(ui, highlight, i, TableField::Threshold, t.rect);
                     let a = ui.add_sized(
                         [widths[4], ROW_HEIGHT],
-                        egui::Label::new(format!("{}", aliases[i] + 1)),
+                        egui::Label::new(format!("{}", table.alias(i) + 1)),
                     );
                     mark_cell(ui, highlight, i, TableField::Alias, a.rect);
                 });
@@ -180,8 +179,8 @@ fn mark_column(
 /// light 1 with probability 6/27, else light 3".
 pub fn column_sentence(state: &AppState, i: usize) -> String {
     let built = &state.built;
-    let t = built.table.thresholds()[i];
-    let a = built.table.aliases()[i] as usize;
+    let t = built.table.threshold(i);
+    let a = built.table.alias(i) as usize;
     let p = fractions::show(t, built.denominator);
     if t >= 1.0 || a == i {
         format!("column {} always keeps light {}", i + 1, i + 1)
@@ -246,9 +245,8 @@ pub fn diagram_ui(ui: &mut Ui, state: &mut AppState, height: Option<f32>) {
         Stroke::new(1.0, colors::grid(dark)),
         StrokeKind::Inside,
     );
-    let pmf = built.table.pmf_slice();
-    let thresholds = built.table.thresholds();
-    let aliases = built.table.aliases();
+    let pmf = built.pmf();
+    let table = &built.table;
     let avg = 1.0 / n as f64;
     let max_p = pmf[first..first + shown]
         .iter()
@@ -262,7 +260,7 @@ pub fn diagram_ui(ui: &mut Ui, state: &mut AppState, height: Option<f32>) {
         let i = first + k;
         let x0 = plot.left() + k as f32 * col_w + gap / 2.0;
         let x1 = x0 + col_w - gap;
-        let t = thresholds[i];
+        let t = table.threshold(i);
         let split = y_of(avg * t);
         // Own light's share at the bottom, the alias's on top, total height 1/N.
         painter.rect_filled(
@@ -271,7 +269,7 @@ pub fn diagram_ui(ui: &mut Ui, state: &mut AppState, height: Option<f32>) {
             colors::light(i),
         );
         if t < 1.0 {
-            let a = aliases[i] as usize;
+            let a = table.alias(i) as usize;
             painter.rect_filled(
                 Rect::from_min_max(pos2(x0, y_of(avg)), pos2(x1, split)),
                 0.0,

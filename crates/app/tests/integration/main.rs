@@ -11,6 +11,7 @@ mod app_gpu_images;
 mod app_inspector;
 mod app_interaction;
 mod app_lights;
+mod app_memory;
 mod app_scale;
 mod app_scene_files;
 mod app_snapshots;

@@ -1,6 +1,7 @@
 //! The progressive renderer on the GPU, the twin of the CPU estimator contract.
 
 use std::ops::Range;
+use std::sync::Arc;
 
 use glam::{UVec2, Vec3};
 
@@ -133,9 +134,11 @@ pub struct GpuRenderer {
     band_row: u32,
     plane: [f32; 4],
     params: wgpu::Buffer,
-    lights: SplitArray,
-    /// The lights' emission profiles, for a scene with spots or ranges.
-    shapes: Option<SplitArray>,
+    /// The lights, shared with the scene's other renderers when built by
+    /// [`GpuRenderer::from_samplers_sharing`].
+    lights: Arc<SplitArray>,
+    /// The lights' emission profiles, for a scene with spots or ranges (shared likewise).
+    shapes: Option<Arc<SplitArray>>,
     sums: wgpu::Buffer,
     accumulate_pipeline: wgpu::ComputePipeline,
     accumulate_bind_group: wgpu::BindGroup,
@@ -163,8 +166,7 @@ impl GpuRenderer {
                 got: scene.powers.len(),
             });
         }
-        let samplers =
-            SceneSamplers::new(std::sync::Arc::new(scene.clone()), Construction::default());
+        let samplers = SceneSamplers::new(Arc::new(scene.clone()), Construction::default());
         Self::from_samplers(ctx, &samplers, scheme, seed)
     }
 
@@ -183,6 +185,44 @@ impl GpuRenderer {
         samplers: &SceneSamplers,
         scheme: Scheme,
         seed: u64,
+    ) -> Result<Self, GpuError> {
+        Self::build(ctx, samplers, scheme, seed, None)
+    }
+
+    /// [`GpuRenderer::from_samplers`] reading the lights `lights_of` uploaded (positions,
+    /// `p_i`, alias entries and emission profiles: 24 bytes per light, 48 with profiles)
+    /// instead of uploading them again, when `lights_of` renders the same scene and table
+    /// ([`SceneSamplers::scene`], [`SceneSamplers::table`]) on the same device; otherwise
+    /// exactly [`GpuRenderer::from_samplers`]. The app's three images share one upload this
+    /// way. The same images bit for bit: the buffers hold the same bytes.
+    pub fn from_samplers_sharing(
+        ctx: &GpuContext,
+        samplers: &SceneSamplers,
+        scheme: Scheme,
+        seed: u64,
+        lights_of: &GpuRenderer,
+    ) -> Result<Self, GpuError> {
+        let same = ctx.device() == lights_of.ctx.device()
+            && Arc::ptr_eq(samplers.scene(), lights_of.samplers.scene())
+            && Arc::ptr_eq(samplers.table(), lights_of.samplers.table());
+        let shared = same.then(|| (Arc::clone(&lights_of.lights), lights_of.shapes.clone()));
+        Self::build(ctx, samplers, scheme, seed, shared)
+    }
+
+    /// Whether this renderer reads the very light buffers of `other`
+    /// ([`GpuRenderer::from_samplers_sharing`]), so that the device holds them once.
+    pub fn shares_lights_with(&self, other: &GpuRenderer) -> bool {
+        Arc::ptr_eq(&self.lights, &other.lights)
+    }
+
+    /// [`GpuRenderer::from_samplers`], over the light buffers `shared` when given (already
+    /// holding the scene's lights), else over new ones.
+    fn build(
+        ctx: &GpuContext,
+        samplers: &SceneSamplers,
+        scheme: Scheme,
+        seed: u64,
+        shared: Option<(Arc<SplitArray>, Option<Arc<SplitArray>>)>,
     ) -> Result<Self, GpuError> {
         let scene: &Scene = samplers.scene();
         super::scheme_code(scheme)?;
@@ -212,25 +252,31 @@ impl GpuRenderer {
             (plane.max.x - plane.min.x) as f32,
             (plane.max.y - plane.min.y) as f32,
         ];
-        let lights = SplitArray::zeroed(
-            ctx,
-            "lights (positions, powers, alias table)",
-            LIGHTS_LAYOUT,
-            n,
-            wgpu::BufferUsages::empty(),
-        )?;
-        let shapes = match &scene.emission {
-            Some(emission) => {
-                let shapes: Vec<GpuShape> = emission.iter().map(GpuShape::of).collect();
-                Some(SplitArray::with_contents(
+        let is_shared = shared.is_some();
+        let (lights, shapes) = match shared {
+            Some(shared) => shared,
+            None => (
+                Arc::new(SplitArray::zeroed(
                     ctx,
-                    "lights' emission profiles (spots, ranges)",
-                    shapes_layout("shapes"),
-                    bytemuck::cast_slice(&shapes),
+                    "lights (positions, powers, alias table)",
+                    LIGHTS_LAYOUT,
+                    n,
                     wgpu::BufferUsages::empty(),
-                )?)
-            }
-            None => None,
+                )?),
+                match &scene.emission {
+                    Some(emission) => {
+                        let shapes: Vec<GpuShape> = emission.iter().map(GpuShape::of).collect();
+                        Some(Arc::new(SplitArray::with_contents(
+                            ctx,
+                            "lights' emission profiles (spots, ranges)",
+                            shapes_layout("shapes"),
+                            bytemuck::cast_slice(&shapes),
+                            wgpu::BufferUsages::empty(),
+                        )?))
+                    }
+                    None => None,
+                },
+            ),
         };
         let shape_bindings = shapes.as_ref().map_or(0, |s| s.buffers().len());
         check_bindings(
@@ -257,7 +303,7 @@ impl GpuRenderer {
         let accumulate_pipeline = super::compute_pipeline_from_source(
             ctx,
             "render accumulate",
-            render_source(lights.shape(), shapes.as_ref().map(SplitArray::shape)),
+            render_source(lights.shape(), shapes.as_deref().map(SplitArray::shape)),
             "accumulate",
         )?;
         let tonemap_pipeline =
@@ -285,7 +331,7 @@ impl GpuRenderer {
                 let buffers: Vec<&wgpu::Buffer> = [&params, &sums]
                     .into_iter()
                     .chain(lights.buffers())
-                    .chain(shapes.iter().flat_map(SplitArray::buffers))
+                    .chain(shapes.iter().flat_map(|s| s.buffers()))
                     .collect();
                 let accumulate_bind_group =
                     super::bind_buffers(ctx, "render accumulate", &accumulate_pipeline, &buffers);
@@ -343,7 +389,11 @@ impl GpuRenderer {
             output_view,
             timer: PassTimer::new(ctx),
         };
-        renderer.upload_lights()?;
+        if is_shared {
+            renderer.adopt_lights()?;
+        } else {
+            renderer.upload_lights()?;
+        }
         Ok(renderer)
     }
 
@@ -395,7 +445,13 @@ impl GpuRenderer {
         }
         let mut scene = Scene::clone(self.samplers.scene());
         scene.powers = powers.clone();
-        self.samplers = SceneSamplers::new(std::sync::Arc::new(scene), Construction::default());
+        let samplers = SceneSamplers::new(Arc::new(scene), Construction::default());
+        if Arc::strong_count(&self.lights) > 1 {
+            // The light buffers are shared with renderers of the old powers: new ones.
+            *self = Self::from_samplers(&self.ctx, &samplers, self.scheme, self.seed)?;
+            return Ok(());
+        }
+        self.samplers = samplers;
         self.upload_lights()
     }
 
@@ -419,6 +475,13 @@ impl GpuRenderer {
             "uploading the lights",
             bytemuck::cast_slice(&lights),
         )?;
+        self.adopt_lights()
+    }
+
+    /// Takes the scene's totals and shift (the lights are on the device already), uploads
+    /// the spatial sampler for [`Scheme::Spatial`], and restarts the accumulation.
+    fn adopt_lights(&mut self) -> Result<(), GpuError> {
+        let scene = self.samplers.scene();
         self.total_power = scene.powers.total();
         self.total_scaled = scene.powers.total_scaled();
         self.shift = scene.irradiance_shift();
@@ -823,21 +886,29 @@ impl GpuRenderer {
     /// ranges 320 more bytes of lane bounds each), rounded up.
     pub fn gpu_bytes_per_light(&self) -> u64 {
         let n = self.samplers.scene().light_count() as u64;
-        self.light_bytes().div_ceil(n.max(1))
+        self.gpu_light_bytes().div_ceil(n.max(1))
     }
 
-    /// Bytes of the lights, their profiles and the spatial sampler.
-    fn light_bytes(&self) -> u64 {
-        let n = self.samplers.scene().light_count() as u64;
+    /// GPU bytes of the lights, their profiles and the spatial sampler (what
+    /// [`GpuRenderer::gpu_bytes_per_light`] divides by the light count).
+    pub fn gpu_light_bytes(&self) -> u64 {
         let tree = self.spatial.as_ref().map_or(0, |s| s.bytes);
-        n * BYTES_PER_LIGHT + self.shapes.as_ref().map_or(0, SplitArray::bytes) + tree
+        self.lights_upload_bytes() + tree
+    }
+
+    /// GPU bytes of the lights and their profiles alone (shared with the renderers built
+    /// by [`GpuRenderer::from_samplers_sharing`] from this one): 24 bytes per light, 48
+    /// with profiles.
+    pub fn lights_upload_bytes(&self) -> u64 {
+        let n = self.samplers.scene().light_count() as u64;
+        n * BYTES_PER_LIGHT + self.shapes.as_deref().map_or(0, SplitArray::bytes)
     }
 
     /// GPU bytes held by the renderer: lights, table, profiles, spatial sampler, per-pixel
     /// sums (8 bytes) and the output texture (4 bytes per pixel).
     pub fn gpu_bytes(&self) -> u64 {
         let pixels = u64::from(self.width) * u64::from(self.height);
-        self.light_bytes() + pixels * 12
+        self.gpu_light_bytes() + pixels * 12
     }
 
     /// The context the renderer runs on.

@@ -27,14 +27,56 @@ enum Picker {
 }
 
 /// What a sample needs of light `i`, in one 32-byte record (a single cache line access):
-/// its position and the weight `w_i` with the estimate in the accumulation unit
-/// `ê' = w_i · G_i(x)`, `w_i = N·p_i·2^-s` for uniform picking and `w_i = 2^-s` for
-/// power-proportional picking (`s` the scene's [`Scene::irradiance_shift`]).
+/// its position and its normalized power `p_i`, from which the estimate in the accumulation
+/// unit is `ê' = w_i · G_i(x)` with `w_i = N·p_i·2^-s` for uniform picking and `w_i = 2^-s`
+/// for power-proportional picking (`s` the scene's [`Scene::irradiance_shift`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(32))]
-struct LightRecord {
+pub(crate) struct LightRecord {
     position: DVec3,
-    weight: f64,
+    pmf: f64,
+}
+
+/// The light records and emission profiles of a scene: built once per scene
+/// ([`SceneSamplers`] keeps them) and shared by its uniform and power renderers, where each
+/// once built its own (32 bytes per light per renderer).
+#[derive(Clone, Debug)]
+pub(crate) struct CpuLights {
+    records: Arc<[LightRecord]>,
+    emission: Option<Arc<[Emission]>>,
+}
+
+impl CpuLights {
+    /// The records of `scene`'s lights, in scene order (`O(N)`).
+    pub(crate) fn of(scene: &Scene) -> Self {
+        let records = scene
+            .positions
+            .iter()
+            .zip(scene.powers.pmf())
+            .map(|(&position, pmf)| LightRecord { position, pmf })
+            .collect();
+        Self {
+            records,
+            emission: scene.emission.as_deref().map(Arc::from),
+        }
+    }
+
+    /// No records (the spatial scheme reads its sampler instead).
+    fn none() -> Self {
+        Self {
+            records: Arc::from([]),
+            emission: None,
+        }
+    }
+
+    /// Heap bytes of the records and the profiles.
+    fn heap_bytes(&self) -> usize {
+        std::mem::size_of_val(&*self.records)
+            + self
+                .emission
+                .as_ref()
+                .map_or(0, |e| std::mem::size_of_val(&**e))
+    }
 }
 
 /// A progressive CPU renderer of one scene with one scheme and one seed.
@@ -52,9 +94,11 @@ struct LightRecord {
 pub struct CpuRenderer {
     plane: ReceiverPlane,
     picker: Picker,
-    lights: Vec<LightRecord>,
-    /// The lights' emission profiles (spots, ranges), when the scene has any.
-    emission: Option<Arc<[Emission]>>,
+    /// The light records and emission profiles (shared with the scene's other renderers
+    /// when built through [`CpuRenderer::from_samplers`]).
+    lights: CpuLights,
+    /// `N` for uniform picking (`w_i = N·p_i·2^-s`), `None` for power picking (`2^-s`).
+    uniform_n: Option<f64>,
     seed: u64,
     /// `2^-s`, the factor from a normalized estimate into the accumulation unit.
     to_unit: f64,
@@ -90,25 +134,26 @@ impl CpuRenderer {
     /// A renderer of `scheme` over a scene whose samplers are already built and shared: the
     /// alias schemes take `samplers`' table, the spatial scheme its spatial sampler (built
     /// now if no one has yet), uniform and CDF build their own (`O(1)`, `O(N)`).
+    ///
+    /// The light records (position and `p_i` of every light, 32 bytes each) are the
+    /// scene's, built by the first renderer that needs them and shared by the others
+    /// ([`CpuRenderer::shares_lights_with`]).
     pub fn from_samplers(samplers: &SceneSamplers, scheme: Scheme, seed: u64) -> Self {
         let scene = samplers.scene();
-        match scheme {
-            Scheme::Alias => {
-                Self::with_sampler(scene, Sampler::Alias(Arc::clone(samplers.table())), seed)
+        let sampler = match scheme {
+            Scheme::Alias => Sampler::Alias(Arc::clone(samplers.table())),
+            Scheme::AliasOneRandom => Sampler::AliasOneRandom(Arc::clone(samplers.table())),
+            Scheme::Spatial => {
+                return Self::with_spatial(scene, Arc::clone(samplers.spatial()), seed);
             }
-            Scheme::AliasOneRandom => Self::with_sampler(
-                scene,
-                Sampler::AliasOneRandom(Arc::clone(samplers.table())),
-                seed,
-            ),
-            Scheme::Spatial => Self::with_spatial(scene, Arc::clone(samplers.spatial()), seed),
             Scheme::Uniform | Scheme::Cdf => {
                 match Sampler::try_build_with(scheme, &scene.powers, Construction::default()) {
-                    Ok(sampler) => Self::with_sampler(scene, sampler, seed),
+                    Ok(sampler) => sampler,
                     Err(_) => unreachable!("uniform and cdf need no shading point"),
                 }
             }
-        }
+        };
+        Self::with_lights(scene, sampler, samplers.cpu_lights().clone(), seed)
     }
 
     /// A [`Scheme::Spatial`] renderer with a spatial sampler already built over the scene
@@ -127,8 +172,8 @@ impl CpuRenderer {
         Self {
             plane: scene.plane.clone(),
             picker: Picker::Spatial(spatial),
-            lights: Vec::new(),
-            emission: None,
+            lights: CpuLights::none(),
+            uniform_n: None,
             seed,
             to_unit,
             accumulator,
@@ -141,30 +186,24 @@ impl CpuRenderer {
     /// # Panics
     /// If the sampler's light count differs from the scene's.
     pub fn with_sampler(scene: &Scene, sampler: Sampler, seed: u64) -> Self {
+        Self::with_lights(scene, sampler, CpuLights::of(scene), seed)
+    }
+
+    /// [`CpuRenderer::with_sampler`] over records already built for `scene`.
+    fn with_lights(scene: &Scene, sampler: Sampler, lights: CpuLights, seed: u64) -> Self {
         use crate::sampler::LightSampler as _;
         assert_eq!(
             sampler.light_count(),
             scene.light_count(),
             "sampler built for another scene"
         );
-        let n = scene.light_count() as f64;
         let uniform = sampler.scheme() == Scheme::Uniform;
-        let pmf = scene.powers.pmf();
         let (accumulator, to_unit) = accumulator_for(scene);
-        let lights = scene
-            .positions
-            .iter()
-            .zip(&pmf)
-            .map(|(&position, &p)| LightRecord {
-                position,
-                weight: if uniform { n * p * to_unit } else { to_unit },
-            })
-            .collect();
         Self {
             plane: scene.plane.clone(),
             picker: Picker::Power(sampler),
             lights,
-            emission: scene.emission.as_deref().map(Arc::from),
+            uniform_n: uniform.then_some(scene.light_count() as f64),
             seed,
             to_unit,
             accumulator,
@@ -185,15 +224,17 @@ impl CpuRenderer {
             plane,
             picker,
             lights,
-            emission,
+            uniform_n,
             seed,
             to_unit,
             accumulator,
         } = self;
         let (plane, picker, seed, to_unit) = (&*plane, &*picker, *seed, *to_unit);
         let lights = Lights {
-            records: lights.as_slice(),
-            emission: emission.as_deref(),
+            records: &lights.records,
+            emission: lights.emission.as_deref(),
+            uniform_n: *uniform_n,
+            to_unit,
         };
         accumulator
             .sum
@@ -271,6 +312,26 @@ impl CpuRenderer {
     pub fn seed(&self) -> u64 {
         self.seed
     }
+
+    /// Heap bytes of the light records the renderer reads (32 bytes per light for the power
+    /// schemes, none for the spatial one, which reads its sampler) and of the emission
+    /// profiles; records shared with another renderer are counted by each
+    /// ([`CpuRenderer::shares_lights_with`]).
+    pub fn light_bytes(&self) -> usize {
+        self.lights.heap_bytes()
+    }
+
+    /// Whether this renderer reads the very light records of `other` (both built through
+    /// [`CpuRenderer::from_samplers`] from one scene's samplers), so that they are held once.
+    pub fn shares_lights_with(&self, other: &CpuRenderer) -> bool {
+        !self.lights.records.is_empty() && Arc::ptr_eq(&self.lights.records, &other.lights.records)
+    }
+
+    /// Heap bytes of the accumulator's per-pixel sums (16 bytes per pixel).
+    pub fn pixel_bytes(&self) -> usize {
+        let a = &self.accumulator;
+        (a.sum.capacity() + a.sum_sq.capacity()) * std::mem::size_of::<f64>()
+    }
 }
 
 /// The light records a power-picking pass reads, and the emission profiles when the scene
@@ -279,14 +340,23 @@ impl CpuRenderer {
 struct Lights<'a> {
     records: &'a [LightRecord],
     emission: Option<&'a [Emission]>,
+    /// `N` for uniform picking, `None` for power picking ([`CpuRenderer::uniform_n`]).
+    uniform_n: Option<f64>,
+    /// `2^-s`.
+    to_unit: f64,
 }
 
 impl Lights<'_> {
-    /// `ê = w_i · G_i(x)·S_i(x)` of light `i` at `x`.
+    /// `ê' = w_i · G_i(x)·S_i(x)` of light `i` at `x`, with `w_i = N·p_i·2^-s` (uniform) or
+    /// `2^-s` (power), evaluated in that order.
     #[inline]
     fn estimate(&self, i: u32, x: DVec2) -> f64 {
         let light = self.records[i as usize];
-        light.weight * light_term(light.position, self.emission.map(|e| &e[i as usize]), x)
+        let weight = match self.uniform_n {
+            Some(n) => n * light.pmf * self.to_unit,
+            None => self.to_unit,
+        };
+        weight * light_term(light.position, self.emission.map(|e| &e[i as usize]), x)
     }
 }
 

@@ -38,6 +38,7 @@ mod tonemap;
 
 pub use accumulator::Accumulator;
 pub use core_clock::pool_core_seconds;
+pub(crate) use cpu::CpuLights;
 pub use cpu::CpuRenderer;
 pub use measure::{CpuPassMeasurement, measure_cpu_passes};
 pub use metrics::{

@@ -331,6 +331,13 @@ impl Reference {
     pub fn image(&self) -> Option<&[f64]> {
         self.is_complete().then_some(self.values.as_slice())
     }
+
+    /// Heap bytes held, by capacity: per covered pixel its index (4 bytes) and its
+    /// irradiance in two units (16); nothing per light.
+    pub fn heap_bytes(&self) -> usize {
+        self.pixels.capacity() * std::mem::size_of::<u32>()
+            + (self.values.capacity() + self.in_unit.capacity()) * std::mem::size_of::<f64>()
+    }
 }
 
 /// The first covered pixel whose irradiance does not fit `f64`, and its light: a light whose

@@ -145,6 +145,31 @@ impl Scene {
         self.positions == other.positions && self.emission == other.emission
     }
 
+    /// Heap bytes the scene holds, by part and by capacity: its positions (24 bytes per
+    /// light), its powers (8), its emission profiles (only a scene with spots or ranges has
+    /// any) and its names (each `String` and its text, only when the source named its
+    /// lights).
+    pub fn heap_bytes_by_part(&self) -> [(&'static str, usize); 4] {
+        let names = self.names.as_ref().map_or(0, |names| {
+            names.capacity() * std::mem::size_of::<String>()
+                + names.iter().map(String::capacity).sum::<usize>()
+        });
+        [
+            (
+                "positions",
+                self.positions.capacity() * std::mem::size_of::<DVec3>(),
+            ),
+            ("powers", self.powers.heap_bytes()),
+            (
+                "emission profiles",
+                self.emission
+                    .as_ref()
+                    .map_or(0, |e| e.capacity() * std::mem::size_of::<Emission>()),
+            ),
+            ("names", names),
+        ]
+    }
+
     /// Light `i`'s name, when the scene's source named it.
     pub fn name_of(&self, i: usize) -> Option<&str> {
         self.names

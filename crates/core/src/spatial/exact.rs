@@ -69,6 +69,13 @@ impl ExactSampler {
         self.n
     }
 
+    /// Heap bytes held, by capacity: the contributing lights with their scene index and
+    /// their emission profiles (at most [`super::EXACT_MAX_LIGHTS`] of each in practice).
+    pub fn heap_bytes(&self) -> usize {
+        self.lights.capacity() * std::mem::size_of::<(u32, SpatialLight)>()
+            + self.emission.capacity() * std::mem::size_of::<Emission>()
+    }
+
     /// The pick at `x` (one draw), `None` when `S = 0`.
     #[inline]
     pub fn sample(&self, x: DVec2, rng: &mut Rng) -> Option<SpatialPick> {

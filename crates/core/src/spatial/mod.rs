@@ -219,6 +219,15 @@ impl SpatialSampler {
             SpatialSampler::Tree(t) => t.light_count(),
         }
     }
+
+    /// Heap bytes the sampler holds, by capacity ([`LightTree::heap_bytes`],
+    /// [`ExactSampler::heap_bytes`]).
+    pub fn heap_bytes(&self) -> usize {
+        match self {
+            SpatialSampler::Exact(s) => s.heap_bytes(),
+            SpatialSampler::Tree(t) => t.heap_bytes(),
+        }
+    }
 }
 
 /// The lights that can contribute somewhere on the plane (`z_i > 0`, an emission that

@@ -22,6 +22,9 @@ pub struct Built {
     pub denominator: Option<u64>,
     /// `Σ Φ` (for display).
     pub total_power: f64,
+    /// The integer-built table's pmf, kept here ([`Built::pmf`]); `None` for the exact
+    /// construction, which stores its own.
+    pmf: Option<Vec<f64>>,
 }
 
 /// Up to this many lights the app shows the exact `f64` construction (exact seed
@@ -69,6 +72,8 @@ impl Built {
         let table = Arc::clone(samplers.table());
         let denominator = lightpick_core::draw::fraction_denominator(&scene.powers);
         let total_power = scene.powers.as_slice().iter().sum();
+        let pmf =
+            (table.construction() == Construction::Integer).then(|| table.implied_pmf_packed());
         Self {
             generation,
             scene,
@@ -76,7 +81,26 @@ impl Built {
             samplers,
             denominator,
             total_power,
+            pmf,
         }
+    }
+
+    /// The pmf the table realizes, every light's `p_i`: [`AliasTable::pmf_slice`] bit for
+    /// bit. An integer-built table would derive it with its thresholds and aliases (20 bytes
+    /// per light, [`AliasTable::heap_bytes`]); the app keeps the pmf alone (8 bytes), which
+    /// the histograms and the table panel need for every light, and reads thresholds and
+    /// aliases per shown column ([`AliasTable::threshold`], [`AliasTable::alias`]).
+    pub fn pmf(&self) -> &[f64] {
+        self.pmf
+            .as_deref()
+            .unwrap_or_else(|| self.table.pmf_slice())
+    }
+
+    /// Heap bytes of the pmf kept here ([`Built::pmf`]; 0 for the exact construction).
+    pub fn pmf_heap_bytes(&self) -> usize {
+        self.pmf
+            .as_ref()
+            .map_or(0, |p| p.capacity() * std::mem::size_of::<f64>())
     }
 
     /// [`Built::repowered`] when `scene` keeps `previous`'s geometry, else [`Built::new`].

@@ -119,6 +119,12 @@ impl EstimatorState {
         self.estimator.as_ref().map(|(_, e)| e)
     }
 
+    /// Heap bytes of the estimator as last built ([`PointEstimator::heap_bytes`]: 16 per
+    /// light on a pixel's point), 0 when none is.
+    pub fn heap_bytes(&self) -> usize {
+        self.estimator().map_or(0, PointEstimator::heap_bytes)
+    }
+
     /// Adds one frame's samples while running: about 5 % more each frame (evenly spread on
     /// the plot's log axis), at most 20 000, stopping at [`ESTIMATOR_MAX_SAMPLES`].
     pub fn run_frame(&mut self) {

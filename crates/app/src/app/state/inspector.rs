@@ -46,4 +46,13 @@ impl Inspector {
         }
         self.cached.as_ref().map(|c| &c.inspection)
     }
+
+    /// Heap bytes of the cached inspection: only the lights it lists (at most
+    /// `2·LISTED_PER_RANKING`), whatever the scene's size.
+    pub fn heap_bytes(&self) -> usize {
+        self.cached.as_ref().map_or(0, |c| {
+            c.inspection.lights.capacity()
+                * std::mem::size_of::<lightpick_core::inspect::LightShare>()
+        })
+    }
 }

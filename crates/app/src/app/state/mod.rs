@@ -16,21 +16,24 @@ use std::sync::{Arc, mpsc};
 use glam::DVec3;
 use lightpick_core::scene::{Emission, ReceiverPlane, Scene};
 use lightpick_core::{
-    ChiSquare, LightPowers, PowersError, Rng, SceneSamplers, Uniform, chi_square,
+    ChiSquare, LightPowers, PowersError, Rng, SceneSamplers, Uniform, chi_square_cells,
 };
 
 use super::scene_io::{self, PowerDistribution};
 
 pub mod animation_export;
 pub mod built;
+pub mod counts;
 pub mod estimator;
 pub mod inspector;
+mod memory;
 pub mod precision;
 pub mod stepper;
 pub mod trade;
 pub mod walkthrough;
 
 pub use built::{Built, EXACT_TABLE_MAX_LIGHTS, construction_for};
+pub use counts::PickCounts;
 
 /// Tables of at most this many lights are rebuilt on the UI thread, within the frame.
 pub const SYNC_BUILD_LIMIT: usize = 50_000;
@@ -248,9 +251,9 @@ pub struct SamplingRun {
     /// Generation of the table the counts belong to.
     pub generation: u64,
     /// Picks per light by uniform selection.
-    pub uniform_counts: Vec<u64>,
+    pub uniform_counts: PickCounts,
     /// Picks per light by the alias table.
-    pub alias_counts: Vec<u64>,
+    pub alias_counts: PickCounts,
     /// Picks so far (each scheme).
     pub picks: u64,
     /// Chi-square of the uniform counts against `1/N`.
@@ -758,15 +761,15 @@ impl AppState {
         let n = self.built.len();
         let per_bin = n.div_ceil(MAX_BARS).max(1);
         let bars = n.div_ceil(per_bin);
-        let pmf = self.built.table.pmf_slice();
+        let pmf = self.built.pmf();
         let expected_bins = pmf.chunks(per_bin).map(|c| c.iter().sum()).collect();
         let flat_bins = (0..bars)
             .map(|b| (((b + 1) * per_bin).min(n) - b * per_bin) as f64 / n as f64)
             .collect();
         self.sampling = SamplingRun {
             generation: self.built.generation,
-            uniform_counts: vec![0; n],
-            alias_counts: vec![0; n],
+            uniform_counts: PickCounts::zeros(n),
+            alias_counts: PickCounts::zeros(n),
             per_bin,
             uniform_bins: vec![0; bars],
             alias_bins: vec![0; bars],
@@ -791,11 +794,11 @@ impl AppState {
             // The exact picks of `Sampler::pick_light` (rejection keeps columns uniform).
             let mut rng = Rng::new(seed, k);
             let u = uniform.sample(&mut rng) as usize;
-            self.sampling.uniform_counts[u] += 1;
+            self.sampling.uniform_counts.add(u);
             self.sampling.uniform_bins[u / self.sampling.per_bin] += 1;
             let mut rng = Rng::new(seed ^ 0xA11A5, k);
             let a = built.table.sample(&mut rng) as usize;
-            self.sampling.alias_counts[a] += 1;
+            self.sampling.alias_counts.add(a);
             self.sampling.alias_bins[a / self.sampling.per_bin] += 1;
         }
         self.sampling.picks += u64::from(count);
@@ -812,13 +815,17 @@ impl AppState {
             self.sampling.alias_chi = None;
             return;
         }
-        let n = self.built.len();
-        let flat = vec![1.0 / n as f64; n];
-        self.sampling.uniform_chi = Some(chi_square(&self.sampling.uniform_counts, &flat));
-        self.sampling.alias_chi = Some(chi_square(
-            &self.sampling.alias_counts,
-            self.built.table.pmf_slice(),
-        ));
+        let flat = 1.0 / self.built.len() as f64;
+        let sampling = &self.sampling;
+        let uniform = chi_square_cells(sampling.uniform_counts.iter().zip(std::iter::repeat(flat)));
+        let alias = chi_square_cells(
+            sampling
+                .alias_counts
+                .iter()
+                .zip(self.built.pmf().iter().copied()),
+        );
+        self.sampling.uniform_chi = Some(uniform);
+        self.sampling.alias_chi = Some(alias);
     }
 
     /// Draws one sample with two fresh randoms and records how the table answered.
@@ -843,7 +850,7 @@ impl AppState {
             column,
             u1: lightpick_core::unit_f64(r1),
             u2: lightpick_core::unit_f64(r2),
-            threshold: table.thresholds()[column],
+            threshold: table.threshold(column),
             kept: light as usize == column,
             light,
         };

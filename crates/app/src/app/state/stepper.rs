@@ -53,4 +53,23 @@ impl StepperState {
         self.playing = false;
         Some(trace)
     }
+
+    /// Heap bytes of the cached construction (only tables of at most
+    /// [`STEPPER_MAX_LIGHTS`] lights have one).
+    pub fn heap_bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.cache.as_ref().map_or(0, |(_, trace)| {
+            trace
+                .states()
+                .iter()
+                .map(|s| {
+                    size_of::<lightpick_core::construction::ConstructionState>()
+                        + s.mass.capacity() * size_of::<f64>()
+                        + (s.small.capacity() + s.large.capacity()) * size_of::<usize>()
+                        + s.threshold.capacity() * size_of::<Option<f64>>()
+                        + s.alias.capacity() * size_of::<Option<u32>>()
+                })
+                .sum()
+        })
+    }
 }

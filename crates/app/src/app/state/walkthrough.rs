@@ -45,6 +45,14 @@ impl WalkthroughState {
         Some(walk)
     }
 
+    /// Heap bytes of the user's scene kept while the classic one is shown (the lesson itself
+    /// is of three lights and not counted).
+    pub fn heap_bytes(&self) -> usize {
+        self.saved_scene.as_ref().map_or(0, |s| {
+            s.heap_bytes_by_part().iter().map(|(_, bytes)| bytes).sum()
+        })
+    }
+
     /// Whether the current step is the last one of `lesson`.
     pub fn at_last_step(&self, lesson: &Lesson) -> bool {
         self.step + 1 >= lesson.1.len()

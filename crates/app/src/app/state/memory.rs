@@ -1,0 +1,59 @@
+//! Where the state's bytes go: the heap bytes each part holds, from capacities (what is
+//! allocated, not what is used), for the README's table of bytes per light and the test
+//! that holds it.
+
+use std::mem::size_of;
+
+use super::AppState;
+
+/// Heap bytes of a vector's allocation.
+pub(crate) fn vec_bytes<T>(v: &Vec<T>) -> usize {
+    v.capacity() * size_of::<T>()
+}
+
+impl AppState {
+    /// The heap bytes each part of the state holds, by capacity, in a fixed order: the scene
+    /// (positions, powers, spot/range profiles, names), the scene as edited, the alias table
+    /// (with whatever views of it were derived), the spatial sampler, the histograms, the
+    /// inspector, the estimator, the stepper and the walkthrough. What is shared (`Arc`) is
+    /// counted once, under its first owner here; the renderers' parts are
+    /// [`crate::app::LightpickApp::memory_by_part`]'s.
+    pub fn memory_by_part(&self) -> Vec<(&'static str, usize)> {
+        let built = &self.built;
+        let [positions, powers, emission, names] = built.scene.heap_bytes_by_part();
+        let edit = &self.edit;
+        let edit_extras = edit.emission.as_ref().map_or(0, vec_bytes)
+            + edit.names.as_ref().map_or(0, |n| {
+                vec_bytes(n) + n.iter().map(String::capacity).sum::<usize>()
+            });
+        let sampling = &self.sampling;
+        let histograms = sampling.uniform_counts.heap_bytes()
+            + sampling.alias_counts.heap_bytes()
+            + vec_bytes(&sampling.uniform_bins)
+            + vec_bytes(&sampling.alias_bins)
+            + vec_bytes(&sampling.expected_bins)
+            + vec_bytes(&sampling.flat_bins);
+        let spatial = built
+            .samplers
+            .spatial_if_built()
+            .map_or(0, |s| s.heap_bytes());
+        vec![
+            ("scene: positions", positions.1),
+            ("scene: powers", powers.1),
+            ("scene: spot/range profiles", emission.1),
+            ("scene: names", names.1),
+            ("edit: positions", vec_bytes(&edit.positions)),
+            ("edit: powers", vec_bytes(&edit.powers)),
+            ("edit: profiles and names", edit_extras),
+            ("edit: powers text", self.powers_text.capacity()),
+            ("alias table", built.table.heap_bytes()),
+            ("alias table pmf (kept by the app)", built.pmf_heap_bytes()),
+            ("spatial sampler (light tree)", spatial),
+            ("histograms", histograms),
+            ("inspector", self.inspector.heap_bytes()),
+            ("estimator", self.estimator.heap_bytes()),
+            ("stepper", self.stepper.heap_bytes()),
+            ("walkthrough (saved scene)", self.walkthrough.heap_bytes()),
+        ]
+    }
+}

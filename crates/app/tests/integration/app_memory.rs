@@ -1,0 +1,135 @@
+//! Memory per light (issue 24): the app's own accounting of the heap bytes each part holds
+//! ([`LightpickApp::memory_by_part`], from capacities and uploaded sizes), on a generated
+//! scene of 10^6 lights against the seed scene. The bound is what the code holds by
+//! construction (a sum of capacities), not a measurement of the process: the README's table
+//! gives both.
+
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use lightpick::app::LightpickApp;
+
+/// The lights of the generated scene.
+const LIGHTS: usize = 1_000_000;
+
+/// Bytes per light above the seed scene the accounting may reach with the CPU renderer.
+const CPU_BOUND: f64 = 168.0;
+
+/// The same with the GPU lanes (device bytes, in the process on lavapipe).
+const GPU_BOUND: f64 = 183.0;
+
+/// Parts that must hold something once 10^6 lights are generated and a frame rendered.
+const GROWING: [&str; 5] = [
+    "scene: positions",
+    "scene: powers",
+    "alias table",
+    "spatial sampler (light tree)",
+    "histograms",
+];
+
+fn total(parts: &[(&'static str, usize)]) -> usize {
+    parts.iter().map(|(_, bytes)| bytes).sum()
+}
+
+/// Renders one frame (stepped) until the images of the current scene have been published.
+fn step_until_published(harness: &mut Harness<'static, LightpickApp>) {
+    let deadline = Instant::now() + crate::common::HANG_GUARD;
+    loop {
+        harness.state_mut().step();
+        harness.step();
+        let generation = harness.state().state.built.generation;
+        if harness
+            .state_mut()
+            .published()
+            .is_some_and(|p| p.generation == generation)
+        {
+            return;
+        }
+        assert!(Instant::now() < deadline, "no frame of the scene arrived");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Generates [`LIGHTS`] lights as the Lights panel's Generate does (over the seed scene's
+/// plane, so the per-pixel parts are the seed's), waits for the background build, renders a
+/// frame, and returns the accounting before and after.
+fn seed_and_generated(
+    mut harness: Harness<'static, LightpickApp>,
+) -> (Vec<(&'static str, usize)>, Vec<(&'static str, usize)>) {
+    step_until_published(&mut harness);
+    let seed = harness.state().memory_by_part();
+    harness.state_mut().state.generate(LIGHTS);
+    let deadline = Instant::now() + crate::common::HANG_GUARD;
+    while harness.state().state.built.len() != LIGHTS {
+        assert!(Instant::now() < deadline, "the table never arrived");
+        std::thread::sleep(Duration::from_millis(20));
+        harness.step();
+    }
+    step_until_published(&mut harness);
+    // A second frame: whatever the panels derive lazily (table rows, histograms) exists.
+    harness.state_mut().step();
+    harness.step();
+    (seed, harness.state().memory_by_part())
+}
+
+/// Prints the table (for the README) and checks every part is reported, the growing ones
+/// non-empty, and the total per light above the seed scene within `bound`.
+fn check(seed: &[(&'static str, usize)], large: &[(&'static str, usize)], bound: f64) {
+    let names: Vec<_> = seed.iter().map(|(name, _)| *name).collect();
+    assert_eq!(
+        names,
+        large.iter().map(|(name, _)| *name).collect::<Vec<_>>()
+    );
+    eprintln!("| part | bytes per light at 10^6 |");
+    for (&(name, s), &(_, l)) in seed.iter().zip(large) {
+        eprintln!("| {name} | {:.1} |", (l as f64 - s as f64) / LIGHTS as f64);
+    }
+    let per_light = (total(large) as f64 - total(seed) as f64) / LIGHTS as f64;
+    eprintln!("| total above the seed scene | {per_light:.1} |");
+    for part in GROWING {
+        let bytes = large.iter().find(|(name, _)| *name == part).map(|p| p.1);
+        assert!(bytes.is_some_and(|b| b > 0), "{part}: {bytes:?}");
+    }
+    assert!(
+        per_light <= bound,
+        "{per_light:.1} bytes per light above the seed scene, over {bound}"
+    );
+}
+
+/// The CPU renderer (kittest without a GPU: the images render inline on the CPU).
+#[test]
+fn a_million_generated_lights_cost_what_the_accounting_bounds_on_the_cpu() {
+    let harness = Harness::builder()
+        .with_size([1560.0, 960.0])
+        .build_ui_state(
+            |ui, app: &mut LightpickApp| app.ui(ui),
+            LightpickApp::for_tests(),
+        );
+    let (seed, large) = seed_and_generated(harness);
+    let cpu = large
+        .iter()
+        .find(|(name, _)| *name == "CPU lanes: light records")
+        .map(|p| p.1);
+    assert!(cpu.is_some_and(|b| b > 0), "{cpu:?}");
+    check(&seed, &large, CPU_BOUND);
+}
+
+/// The GPU lanes on kittest's wgpu device (lavapipe here), whose buffers count as uploaded.
+#[test]
+fn a_million_generated_lights_cost_what_the_accounting_bounds_on_the_gpu() {
+    if std::env::var("LIGHTPICK_SKIP_GPU_TESTS").as_deref() == Ok("1") {
+        eprintln!("GPU test skipped: LIGHTPICK_SKIP_GPU_TESTS=1");
+        return;
+    }
+    let harness = Harness::builder()
+        .with_size([1560.0, 960.0])
+        .wgpu()
+        .build_eframe(|_cc| LightpickApp::for_tests());
+    let (seed, large) = seed_and_generated(harness);
+    let gpu = large
+        .iter()
+        .find(|(name, _)| *name == "GPU lanes: lights, tree")
+        .map(|p| p.1);
+    assert!(gpu.is_some_and(|b| b > 0), "{gpu:?}");
+    check(&seed, &large, GPU_BOUND);
+}
