@@ -5,7 +5,7 @@
 //! the Alias table's is [`TABLE_MIN_WIDTH`]). The [`Arrangement`] is the first of these
 //! whose columns all fit the window's width at their least widths:
 //!
-//! - **three columns** (from about 1160 points wide: 1280×720, 1440×900, 1920×1080):
+//! - **three columns** (from about 1170 points wide: 1280×720, 1440×900, 1920×1080):
 //!   Lights | Alias table over Sampling | Images over Convergence;
 //! - **two columns** (from about 870 points: 1024×768): Lights over Alias table | Sampling,
 //!   Images and Convergence;
@@ -42,8 +42,9 @@ pub const HEADER_HEIGHT: f32 = 30.0;
 /// The room between two panels standing one over the other.
 pub const PANE_GAP: f32 = 4.0;
 
-/// The room a column's frame takes around its panels (inner margin on both sides).
-pub const COLUMN_MARGIN: f32 = 12.0;
+/// The room a column takes around its panels: its frame's inner margin on both sides, and
+/// two points for the separator line and rounding to pixels.
+pub const COLUMN_MARGIN: f32 = 14.0;
 
 /// The name in `pane`'s header and tab.
 pub fn title(pane: PanelKind) -> &'static str {
@@ -167,11 +168,11 @@ pub fn column_min_width(panes: &[PanelKind]) -> f32 {
 
 /// The height of `pane` (header included) when it stands over others in a column of
 /// `height`, before the presenter drags the edge: the table leaves the histograms about 360
-/// points; the lights take half.
+/// points; the lights leave the table below them most of the column (their rows scroll).
 pub fn default_height(pane: PanelKind, height: f32) -> f32 {
     match pane {
         PanelKind::Table => height - 360.0,
-        _ => 0.5 * height,
+        _ => 0.4 * height,
     }
 }
 

@@ -229,3 +229,55 @@ fn window_table_maximized() {
     harness.run();
     assert_eq!(harness.state().layout.maximized, None);
 }
+
+/// Drags the mouse from `from` to `to` with the primary button held.
+fn drag(harness: &mut Harness<'_, LightpickApp>, from: egui::Pos2, to: egui::Pos2) {
+    let button = |pos, pressed| egui::Event::PointerButton {
+        pos,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: egui::Modifiers::NONE,
+    };
+    harness.event(egui::Event::PointerMoved(from));
+    harness.run();
+    harness.event(button(from, true));
+    harness.run();
+    for k in 1..=8 {
+        harness.event(egui::Event::PointerMoved(from.lerp(to, k as f32 / 8.0)));
+        harness.run();
+    }
+    harness.event(button(to, false));
+    harness.run();
+}
+
+/// The edge between `left` and `right`, two panels side by side, halfway down.
+fn edge(harness: &Harness<'_, LightpickApp>, left: PanelKind, right: PanelKind) -> egui::Pos2 {
+    let layout = &harness.state().layout;
+    let (l, r) = (
+        layout.pane_rect(left).expect("drawn"),
+        layout.pane_rect(right).expect("drawn"),
+    );
+    egui::pos2(0.5 * (l.right() + r.left()), l.center().y)
+}
+
+#[test]
+fn columns_dragged_wide_never_squeeze_a_panel() {
+    // A presenter widens the lights and the table on a 1920 monitor as far as they go…
+    let mut harness = window([1920.0, 1080.0]);
+    let from = edge(&harness, PanelKind::Lights, PanelKind::Table);
+    drag(&mut harness, from, egui::pos2(1900.0, from.y));
+    let from = edge(&harness, PanelKind::Table, PanelKind::Images);
+    drag(&mut harness, from, egui::pos2(1910.0, from.y));
+    let layout = &harness.state().layout;
+    let lights = layout.pane_rect(PanelKind::Lights).expect("drawn");
+    assert!(
+        lights.width() > 600.0,
+        "the drag widened the lights: {lights:?}"
+    );
+    assert_eq!(assert_readable(&harness).len(), 5);
+    // …then the window moves to a 1280×720 projector: every panel keeps its least width.
+    harness.set_size(egui::vec2(1280.0, 720.0));
+    harness.run();
+    assert_eq!(assert_readable(&harness).len(), 4);
+    assert_table_whole(&harness);
+}
