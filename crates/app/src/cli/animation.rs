@@ -479,10 +479,11 @@ pub fn run(args: &AnimationArgs) -> anyhow::Result<()> {
     } else {
         let last = recorded.frames.last().map_or([0.0; 3], |f| f.rmse);
         println!(
-            "wrote {} ({} frames, {}×{} px, {} kB) in {seconds:.1} s; RMSE at {} spp: uniform \
+            "wrote {} ({} frame{}, {}×{} px, {} kB) in {seconds:.1} s; RMSE at {} spp: uniform \
              {:.3e}, alias {:.3e}, spatial {:.3e}",
             args.out.display(),
             recorded.frames.len(),
+            if recorded.frames.len() == 1 { "" } else { "s" },
             recorded.frame_size.0,
             recorded.frame_size.1,
             recorded.gif.len().div_ceil(1000),

@@ -49,9 +49,10 @@ impl Exported {
     /// The status-bar sentence: what was written where.
     pub fn message(&self) -> String {
         format!(
-            "exported animation {} ({} frames, {}×{} px, {} kB, {:.1} s)",
+            "exported animation {} ({} frame{}, {}×{} px, {} kB, {:.1} s)",
             self.path.display(),
             self.frames,
+            if self.frames == 1 { "" } else { "s" },
             self.frame_size.0,
             self.frame_size.1,
             self.bytes.div_ceil(1000),
