@@ -8,7 +8,7 @@
 
 use glam::DVec3;
 
-use super::layout::{internal_nodes, parts};
+use super::layout::{part_internal_nodes, parts};
 use super::{LEAF_SIZE, TREE_WIDTH, TreeNode};
 use crate::scene::Emission;
 use crate::spatial::{LaneBounds, SpatialLight};
@@ -17,7 +17,8 @@ use crate::spatial::{LaneBounds, SpatialLight};
 const PARALLEL_FILL: usize = 1 << 13;
 
 /// What a lane (or a whole node) holds, summed: power, the pieces of its power-weighted
-/// centroid, the box of its lights and, with profiles, its bounds.
+/// centroid and the box of its lights. 80 bytes: the pass moves many of these, so the
+/// lights with profiles carry their bounds beside it ([`Bounded`]) rather than in it.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Aggregate {
     /// `Σ p_i`.
@@ -26,17 +27,116 @@ pub(super) struct Aggregate {
     pub(super) centroid: DVec3,
     min: DVec3,
     max: DVec3,
-    pub(super) bounds: Option<LaneBounds>,
 }
 
-impl Aggregate {
+/// An [`Aggregate`] with the lane's [`LaneBounds`] (`None` for an empty lane), for lights
+/// with emission profiles.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Bounded {
+    aggregate: Aggregate,
+    bounds: Option<LaneBounds>,
+}
+
+/// What the pass sums per lane: [`Aggregate`] for point lights, [`Bounded`] with profiles.
+pub(super) trait Summary: Copy + Send {
+    /// An empty lane.
+    const EMPTY: Self;
+    /// The lights of a leaf cluster (with their profiles for [`Bounded`]).
+    fn of_leaf(lights: &[SpatialLight], emission: Option<&[Emission]>) -> Self;
+    /// A node's lanes, together.
+    fn of_lanes(lanes: &[Self; TREE_WIDTH]) -> Self;
+    /// The power and centroid part.
+    fn aggregate(&self) -> &Aggregate;
+    /// The lane's bounds (empty for an empty lane, or without profiles).
+    fn bounds(&self) -> LaneBounds;
+}
+
+impl Summary for Aggregate {
     const EMPTY: Aggregate = Aggregate {
         power: 0.0,
         centroid: DVec3::new(0.0, 0.0, 1.0),
         min: DVec3::INFINITY,
         max: DVec3::NEG_INFINITY,
+    };
+
+    fn of_leaf(lights: &[SpatialLight], _emission: Option<&[Emission]>) -> Self {
+        let (power, centroid, min, max) = Self::combine(lights.iter().map(|l| {
+            (
+                l.power,
+                l.position_in_world,
+                l.position_in_world,
+                l.position_in_world,
+            )
+        }));
+        Aggregate {
+            power,
+            centroid,
+            min,
+            max,
+        }
+    }
+
+    fn of_lanes(lanes: &[Aggregate; TREE_WIDTH]) -> Self {
+        let (power, centroid, min, max) =
+            Self::combine(lanes.iter().map(|a| (a.power, a.centroid, a.min, a.max)));
+        Aggregate {
+            power,
+            centroid,
+            min,
+            max,
+        }
+    }
+
+    fn aggregate(&self) -> &Aggregate {
+        self
+    }
+
+    fn bounds(&self) -> LaneBounds {
+        LaneBounds::EMPTY
+    }
+}
+
+impl Summary for Bounded {
+    const EMPTY: Bounded = Bounded {
+        aggregate: Aggregate::EMPTY,
         bounds: None,
     };
+
+    fn of_leaf(lights: &[SpatialLight], emission: Option<&[Emission]>) -> Self {
+        let bounds = emission.map(|e| {
+            lights.iter().zip(e).fold(LaneBounds::EMPTY, |b, (l, e)| {
+                LaneBounds::union(&b, &LaneBounds::of_light(l, e))
+            })
+        });
+        Bounded {
+            aggregate: Aggregate::of_leaf(lights, emission),
+            bounds,
+        }
+    }
+
+    fn of_lanes(lanes: &[Bounded; TREE_WIDTH]) -> Self {
+        let bounds = lanes[0].bounds.map(|first| {
+            lanes[1..]
+                .iter()
+                .filter_map(|a| a.bounds)
+                .fold(first, |b, l| LaneBounds::union(&b, &l))
+        });
+        Bounded {
+            aggregate: Aggregate::of_lanes(&lanes.map(|l| l.aggregate)),
+            bounds,
+        }
+    }
+
+    fn aggregate(&self) -> &Aggregate {
+        &self.aggregate
+    }
+
+    fn bounds(&self) -> LaneBounds {
+        self.bounds.unwrap_or(LaneBounds::EMPTY)
+    }
+}
+
+impl Aggregate {
 
     /// `Σ w_k·y_k / Σ w_k` with `w_k = p_k / max p` (no underflow however small the powers),
     /// clamped into the box; the box's centre when nothing has power.
@@ -63,49 +163,6 @@ impl Aggregate {
         };
         (power, centroid, min, max)
     }
-
-    /// The lights `lights` (with their profiles, if any) of a leaf cluster.
-    fn of_leaf(lights: &[SpatialLight], emission: Option<&[Emission]>) -> Self {
-        let (power, centroid, min, max) = Self::combine(lights.iter().map(|l| {
-            (
-                l.power,
-                l.position_in_world,
-                l.position_in_world,
-                l.position_in_world,
-            )
-        }));
-        let bounds = emission.map(|e| {
-            lights.iter().zip(e).fold(LaneBounds::EMPTY, |b, (l, e)| {
-                LaneBounds::union(&b, &LaneBounds::of_light(l, e))
-            })
-        });
-        Aggregate {
-            power,
-            centroid,
-            min,
-            max,
-            bounds,
-        }
-    }
-
-    /// A node's lanes, together.
-    fn of_lanes(lanes: &[Aggregate; TREE_WIDTH]) -> Self {
-        let (power, centroid, min, max) =
-            Self::combine(lanes.iter().map(|a| (a.power, a.centroid, a.min, a.max)));
-        let bounds = lanes[0].bounds.map(|first| {
-            lanes[1..]
-                .iter()
-                .filter_map(|a| a.bounds)
-                .fold(first, |b, l| LaneBounds::union(&b, &l))
-        });
-        Aggregate {
-            power,
-            centroid,
-            min,
-            max,
-            bounds,
-        }
-    }
 }
 
 /// One subtree to fill: its node slots (its own first) and their bounds, its light count
@@ -118,12 +175,13 @@ pub(super) struct Fill<'a> {
 }
 
 /// Fills the subtree's nodes' lanes from `lights` (leaf order, with `emission` beside them
-/// when the lights have profiles) and returns the node's aggregate.
-pub(super) fn fill(
+/// when the lights have profiles, then summed as [`Bounded`]) and returns the node's
+/// summary.
+pub(super) fn fill<S: Summary>(
     job: Fill<'_>,
     lights: &[SpatialLight],
     emission: Option<&[Emission]>,
-) -> Aggregate {
+) -> S {
     let Fill {
         nodes,
         bounds,
@@ -139,22 +197,22 @@ pub(super) fn fill(
         None => (None, None),
     };
     let sizes = parts(m);
+    let counts = part_internal_nodes(m);
     // Each lane: a leaf cluster now, or a subtree to fill (in parallel when large).
-    let mut lanes = [Aggregate::EMPTY; TREE_WIDTH];
+    let mut lanes = [S::EMPTY; TREE_WIDTH];
     // At most one subtree per lane, in arrays: the pass allocates nothing.
     let mut jobs: [Option<Fill<'_>>; TREE_WIDTH] = std::array::from_fn(|_| None);
     let mut next_first = first;
-    for (lane, &s) in sizes.iter().enumerate() {
+    for (lane, (&s, &count)) in sizes.iter().zip(&counts).enumerate() {
         if s == 0 {
             continue;
         }
         if s <= LEAF_SIZE {
-            lanes[lane] = Aggregate::of_leaf(
+            lanes[lane] = S::of_leaf(
                 &lights[next_first..next_first + s],
                 emission.map(|e| &e[next_first..next_first + s]),
             );
         } else {
-            let count = internal_nodes(s);
             let (slots, rest) = below.split_at_mut(count);
             below = rest;
             let slot_bounds = below_bounds.take().map(|b| {
@@ -171,35 +229,32 @@ pub(super) fn fill(
         }
         next_first += s;
     }
-    let mut results: [Option<Aggregate>; TREE_WIDTH] = [None; TREE_WIDTH];
-    let fill_one = |(result, job): (&mut Option<Aggregate>, &mut Option<Fill<'_>>)| {
+    // Each subtree's aggregate lands in its lane directly (no copies of the large
+    // aggregates through a results array).
+    let fill_one = |(lane, job): (&mut S, &mut Option<Fill<'_>>)| {
         if let Some(job) = job.take() {
-            *result = Some(fill(job, lights, emission));
+            *lane = fill(job, lights, emission);
         }
     };
     if m > PARALLEL_FILL {
         use rayon::prelude::*;
-        results
+        lanes
             .par_iter_mut()
             .zip(jobs.par_iter_mut())
             .for_each(fill_one);
     } else {
-        results.iter_mut().zip(jobs.iter_mut()).for_each(fill_one);
-    }
-    for (lane, result) in lanes.iter_mut().zip(results) {
-        if let Some(aggregate) = result {
-            *lane = aggregate;
-        }
+        lanes.iter_mut().zip(jobs.iter_mut()).for_each(fill_one);
     }
     let node = &mut this[0];
     for (lane, a) in lanes.iter().enumerate() {
+        let a = a.aggregate();
         node.power[lane] = a.power;
         for (axis, c) in node.centroid.iter_mut().zip(a.centroid.to_array()) {
             axis[lane] = c;
         }
     }
     if let Some(b) = this_bounds {
-        b[0] = lanes.map(|a| a.bounds.unwrap_or(LaneBounds::EMPTY));
+        b[0] = lanes.map(|a| a.bounds());
     }
-    Aggregate::of_lanes(&lanes)
+    S::of_lanes(&lanes)
 }

@@ -13,11 +13,44 @@ const PARALLEL_LAYOUT: usize = 1 << 13;
 
 /// Internal nodes of a range of `m` lights: 0 for a leaf cluster, else one plus those of
 /// its parts ([`parts`]). Depends only on `m`, which fixes the depth-first layout.
+///
+/// `O(log m)`: one descent computes the counts of two neighbouring sizes at each level
+/// ([`part_internal_nodes`]) instead of visiting every subtree.
 pub(super) fn internal_nodes(m: usize) -> usize {
-    if m <= LEAF_SIZE {
-        return 0;
+    internal_nodes_pair(m).0
+}
+
+/// `(internal_nodes(k), internal_nodes(k + 1))`.
+fn internal_nodes_pair(k: usize) -> (usize, usize) {
+    if k < LEAF_SIZE {
+        // k + 1 ≤ LEAF_SIZE: both are leaf clusters.
+        return (0, 0);
     }
-    1 + parts(m).iter().map(|&s| internal_nodes(s)).sum::<usize>()
+    let count = |m: usize| {
+        if m <= LEAF_SIZE {
+            0
+        } else {
+            1 + part_internal_nodes(m).iter().sum::<usize>()
+        }
+    };
+    (count(k), count(k + 1))
+}
+
+/// [`internal_nodes`] of each of the parts of `m > LEAF_SIZE` ([`parts`], lane order).
+///
+/// Halves of `m` lie in `{⌊m/2⌋, ⌊m/2⌋ + 1}`, so the parts that are split further (not
+/// leaf clusters) lie in `{q, q + 1}` with `q = ⌊⌊m/2⌋/2⌋`: one descent for the pair.
+pub(super) fn part_internal_nodes(m: usize) -> [usize; TREE_WIDTH] {
+    let q = m / 2 / 2;
+    let (at_q, at_q1) = internal_nodes_pair(q);
+    parts(m).map(|s| match s {
+        s if s <= LEAF_SIZE => 0,
+        s if s == q => at_q,
+        s => {
+            debug_assert_eq!(s, q + 1, "a part of {m} outside {{q, q + 1}}");
+            at_q1
+        }
+    })
 }
 
 /// The sizes of the children of a range of `m > LEAF_SIZE` lights, in lane order (0 for an
@@ -147,5 +180,30 @@ pub(super) fn lay_out(job: Job<'_>) {
         });
     } else {
         jobs.into_iter().for_each(lay_out);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{LEAF_SIZE, internal_nodes, part_internal_nodes, parts};
+
+    /// The definition, visiting every subtree.
+    fn by_definition(m: usize) -> usize {
+        if m <= LEAF_SIZE {
+            return 0;
+        }
+        1 + parts(m).iter().map(|&s| by_definition(s)).sum::<usize>()
+    }
+
+    #[test]
+    fn internal_nodes_follows_its_definition() {
+        let large = [65_536, 99_999, 1_000_000, 1_048_575, 1_048_577, 3_000_001];
+        for m in (0..5000).chain(large) {
+            assert_eq!(internal_nodes(m), by_definition(m), "m = {m}");
+            if m > LEAF_SIZE {
+                let each = parts(m).map(by_definition);
+                assert_eq!(part_internal_nodes(m), each, "m = {m}");
+            }
+        }
     }
 }

@@ -304,16 +304,17 @@ impl LightTree {
         }
         let emission = (!self.emission.is_empty()).then_some(self.emission.as_slice());
         let bounds = (!self.bounds.is_empty()).then_some(self.bounds.as_mut_slice());
-        fill::fill(
-            fill::Fill {
-                nodes: &mut self.nodes,
-                bounds,
-                m: self.lights.len(),
-                first: 0,
-            },
-            &self.lights,
-            emission,
-        );
+        let job = fill::Fill {
+            nodes: &mut self.nodes,
+            bounds,
+            m: self.lights.len(),
+            first: 0,
+        };
+        if emission.is_some() {
+            fill::fill::<fill::Bounded>(job, &self.lights, emission);
+        } else {
+            fill::fill::<fill::Aggregate>(job, &self.lights, None);
+        }
     }
 
     /// New powers for the same lights (same positions, cones and ranges): each light's
