@@ -132,12 +132,13 @@ pub struct Case {
     /// `rand_distr::WeightedAliasIndex`, which has no in-place rebuild: its build).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rebuild_ns: Option<f64>,
-    /// Median time per sample, nanoseconds (for `tree-build` and `tree-refit`: one pick of
-    /// the light tree at a shading point).
+    /// Median time per sample, nanoseconds (for `tree-build`, `tree-refit` and
+    /// `app-repower`: one pick of the light tree at a shading point).
     pub sample_ns: f64,
     /// Threads the timed build ran on: rayon's pool for the integer alias table (`alias`,
     /// `alias-batch`) and the light tree (`tree-build`, `tree-refit`), 1 for `alias-1t` and
-    /// the sequential constructions and peers. Picks always run on one thread.
+    /// the sequential constructions and peers (`app-repower`: the pool, for its table and
+    /// tree). Picks always run on one thread.
     pub threads: usize,
 }
 
@@ -500,9 +501,10 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
 }
 
 /// The light tree at `N` lights spread over a unit square at heights `0.1 … 1`: `tree-build`
-/// (layout by positions and lanes, `O(N log N)`) and `tree-refit` (new powers, same
-/// positions: [`lightpick_core::spatial::LightTree::refit`], `O(N)` bottom up, in `build_ns`),
-/// each with the time of one pick at a shading point.
+/// (layout by positions and lanes, `O(N log N)`), `tree-refit` (new powers, same
+/// positions: [`lightpick_core::spatial::LightTree::refit`], `O(N)` bottom up, in `build_ns`)
+/// and `app-repower` (the app's whole answer to a power drag, [`time_app_repower`]), each
+/// with the time of one pick at a shading point.
 fn time_tree(
     n: usize,
     powers: &LightPowers,
@@ -531,9 +533,10 @@ fn time_tree(
         let x = glam::dvec2(unit(k, 4), unit(k, 5));
         tree.sample(x, &mut rng).map_or(0, |p| p.light)
     });
-    ["tree-build", "tree-refit"]
+    let repower_ns = time_app_repower(&positions, powers, other, reps);
+    ["tree-build", "tree-refit", "app-repower"]
         .into_iter()
-        .zip([build_ns, refit_ns])
+        .zip([build_ns, refit_ns, repower_ns])
         .map(|(method, build_ns)| Case {
             n,
             method,
@@ -544,6 +547,34 @@ fn time_tree(
             threads,
         })
         .collect()
+}
+
+/// The app's answer to a power drag, in `build_ns`: from `AppState::powers_changed` (new
+/// powers, same positions) until the rebuilt samplers are installed (validation, the
+/// scene's assembly, the table's rebuild and the tree's refit, on the worker thread for
+/// large scenes, polled every 0.1 ms as a frame would). The images restart on the next
+/// frame.
+fn time_app_repower(
+    positions: &[glam::DVec3],
+    powers: &LightPowers,
+    other: &LightPowers,
+    reps: usize,
+) -> f64 {
+    use crate::app::scene_io;
+    use crate::app::state::{AppState, Settings};
+    let plane = scene_io::seed_scene().plane;
+    let scene = scene_io::assemble("bench", plane, positions.to_vec(), powers.clone());
+    let mut state = AppState::new(scene, Settings::default());
+    let inputs = [other.as_slice(), powers.as_slice()];
+    median_ns(reps.min(5), 1, |rep| {
+        state.edit.powers.copy_from_slice(inputs[rep % 2]);
+        state.powers_changed();
+        while state.is_building() {
+            std::thread::sleep(std::time::Duration::from_micros(100));
+            state.poll_build();
+        }
+        state.built.generation
+    })
 }
 
 /// One construction's timings and its table (built from `powers`).

@@ -119,6 +119,7 @@ fn bench_json_has_every_case_and_the_peers() {
         "rand::WeightedIndex",
         "tree-build",
         "tree-refit",
+        "app-repower",
     ] {
         assert!(methods.contains(&m), "{m} missing from {methods:?}");
     }
@@ -129,7 +130,9 @@ fn bench_json_has_every_case_and_the_peers() {
         // twin is `alias-1t`); the rest run on one thread.
         let parallel = c["method"]
             .as_str()
-            .is_some_and(|m| m.starts_with("tree-") || m == "alias" || m == "alias-batch");
+            .is_some_and(|m| {
+                m.starts_with("tree-") || ["alias", "alias-batch", "app-repower"].contains(&m)
+            });
         assert!(threads >= 1 && (parallel || threads == 1), "{c}");
         if c["method"] == "alias-1t" {
             assert_eq!(threads, 1, "{c}");
@@ -157,7 +160,7 @@ fn bench_json_has_every_case_and_the_peers() {
     let ratios = v["ratios"].as_array().unwrap();
     assert_eq!(ratios[0]["n"], 1000);
     let row = ratios[0]["ratios"].as_array().unwrap();
-    assert_eq!(row.len(), 6);
+    assert_eq!(row.len(), 7, "six peers and methods plus alias-1t: {row:?}");
     let peer = row
         .iter()
         .find(|r| r["method"] == "rand_distr::WeightedAliasIndex")

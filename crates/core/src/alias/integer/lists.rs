@@ -68,7 +68,7 @@ pub(super) struct Lists {
 }
 
 impl Lists {
-    pub(super) fn new(chunks: Vec<ChunkLists>, n: usize) -> Self {
+    pub(super) fn new(chunks: &[ChunkLists], n: usize) -> Self {
         let len = |c: usize| CHUNK.min(n - c * CHUNK) as u64;
         let small: Vec<u64> = chunks.iter().map(|c| c.small as u64).collect();
         let large: Vec<u64> = chunks

@@ -45,16 +45,16 @@ pub(super) fn quantize(powers: &[f64], table: &mut [u64], scratch: &mut [u32]) -
     let mass_sum: u64 = chunks.iter().map(|c| c.mass).sum();
     let wanted = n as u64 * CAPACITY;
     if mass_sum == wanted {
-        return Lists::new(chunks, n);
+        return Lists::new(&chunks, n);
     }
     settle_remainder(powers, ideal, table, wanted as i64 - mass_sum as i64);
-    let chunks = table
+    let chunks: Vec<ChunkLists> = table
         .par_chunks(CHUNK)
         .zip(scratch.par_chunks_mut(CHUNK))
         .enumerate()
         .map(|(c, (masses, list))| list_chunk(c * CHUNK, masses, list))
         .collect();
-    Lists::new(chunks, n)
+    Lists::new(&chunks, n)
 }
 
 /// The scale `2^-e` mapping the largest power into `[1, 2)` and the double-double sum

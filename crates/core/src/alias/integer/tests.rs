@@ -3,7 +3,7 @@
 use super::sweep::{Order, sweep};
 use super::{CHUNK, build, quantize, reference};
 
-/// A reproducible stream of uniforms in `[0, 1)` (SplitMix64).
+/// A reproducible stream of uniforms in `[0, 1)` (`SplitMix64`).
 fn uniforms(seed: u64, n: usize) -> Vec<f64> {
     let mut state = seed;
     (0..n)
