@@ -203,6 +203,8 @@ pub struct LightpickApp {
     gpu_error: Option<String>,
     /// Where the images render (measured in `Auto` on a software adapter).
     placement: placement::Placement,
+    /// Gives freed memory back after a scene or renderer change ([`memory::Trim`]).
+    trim: memory::Trim,
 }
 
 /// Frame-time log to stderr (`LIGHTPICK_FRAME_LOG=1`), for measuring responsiveness.
@@ -279,6 +281,7 @@ impl LightpickApp {
             gpu: None,
             gpu_error: None,
             placement: placement::Placement::default(),
+            trim: memory::Trim::default(),
         }
     }
 
@@ -453,6 +456,8 @@ impl LightpickApp {
         self.advance(ctx);
         let published = self.published();
         self.observe_placement(published.as_deref());
+        let (generation, gpu) = (self.state.built.generation, self.uses_gpu());
+        self.trim.frame(generation, gpu, self.state.is_building());
         if let Some(p) = &published {
             self.textures.update(ctx, p);
         }

@@ -27,6 +27,9 @@ const GROWING: [&str; 5] = [
     "histograms",
 ];
 
+/// The accounting: heap bytes by part ([`LightpickApp::memory_by_part`]).
+type Parts = Vec<(&'static str, usize)>;
+
 fn total(parts: &[(&'static str, usize)]) -> usize {
     parts.iter().map(|(_, bytes)| bytes).sum()
 }
@@ -55,7 +58,7 @@ fn step_until_published(harness: &mut Harness<'static, LightpickApp>) {
 /// frame, and returns the accounting before and after.
 fn seed_and_generated(
     mut harness: Harness<'static, LightpickApp>,
-) -> (Vec<(&'static str, usize)>, Vec<(&'static str, usize)>) {
+) -> (Parts, Parts) {
     step_until_published(&mut harness);
     let seed = harness.state().memory_by_part();
     harness.state_mut().state.generate(LIGHTS);
