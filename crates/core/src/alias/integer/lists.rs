@@ -250,7 +250,9 @@ impl LargeCursor<'_> {
     /// Moves `step` (0 or 1) ordinals on.
     #[inline]
     pub(super) fn advance(&mut self, step: usize) {
-        if step == 1 && self.pos == self.lowest {
+        // `&`, not `&&`: no branch on `step` (a fill or a turn, unpredictable), only on the
+        // chunk's end (rare).
+        if (step == 1) & (self.pos == self.lowest) {
             self.next_chunk();
         } else {
             self.pos -= step;
