@@ -8,6 +8,8 @@
 //!   (which draw from `SmallRng`), so the peer ratios compare like with like. The integer
 //!   table builds on rayon's pool (`alias`, `threads` = the pool) and again on one thread
 //!   (`alias-1t`): the same table bit for bit, so the two rows time the same work.
+//! * Memory: the copy bandwidth of one thread and the floor it puts on a table build
+//!   (`16·N` bytes at least, see `bandwidth`).
 //! * GPU: samples per second of `gpu::histogram` (alias, two randoms), where an adapter
 //!   exists.
 //! * Renders: for each preset, at a small resolution, the variance per sample `V`, the
@@ -32,6 +34,7 @@ use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use super::bandwidth::{BUILD_BYTES_PER_LIGHT, Bandwidth};
 use anyhow::{Context as _, bail};
 use clap::Args;
 use lightpick_core::draw::{self, ConvergenceAxis, ConvergencePoint, ConvergenceSeries};
@@ -204,10 +207,22 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         None => None,
     };
     let ratios = ratios(&cases);
+    // 256 MiB buffers (64 MiB in --quick): far beyond the caches.
+    let bandwidth = Bandwidth::measure(if args.quick { 64 << 20 } else { 256 << 20 }, 5);
+    let floors: Vec<serde_json::Value> = sizes
+        .iter()
+        .map(|&n| json!({ "n": n, "build_floor_ns": bandwidth.build_floor_ns(n) }))
+        .collect();
     if args.json {
         super::print_json(&json!({
             "quick": args.quick,
             "threads": rayon::current_num_threads(),
+            "memory_bandwidth": {
+                "copy_gb_per_s": bandwidth.copy_gb_per_s,
+                "buffer_bytes": bandwidth.buffer_bytes,
+                "build_bytes_per_light": BUILD_BYTES_PER_LIGHT,
+                "build_floors": floors,
+            },
             "cases": cases,
             "ratios": ratios,
             "gpu": gpu,
@@ -218,6 +233,14 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         }))
     } else {
         print!("{}", text(&cases, &ratios, &gpu, &renders, args.quick));
+        println!(
+            "\nmemory: copy {:.1} GB/s (read + write, one thread); a table build moves at \
+             least {BUILD_BYTES_PER_LIGHT} bytes per light, so no build is faster than:",
+            bandwidth.copy_gb_per_s
+        );
+        for &n in &sizes {
+            println!("{n:>9}  {:.3} ms", bandwidth.build_floor_ns(n) / 1e6);
+        }
         print!("{}", app_renders_text(&app_renders));
         print!("{}", gpu_renders_text(&gpu_renders));
         print!("{}", plot_text(plot.as_ref()));

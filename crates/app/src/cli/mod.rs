@@ -2,6 +2,7 @@
 //! object for scripts. Any error prints one line `error: …` on stderr and exits with code 2.
 
 pub mod animation;
+mod bandwidth;
 mod bench;
 mod device;
 mod estimate;

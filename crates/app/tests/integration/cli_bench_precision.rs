@@ -128,11 +128,9 @@ fn bench_json_has_every_case_and_the_peers() {
         let threads = c["threads"].as_u64().expect("a thread count per case");
         // Builds on rayon's pool: the light tree and the integer table (whose one-thread
         // twin is `alias-1t`); the rest run on one thread.
-        let parallel = c["method"]
-            .as_str()
-            .is_some_and(|m| {
-                m.starts_with("tree-") || ["alias", "alias-batch", "app-repower"].contains(&m)
-            });
+        let parallel = c["method"].as_str().is_some_and(|m| {
+            m.starts_with("tree-") || ["alias", "alias-batch", "app-repower"].contains(&m)
+        });
         assert!(threads >= 1 && (parallel || threads == 1), "{c}");
         if c["method"] == "alias-1t" {
             assert_eq!(threads, 1, "{c}");
@@ -157,6 +155,13 @@ fn bench_json_has_every_case_and_the_peers() {
             assert!(f(r) > 0.0, "{c}");
         }
     }
+    let memory = &v["memory_bandwidth"];
+    assert!(f(&memory["copy_gb_per_s"]) > 0.0, "{memory}");
+    assert_eq!(memory["build_floors"][0]["n"], 1000);
+    assert!(
+        f(&memory["build_floors"][0]["build_floor_ns"]) > 0.0,
+        "{memory}"
+    );
     let ratios = v["ratios"].as_array().unwrap();
     assert_eq!(ratios[0]["n"], 1000);
     let row = ratios[0]["ratios"].as_array().unwrap();

@@ -36,9 +36,23 @@ pub(super) fn quantize(powers: &[f64], table: &mut [u64], scratch: &mut [u32]) -
         .map(|(c, (((chunk, masses), list), &before))| {
             // Two instances rather than a test per light of which formula applies.
             if ideal.folded {
-                masses_of(chunk, c * CHUNK, before, |p| ideal.folded_of(p), masses, list)
+                masses_of(
+                    chunk,
+                    c * CHUNK,
+                    before,
+                    |p| ideal.folded_of(p),
+                    masses,
+                    list,
+                )
             } else {
-                masses_of(chunk, c * CHUNK, before, |p| ideal.scaled_of(p), masses, list)
+                masses_of(
+                    chunk,
+                    c * CHUNK,
+                    before,
+                    |p| ideal.scaled_of(p),
+                    masses,
+                    list,
+                )
             }
         })
         .collect();

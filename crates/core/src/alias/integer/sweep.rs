@@ -80,7 +80,10 @@ pub(super) fn sweep(table: &mut [u64], scratch: &[u32], lists: &Lists, order: Or
     };
     // Once the small columns have run out with `w ≥ C`, the current large column and every
     // one not yet opened hold exactly C (integer arithmetic conserves the total).
-    debug_assert!(end.s == small && end.w == CAPACITY, "integer sweep ran short");
+    debug_assert!(
+        end.s == small && end.w == CAPACITY,
+        "integer sweep ran short"
+    );
     table[end.h].store(full(end.h), Relaxed);
     let mut cursor = lists.large_cursor(end.t + 1);
     for _ in end.t + 1..large {

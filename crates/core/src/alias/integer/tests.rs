@@ -42,10 +42,7 @@ fn cases(n: usize) -> Vec<(&'static str, Vec<f64>)> {
                 .map(|&x| if x < 0.5 { f64::MAX * x } else { 5e-324 })
                 .collect(),
         ),
-        (
-            "sorted",
-            (0..n).map(|i| (i as f64 + 1.0).powi(2)).collect(),
-        ),
+        ("sorted", (0..n).map(|i| (i as f64 + 1.0).powi(2)).collect()),
     ]
 }
 

@@ -137,7 +137,6 @@ impl Summary for Bounded {
 }
 
 impl Aggregate {
-
     /// `Σ w_k·y_k / Σ w_k` with `w_k = p_k / max p` (no underflow however small the powers),
     /// clamped into the box; the box's centre when nothing has power.
     fn combine(
