@@ -249,7 +249,10 @@ impl LargeCursor<'_> {
 
     /// Moves `step` (0 or 1) ordinals on.
     #[inline]
-    #[allow(clippy::needless_bitwise_bool, reason = "no branch on the fill-or-turn step")]
+    #[allow(
+        clippy::needless_bitwise_bool,
+        reason = "no branch on the fill-or-turn step"
+    )]
     pub(super) fn advance(&mut self, step: usize) {
         // `&`, not `&&`: no branch on `step` (a fill or a turn, unpredictable), only on the
         // chunk's end (rare).
