@@ -56,9 +56,7 @@ fn step_until_published(harness: &mut Harness<'static, LightpickApp>) {
 /// Generates [`LIGHTS`] lights as the Lights panel's Generate does (over the seed scene's
 /// plane, so the per-pixel parts are the seed's), waits for the background build, renders a
 /// frame, and returns the accounting before and after.
-fn seed_and_generated(
-    mut harness: Harness<'static, LightpickApp>,
-) -> (Parts, Parts) {
+fn seed_and_generated(mut harness: Harness<'static, LightpickApp>) -> (Parts, Parts) {
     step_until_published(&mut harness);
     let seed = harness.state().memory_by_part();
     harness.state_mut().state.generate(LIGHTS);
