@@ -378,15 +378,18 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
     // construction: build (allocating), rebuild in place, one pick at a time.
     let other = Distribution::Exponential.powers(n, seed ^ 0x5eed);
     let other = LightPowers::new(other).context("bench powers")?;
-    let integer = time_construction(
-        Construction::Integer,
-        &powers,
-        &other,
-        seed,
-        reps,
-        build_batch,
-        samples,
-    );
+    let timed = |construction| {
+        time_construction(
+            construction,
+            &powers,
+            &other,
+            seed,
+            reps,
+            build_batch,
+            samples,
+        )
+    };
+    let integer = timed(Construction::Integer);
     push(
         "alias",
         "pcg",
@@ -399,17 +402,7 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
         .num_threads(1)
         .build()
         .context("a one-thread pool")?;
-    let one_thread = single.install(|| {
-        time_construction(
-            Construction::Integer,
-            &powers,
-            &other,
-            seed,
-            reps,
-            build_batch,
-            samples,
-        )
-    });
+    let one_thread = single.install(|| timed(Construction::Integer));
     push(
         "alias-1t",
         "pcg",
@@ -418,15 +411,7 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
         one_thread.sample,
     );
     drop(one_thread);
-    let exact = time_construction(
-        Construction::Exact,
-        &powers,
-        &other,
-        seed,
-        reps,
-        build_batch,
-        samples,
-    );
+    let exact = timed(Construction::Exact);
     push(
         "alias-exact",
         "pcg",
