@@ -365,7 +365,7 @@ const ESTIMATE_CHUNK: u64 = 1 << 16;
 /// The running sums are kept in the unit `2^u` of [`contribution_unit`] (each `f_i·2^-u`,
 /// exact), so a sample `f_i/p_i` and its square stay in range for contributions near
 /// `10^±300`: scaling `contrib` by `2^k` leaves the accumulator's bits unchanged and scales
-/// its mean and standard error by `2^k`. Chunks of [`ESTIMATE_CHUNK`] samples are merged in
+/// its mean and standard error by `2^k`. Chunks of `2^16` samples are merged in
 /// index order: the same bits for any thread count.
 pub fn sampled_mean(sampler: &Sampler, contrib: &[f64], count: u64, seed: u64) -> Welford {
     let unit = contribution_unit(contrib);
