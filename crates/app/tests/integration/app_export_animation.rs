@@ -4,12 +4,11 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
 use lightpick::app::LightpickApp;
 
 use crate::cli_animation::gif_frames;
-use crate::common::{HANG_GUARD, lightpick, scratch};
+use crate::common::{HANG_GUARD, app_harness, lightpick, scratch};
 
 #[test]
 fn the_export_job_writes_the_cli_animation_of_the_running_state() {
@@ -100,13 +99,7 @@ fn the_export_job_writes_the_cli_animation_of_the_running_state() {
 fn the_file_menu_exports_an_animation_in_the_background() {
     let dir = scratch("app-animation-menu");
     let path = dir.join("menu.gif");
-    let mut harness = Harness::builder()
-        .with_size([1560.0, 960.0])
-        .build_ui_state(
-            |ui, app: &mut LightpickApp| app.ui(ui),
-            LightpickApp::for_tests(),
-        );
-    harness.run();
+    let mut harness = app_harness();
     harness.get_by_label("File").click();
     harness.run();
     harness.get_by_label("Export animation…").click();

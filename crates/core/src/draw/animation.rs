@@ -22,10 +22,11 @@
 //! exposure (the same for every panel and every frame, so brightness changes are the
 //! estimates converging, not the display).
 
-use tiny_skia::{FilterQuality, IntSize, Pixmap, PixmapPaint, Transform};
+use tiny_skia::{FilterQuality, Pixmap, PixmapPaint, Transform};
 
 use super::axes;
 use super::canvas::{self, LABEL_SIZE, TITLE_SIZE};
+use super::image_sheet::pixmap_from_rgba;
 use super::palette::Rgba8;
 use super::text::{self, HAlign, TextStyle, VAlign};
 use super::{DrawError, Theme};
@@ -204,7 +205,7 @@ pub fn animation_frame(frame: &AnimationFrame<'_>, theme: Theme) -> Result<Pixma
         let cell_x = MARGIN + k as u32 * (cell_w + MARGIN);
         let x = (cell_x + (cell_w - image_w) / 2) as f32;
         let y = TOP as f32;
-        let image = image_pixmap(iw, ih, tonemap_rgba8(panel.image, frame.exposure))?;
+        let image = pixmap_from_rgba(iw, ih, tonemap_rgba8(panel.image, frame.exposure))?;
         pixmap.draw_pixmap(
             0,
             0,
@@ -287,19 +288,6 @@ pub fn animation_frame(frame: &AnimationFrame<'_>, theme: Theme) -> Result<Pixma
         colors.muted,
     );
     Ok(pixmap)
-}
-
-/// An opaque pixmap from straight `RGBA8` bytes.
-fn image_pixmap(width: usize, height: usize, rgba: Vec<u8>) -> Result<Pixmap, DrawError> {
-    let size = IntSize::from_wh(width as u32, height as u32).ok_or(DrawError::Size {
-        width: width as u32,
-        height: height as u32,
-    })?;
-    // Every pixel is opaque, so straight and premultiplied bytes coincide.
-    Pixmap::from_vec(rgba, size).ok_or(DrawError::Size {
-        width: width as u32,
-        height: height as u32,
-    })
 }
 
 #[cfg(test)]

@@ -109,7 +109,11 @@ pub fn error_color(estimate: f64, reference: f64) -> Rgba8 {
 }
 
 /// An opaque pixmap from straight `RGBA8` bytes.
-fn pixmap_from_rgba(width: usize, height: usize, rgba: Vec<u8>) -> Result<Pixmap, DrawError> {
+pub(super) fn pixmap_from_rgba(
+    width: usize,
+    height: usize,
+    rgba: Vec<u8>,
+) -> Result<Pixmap, DrawError> {
     let size = IntSize::from_wh(width as u32, height as u32).ok_or(DrawError::Size {
         width: width as u32,
         height: height as u32,
