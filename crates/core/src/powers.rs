@@ -44,14 +44,24 @@ pub enum PowersError {
 /// Any finite non-negative `f64` is accepted, subnormals and values near `f64::MAX`
 /// included. Normalization ([`LightPowers::normalized`]) first rescales by an exact power of
 /// two, so `Σ Φ_i` never overflows even when every power is `f64::MAX`.
+///
+/// The powers are held shared (`Arc<[f64]>`): a clone of the list, or of a scene holding
+/// it, costs no copy, and an editor can share the very array it validated
+/// ([`LightPowers::from_shared`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct LightPowers {
-    powers: Vec<f64>,
+    powers: std::sync::Arc<[f64]>,
 }
 
 impl LightPowers {
     /// Validates `powers`; the error names the first offending index.
     pub fn new(powers: Vec<f64>) -> Result<Self, PowersError> {
+        Self::from_shared(powers.into())
+    }
+
+    /// Validates a shared list of powers and keeps it, without a copy: the caller's `Arc`
+    /// and the result hold the same array. The error names the first offending index.
+    pub fn from_shared(powers: std::sync::Arc<[f64]>) -> Result<Self, PowersError> {
         check_count(powers.len())?;
         for (index, &value) in powers.iter().enumerate() {
             if !value.is_finite() {
@@ -74,14 +84,19 @@ impl LightPowers {
         &self.powers
     }
 
+    /// The shared array the powers live in (cloning it copies nothing).
+    pub fn shared(&self) -> &std::sync::Arc<[f64]> {
+        &self.powers
+    }
+
     /// Number of lights `N` (at least 1).
     pub fn len(&self) -> usize {
         self.powers.len()
     }
 
-    /// Heap bytes held: the powers' capacity, 8 bytes per light.
+    /// Heap bytes held: 8 bytes per light (held once however many lists share them).
     pub fn heap_bytes(&self) -> usize {
-        self.powers.capacity() * std::mem::size_of::<f64>()
+        std::mem::size_of_val::<[f64]>(&self.powers)
     }
 
     /// Always `false`: validation refuses empty lists. Present for API symmetry.

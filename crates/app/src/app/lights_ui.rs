@@ -257,7 +257,10 @@ fn rows_ui(ui: &mut Ui, state: &mut AppState) {
                         )
                         .on_hover_text(&about);
                     }
-                    let p = &mut state.edit.powers[i];
+                    // Read here, written back (a copy while a scene shares the powers) only
+                    // when the user changed it.
+                    let mut power = state.edit.powers[i];
+                    let p = &mut power;
                     let speed = if p.is_finite() { (p.abs() * 0.01).max(0.01) } else { 0.01 };
                     // egui compares old and new values to detect edits, and NaN never equals
                     // itself: a non-finite power is shown as typed but edited through a
@@ -291,6 +294,9 @@ fn rows_ui(ui: &mut Ui, state: &mut AppState) {
                     if slider.changed() {
                         *p = slider_value;
                         changed = true;
+                    }
+                    if drag.changed() || slider.changed() {
+                        state.edit.powers_mut()[i] = power;
                     }
                     if ui
                         .small_button("dup")

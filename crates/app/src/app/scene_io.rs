@@ -39,7 +39,8 @@ fn fallback_seed_scene() -> Scene {
             dvec3(-1.2, 0.8, 0.8),
             dvec3(1.0, 1.0, 1.0),
             dvec3(0.0, -1.0, 1.5),
-        ],
+        ]
+        .into(),
         powers: lightpick_core::SeedExample::powers(),
         emission: None,
         names: None,
@@ -141,17 +142,18 @@ pub fn random_positions(count: usize, plane: &ReceiverPlane, seed: u64) -> Vec<D
         .collect()
 }
 
-/// A scene with `positions` and validated `powers` over `plane`.
+/// A scene with `positions` (shared, not copied, when given as an `Arc`) and validated
+/// `powers` over `plane`.
 pub fn assemble(
     name: &str,
     plane: ReceiverPlane,
-    positions: Vec<DVec3>,
+    positions: impl Into<std::sync::Arc<[DVec3]>>,
     powers: LightPowers,
 ) -> Scene {
     Scene {
         name: name.to_owned(),
         plane,
-        positions,
+        positions: positions.into(),
         powers,
         emission: None,
         names: None,

@@ -575,7 +575,7 @@ fn time_app_repower(
     let mut state = AppState::new(scene, Settings::default());
     let inputs = [other.as_slice(), powers.as_slice()];
     median_ns(reps.min(5), 1, |rep| {
-        state.edit.powers.copy_from_slice(inputs[rep % 2]);
+        state.edit.powers_mut().copy_from_slice(inputs[rep % 2]);
         state.powers_changed();
         while state.is_building() {
             std::thread::sleep(std::time::Duration::from_micros(100));

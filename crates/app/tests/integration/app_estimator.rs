@@ -96,7 +96,7 @@ fn the_point_follows_the_powers_live() {
     click(&mut h, "+1000");
     // Light 1's power 2 → 7: its contribution g·Φ = 0.5·7 = 3.5, the total 20.5.
     let state = &mut h.state_mut().state;
-    state.edit.powers[0] = 7.0;
+    state.edit.powers_mut()[0] = 7.0;
     state.powers_changed();
     h.run();
     let e = estimator(&h);

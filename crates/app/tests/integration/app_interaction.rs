@@ -50,7 +50,7 @@ fn a_negative_power_is_named_and_the_last_good_table_kept() {
     // The table still shows the seed example, the typed value is kept.
     assert!(shows(&harness, "6/27"));
     let state = &harness.state().state;
-    assert_eq!(state.edit.powers, vec![2.0, -1.0, 20.0]);
+    assert_eq!(state.edit.powers[..], [2.0, -1.0, 20.0]);
     assert_eq!(state.built.scene.powers.as_slice(), &[2.0, 5.0, 20.0]);
 }
 

@@ -132,7 +132,7 @@ fn the_floor_control_moves_the_receiver_and_edits_keep_cones_and_names() {
         .set_value_accesskit(1.5);
     harness.run();
     let state = &harness.state().state;
-    for (a, b) in state.built.scene.positions.iter().zip(&before) {
+    for (a, b) in state.built.scene.positions.iter().zip(before.iter()) {
         assert_eq!(a.z, b.z - 1.5);
     }
     assert_eq!(state.edit.floor, 1.5);

@@ -405,7 +405,7 @@ fn build_scene(
     Ok(Scene {
         name,
         plane,
-        positions,
+        positions: positions.into(),
         powers,
         emission: None,
         names: None,

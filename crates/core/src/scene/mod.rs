@@ -36,6 +36,8 @@ pub use import::{
 pub use json::{MAX_PIXELS, MAX_PLANE_SIDE};
 pub use presets::PRESET_NAMES;
 
+use std::sync::Arc;
+
 use glam::{DVec2, DVec3};
 
 use crate::powers::LightPowers;
@@ -69,8 +71,10 @@ pub struct Scene {
     pub name: String,
     /// The receiving plane and its pixels.
     pub plane: ReceiverPlane,
-    /// Light positions `(x, y, z)` in the world (the plane is `z = 0`), one per power.
-    pub positions: Vec<DVec3>,
+    /// Light positions `(x, y, z)` in the world (the plane is `z = 0`), one per power,
+    /// shared: a clone of the scene (or an editor's copy of its lights) costs no copy until
+    /// one of them writes (`Arc::make_mut`).
+    pub positions: Arc<[DVec3]>,
     /// Light powers `Φ_i`, validated.
     pub powers: LightPowers,
     /// Each light's emission profile (spot cone, range), one per light, only when some
@@ -142,7 +146,8 @@ impl Scene {
     /// ranges (its powers, names and plane may differ): what a power edit keeps, so the
     /// light tree can be refitted instead of rebuilt. `O(N)`.
     pub fn same_geometry(&self, other: &Scene) -> bool {
-        self.positions == other.positions && self.emission == other.emission
+        (Arc::ptr_eq(&self.positions, &other.positions) || self.positions == other.positions)
+            && self.emission == other.emission
     }
 
     /// Heap bytes the scene holds, by part and by capacity: its positions (24 bytes per
@@ -157,7 +162,7 @@ impl Scene {
         [
             (
                 "positions",
-                self.positions.capacity() * std::mem::size_of::<DVec3>(),
+                std::mem::size_of_val::<[DVec3]>(&self.positions),
             ),
             ("powers", self.powers.heap_bytes()),
             (

@@ -95,7 +95,7 @@ fn shaped_scene(n: usize, seed: u64) -> Scene {
 fn largest_coordinate(scene: &Scene) -> f64 {
     let p = &scene.plane;
     let mut b = p.min.abs().max_element().max(p.max.abs().max_element());
-    for l in &scene.positions {
+    for l in scene.positions.iter() {
         b = b.max(l.abs().max_element());
     }
     b

@@ -117,7 +117,7 @@ fn tolerance(scene: &Scene, spp: u32) -> f64 {
         .max(plane.min[1].abs())
         .max(plane.max[1].abs());
     let mut z_min = f64::INFINITY;
-    for p in &scene.positions {
+    for p in scene.positions.iter() {
         b = b.max(p[0].abs()).max(p[1].abs());
         if p[2] > 0.0 {
             z_min = z_min.min(p[2]);
@@ -317,7 +317,7 @@ fn coordinates_beyond_f32_are_refused_by_name() {
     // Finite f64 values that become ±inf as f32 (f32::MAX ≈ 3.4028235e38).
     let base = scene(3, 1, 1.0, vec![2.0, 5.0, 20.0]);
     let mut light = base.clone();
-    light.positions[2][1] = -1e39;
+    std::sync::Arc::make_mut(&mut light.positions)[2][1] = -1e39;
     let mut corner = base.clone();
     corner.plane.max[0] = 4e38;
     // Both corners fit, their difference (the extent the shader uses) does not.
@@ -344,7 +344,7 @@ fn coordinates_beyond_f32_are_refused_by_name() {
     }
     // Just inside the range is accepted: f32::MAX itself, as an f64.
     let mut edge = base.clone();
-    edge.positions[0][2] = f64::from(f32::MAX);
+    std::sync::Arc::make_mut(&mut edge.positions)[0][2] = f64::from(f32::MAX);
     assert_eq!(GpuRenderer::check_scene(&edge), Ok(()));
     assert_eq!(GpuRenderer::check_scene(&base), Ok(()));
 

@@ -79,7 +79,7 @@ fn criterion(scene: &Scene, spp: u32) -> (f64, f64) {
         .max(p.min[1].abs())
         .max(p.max[1].abs());
     let mut z_min = f64::INFINITY;
-    for l in &scene.positions {
+    for l in scene.positions.iter() {
         b = b.max(l[0].abs()).max(l[1].abs()).max(l[2].abs());
         if l[2] > 0.0 {
             z_min = z_min.min(l[2]);
@@ -172,13 +172,13 @@ fn presets_match_the_cpu() {
 #[test]
 fn one_light_and_lights_below_the_plane() {
     let mut one = scene(1, 8, 1.0, 0.0);
-    one.positions[0][2] = 0.7;
+    std::sync::Arc::make_mut(&mut one.positions)[0][2] = 0.7;
     compare(&one, 2, "one light");
     let Some(ctx) = gpu_common::context() else {
         return;
     };
     let mut below = scene(40, 9, 1.0, 1.0);
-    for p in &mut below.positions {
+    for p in std::sync::Arc::make_mut(&mut below.positions) {
         p[2] = -p[2].abs();
     }
     let mut r = GpuRenderer::new(ctx, &below, Scheme::Spatial, 1).expect("renderer");

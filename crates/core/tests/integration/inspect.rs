@@ -31,7 +31,8 @@ fn scene() -> Scene {
             dvec3(-0.6, 0.3, 0.4),
             dvec3(0.5, -0.4, 0.9),
             dvec3(0.1, 0.7, 0.15),
-        ],
+        ]
+        .into(),
         powers: LightPowers::new(vec![2.0, 5.0, 20.0]).unwrap(),
         emission: None,
         names: None,

@@ -127,7 +127,7 @@ fn every_rule_is_unbiased_at_a_pixel_of_a_tree_scene() {
         .collect();
     let powers = LightPowers::new((0..300).map(|i| 1.0 + f64::from(i % 17)).collect()).unwrap();
     let mut scene = Scene::preset("seed").unwrap();
-    scene.positions = positions;
+    scene.positions = positions.into();
     scene.powers = powers;
     let n = 100_000u64;
     let mut e = pixel_estimator(&scene, dvec2(0.5, 0.25), 9);

@@ -55,8 +55,8 @@ fn explicit_lights_parse_as_written() {
         }
     );
     assert_eq!(
-        scene.positions,
-        vec![dvec3(0.5, -0.25, 1.0), dvec3(0.0, 0.0, 2.0)]
+        scene.positions[..],
+        [dvec3(0.5, -0.25, 1.0), dvec3(0.0, 0.0, 2.0)]
     );
     assert_eq!(scene.powers.as_slice(), &[2.0, 0.0]);
 }

@@ -99,7 +99,7 @@ fn the_hierarchy_fixture_imports_every_light_where_the_nodes_put_it() {
     assert!(emission[0].is_point() && emission[2].is_point());
     // The receiver is the ground; the plane covers the lights' footprint.
     let plane = &scene.plane;
-    for q in &scene.positions {
+    for q in scene.positions.iter() {
         assert!(plane.min.x < q.x && q.x < plane.max.x && plane.min.y < q.y && q.y < plane.max.y);
     }
 }
@@ -120,7 +120,12 @@ fn the_glb_holds_the_same_scene_and_so_does_its_json_round_trip() {
 fn a_floor_moves_the_receiver_up() {
     let floor = load(fixture("hierarchy.glb"), &LoadOptions { floor: Some(1.5) }).unwrap();
     let ground = load(fixture("hierarchy.glb"), &LoadOptions::default()).unwrap();
-    for (a, b) in floor.scene.positions.iter().zip(&ground.scene.positions) {
+    for (a, b) in floor
+        .scene
+        .positions
+        .iter()
+        .zip(ground.scene.positions.iter())
+    {
         assert_eq!(a.z, b.z - 1.5);
         assert_eq!(a.truncate(), b.truncate());
     }

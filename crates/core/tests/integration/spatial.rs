@@ -235,7 +235,7 @@ fn spatial_beats_power_sampling_on_spread_out_equal_lights() {
         name: "grid".into(),
         plane: plane(8.0, 48),
         powers: LightPowers::new(vec![1.0; positions.len()]).expect("valid"),
-        positions,
+        positions: positions.into(),
         emission: None,
         names: None,
     };
@@ -287,7 +287,7 @@ fn spatial_render_matches_the_reference_statistically() {
     let scene = Scene {
         name: "random".into(),
         plane: plane(2.0, 32),
-        positions,
+        positions: positions.into(),
         powers,
         emission: None,
         names: None,
@@ -331,7 +331,7 @@ fn extremes_give_finite_images() {
     let one = Scene {
         name: "one".into(),
         plane: plane(2.0, 16),
-        positions: vec![dvec3(0.3, 0.2, 0.5)],
+        positions: vec![dvec3(0.3, 0.2, 0.5)].into(),
         powers: LightPowers::new(vec![7.0]).expect("valid"),
         emission: None,
         names: None,
@@ -387,7 +387,7 @@ fn renderer_uses_the_sampler_at_pixel_centres() {
     let scene = Scene {
         name: "check".into(),
         plane: plane(2.0, 8),
-        positions: positions.clone(),
+        positions: positions.clone().into(),
         powers: powers.clone(),
         emission: None,
         names: None,
@@ -459,7 +459,7 @@ fn interleaved_descents_equal_single_ones_bit_for_bit() {
             width: 11,
             height: 5,
         },
-        positions: positions.clone(),
+        positions: positions.clone().into(),
         powers: powers.clone(),
         emission: None,
         names: None,

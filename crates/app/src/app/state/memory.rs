@@ -11,6 +11,15 @@ pub(crate) fn vec_bytes<T>(v: &Vec<T>) -> usize {
     v.capacity() * size_of::<T>()
 }
 
+/// Heap bytes of the edit's array `edit`, or 0 while it is the scene's `scene` itself.
+fn unshared_bytes<T>(edit: &std::sync::Arc<[T]>, scene: &std::sync::Arc<[T]>) -> usize {
+    if std::sync::Arc::ptr_eq(edit, scene) {
+        0
+    } else {
+        std::mem::size_of_val::<[T]>(edit)
+    }
+}
+
 impl AppState {
     /// The heap bytes each part of the state holds, by capacity, in a fixed order: the scene
     /// (positions, powers, spot/range profiles, names), the scene as edited, the alias table
@@ -42,8 +51,14 @@ impl AppState {
             ("scene: powers", powers.1),
             ("scene: spot/range profiles", emission.1),
             ("scene: names", names.1),
-            ("edit: positions", vec_bytes(&edit.positions)),
-            ("edit: powers", vec_bytes(&edit.powers)),
+            (
+                "edit: positions",
+                unshared_bytes(&edit.positions, &built.scene.positions),
+            ),
+            (
+                "edit: powers",
+                unshared_bytes(&edit.powers, built.scene.powers.shared()),
+            ),
             ("edit: profiles and names", edit_extras),
             ("edit: powers text", self.powers_text.capacity()),
             ("alias table", built.table.heap_bytes()),

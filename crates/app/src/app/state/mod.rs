@@ -143,10 +143,14 @@ pub struct SceneEdit {
     pub name: String,
     /// The receiver plane and its pixel grid.
     pub plane: ReceiverPlane,
-    /// Light positions.
-    pub positions: Vec<DVec3>,
-    /// Light powers as typed (may hold NaN or negatives until corrected).
-    pub powers: Vec<f64>,
+    /// Light positions, shared with the scene they came from (or were last built into):
+    /// writes go through [`SceneEdit::positions_mut`], which copies them only while a scene
+    /// still shares them.
+    pub positions: Arc<[DVec3]>,
+    /// Light powers as typed (may hold NaN or negatives until corrected), shared like the
+    /// positions ([`SceneEdit::powers_mut`]): a valid edit becomes the next scene's powers
+    /// without a copy.
+    pub powers: Arc<[f64]>,
     /// Each light's spot cone and range, when the scene has any (kept through edits).
     pub emission: Option<Vec<Emission>>,
     /// Each light's name, when the scene's source named its lights.
@@ -162,12 +166,32 @@ impl SceneEdit {
         Self {
             name: scene.name.clone(),
             plane: scene.plane.clone(),
-            positions: scene.positions.clone(),
-            powers: scene.powers.as_slice().to_vec(),
+            positions: Arc::clone(&scene.positions),
+            powers: Arc::clone(scene.powers.shared()),
             emission: scene.emission.clone(),
             names: scene.names.clone(),
             floor: 0.0,
         }
+    }
+
+    /// The positions to write to (copied first if a scene still shares them).
+    pub fn positions_mut(&mut self) -> &mut [DVec3] {
+        Arc::make_mut(&mut self.positions)
+    }
+
+    /// The powers to write to (copied first if a scene still shares them).
+    pub fn powers_mut(&mut self) -> &mut [f64] {
+        Arc::make_mut(&mut self.powers)
+    }
+
+    /// Changes the number of lights: `change` edits the positions and powers as vectors
+    /// (one copy each, as any resize of a shared array takes).
+    fn resize_lights(&mut self, change: impl FnOnce(&mut Vec<DVec3>, &mut Vec<f64>)) {
+        let mut positions = self.positions.to_vec();
+        let mut powers = self.powers.to_vec();
+        change(&mut positions, &mut powers);
+        self.positions = positions.into();
+        self.powers = powers.into();
     }
 
     /// Keeps one emission profile and one name per light: lights added get a point
@@ -522,7 +546,7 @@ impl AppState {
             self.rebuild_queued = true;
             return;
         }
-        match LightPowers::new(self.edit.powers.clone()) {
+        match LightPowers::from_shared(Arc::clone(&self.edit.powers)) {
             Err(e) => {
                 self.input_error = Some(describe_powers_error(&e));
             }
@@ -532,7 +556,7 @@ impl AppState {
                 let mut scene = scene_io::assemble(
                     &self.edit.name,
                     self.edit.plane.clone(),
-                    self.edit.positions.clone(),
+                    Arc::clone(&self.edit.positions),
                     powers,
                 );
                 scene.emission.clone_from(&self.edit.emission);
@@ -560,7 +584,7 @@ impl AppState {
             return;
         }
         let shift = floor - self.edit.floor;
-        for p in &mut self.edit.positions {
+        for p in self.edit.positions_mut() {
             p.z -= shift;
         }
         self.edit.floor = floor;
@@ -582,9 +606,10 @@ impl AppState {
         match parse_powers(&self.powers_text) {
             Ok(powers) => {
                 let n = powers.len();
-                self.edit.powers = powers;
+                self.edit.powers = powers.into();
                 if self.edit.positions.len() > n {
-                    self.edit.positions.truncate(n);
+                    self.edit
+                        .resize_lights(|positions, _| positions.truncate(n));
                 }
                 self.powers_changed();
             }
@@ -597,8 +622,10 @@ impl AppState {
         let i = self.edit.powers.len();
         let pos =
             scene_io::random_positions(i + 1, &self.edit.plane, self.settings.seed ^ i as u64)[i];
-        self.edit.positions.push(pos);
-        self.edit.powers.push(power);
+        self.edit.resize_lights(|positions, powers| {
+            positions.push(pos);
+            powers.push(power);
+        });
         self.edit.fit_extras(i + 1);
         self.after_structure_change();
     }
@@ -609,10 +636,12 @@ impl AppState {
             self.message("a scene needs at least one light", MessageKind::Error);
             return;
         }
-        self.edit.powers.remove(i);
-        if i < self.edit.positions.len() {
-            self.edit.positions.remove(i);
-        }
+        self.edit.resize_lights(|positions, powers| {
+            powers.remove(i);
+            if i < positions.len() {
+                positions.remove(i);
+            }
+        });
         self.edit.remove_extras(i);
         self.after_structure_change();
     }
@@ -622,9 +651,11 @@ impl AppState {
         if i >= self.edit.powers.len() {
             return;
         }
-        self.edit.powers.insert(i + 1, self.edit.powers[i]);
-        let pos = self.edit.positions.get(i).copied().unwrap_or(DVec3::Z);
-        self.edit.positions.insert(i + 1, pos);
+        self.edit.resize_lights(|positions, powers| {
+            powers.insert(i + 1, powers[i]);
+            let pos = positions.get(i).copied().unwrap_or(DVec3::Z);
+            positions.insert(i + 1, pos);
+        });
         self.edit.duplicate_extras(i);
         self.after_structure_change();
     }
@@ -634,7 +665,8 @@ impl AppState {
         let n = self.edit.powers.len();
         let scale = (self.settings.slider_max / 4.0).max(f64::MIN_POSITIVE);
         let seed = self.settings.seed.wrapping_add(self.frame);
-        self.edit.powers = scene_io::random_powers(n, self.settings.distribution, scale, seed);
+        self.edit.powers =
+            scene_io::random_powers(n, self.settings.distribution, scale, seed).into();
         self.after_structure_change();
     }
 
@@ -671,11 +703,16 @@ impl AppState {
     /// Keeps one position per power: lights added through the text field get fresh ones.
     fn sync_positions(&mut self, n: usize) {
         let have = self.edit.positions.len();
-        if have < n {
-            let fresh = scene_io::random_positions(n, &self.edit.plane, self.settings.seed);
-            self.edit.positions.extend_from_slice(&fresh[have..]);
+        if have != n {
+            let fresh = (have < n)
+                .then(|| scene_io::random_positions(n, &self.edit.plane, self.settings.seed));
+            self.edit.resize_lights(|positions, _| {
+                if let Some(fresh) = &fresh {
+                    positions.extend_from_slice(&fresh[have..]);
+                }
+                positions.truncate(n);
+            });
         }
-        self.edit.positions.truncate(n);
         self.edit.fit_extras(n);
     }
 

@@ -234,7 +234,7 @@ pub fn load_bytes(
     if let Some(h) = options.floor
         && h != 0.0
     {
-        for p in &mut scene.positions {
+        for p in std::sync::Arc::make_mut(&mut scene.positions) {
             p.z -= h;
             if !p.z.is_finite() {
                 return Err(SceneError::NotFinite {
