@@ -194,7 +194,14 @@ pub(crate) struct Pow2Scale {
 }
 
 impl Pow2Scale {
+    /// `2^0`.
+    pub(crate) const ONE: Pow2Scale = Pow2Scale {
+        first: 1.0,
+        second: 1.0,
+    };
+
     /// Multiplies `x` by `2^k`; exact unless the result leaves the `f64` range.
+    #[inline]
     pub(crate) fn apply(self, x: f64) -> f64 {
         x * self.first * self.second
     }
@@ -264,6 +271,12 @@ pub struct PmfScale {
 }
 
 impl PmfScale {
+    /// The identity: `p = Φ` (scale 1, sum 1), for a list that is one light of power 1.
+    pub(crate) const ONE: PmfScale = PmfScale {
+        scale: Pow2Scale::ONE,
+        sum: 1.0,
+    };
+
     /// `p = Φ·2^-e / S` of a light of power `power`.
     #[inline]
     pub fn of(&self, power: f64) -> f64 {

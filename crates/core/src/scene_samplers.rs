@@ -16,7 +16,7 @@ use crate::scene::Scene;
 use crate::spatial::SpatialSampler;
 
 /// A scene with its alias table and (built on first use, once) its spatial sampler and the
-/// CPU renderers' light records. Cloning shares everything.
+/// CPU renderers' view of its lights. Cloning shares everything.
 #[derive(Clone, Debug)]
 pub struct SceneSamplers {
     scene: Arc<Scene>,
@@ -100,8 +100,8 @@ impl SceneSamplers {
         }
     }
 
-    /// The light records every power-picking CPU renderer of the scene reads, built by the
-    /// first of them, once for every clone.
+    /// The lights every power-picking CPU renderer of the scene reads (the scene's arrays
+    /// and the pmf's scale), made by the first of them, once for every clone.
     pub(crate) fn cpu_lights(&self) -> &CpuLights {
         self.cpu_lights.get_or_init(|| CpuLights::of(&self.scene))
     }

@@ -179,8 +179,8 @@ impl Published {
 /// software device such as lavapipe keeps in the process).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RendererBytes {
-    /// Per light: the lanes' light records, emission profiles and uploaded trees, each
-    /// counted once where lanes share them.
+    /// Per light: what the lanes hold beyond the scene's arrays (CPU: emission profiles'
+    /// copies; GPU: uploaded lights and trees), each counted once where lanes share them.
     pub lights: usize,
     /// Per pixel: the lanes' sums and outputs and the exact reference.
     pub pixels: usize,
@@ -528,7 +528,7 @@ impl Engine {
         });
     }
 
-    /// Drops the current job, its light records, sums, reference and last frame, while
+    /// Drops the current job, its sums, reference and last frame, while
     /// another renderer shows the images; the next [`Engine::sync_scene`] starts afresh.
     pub fn release(&mut self) {
         if self.generation.take().is_some() {

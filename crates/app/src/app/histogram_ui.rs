@@ -75,7 +75,9 @@ fn chi_label(ui: &mut Ui, name: &str, chi: Option<ChiSquare>, dark: bool) {
     .on_hover_text(
         "Pearson's chi-square test of the counts against the scheme's own pmf \
          (uniform: 1/N, alias: Φ_i/ΣΦ). p-values are uniform on [0, 1] when the sampler is right; \
-         a p below 0.001 is shown in red.",
+         a p below 0.001 is shown in red. Cells whose expected count is below 5 are pooled with \
+         their neighbours; above 65 536 lights the picks are counted per group of consecutive \
+         lights (at most 65 536 groups, fixed before sampling).",
     );
 }
 

@@ -21,7 +21,10 @@ impl LightpickApp {
             .as_ref()
             .map_or_else(RendererBytes::default, super::gpu_images::GpuImages::bytes);
         parts.extend([
-            ("CPU lanes: light records", cpu.lights),
+            (
+                "CPU lanes: light profiles (positions and powers are the scene's)",
+                cpu.lights,
+            ),
             ("CPU lanes: pixel sums, reference", cpu.pixels),
             ("GPU lanes: lights, tree", gpu.lights),
             ("GPU lanes: pixel sums, outputs, reference", gpu.pixels),

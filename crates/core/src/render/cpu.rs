@@ -11,6 +11,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::Accumulator;
+use crate::powers::PmfScale;
 use crate::rng::Rng;
 use crate::sampler::{Sampler, Scheme};
 use crate::scene::{Emission, ReceiverPlane, Scene, light_term, pixel_center};
@@ -26,56 +27,51 @@ enum Picker {
     Spatial(Arc<SpatialSampler>),
 }
 
-/// What a sample needs of light `i`, in one 32-byte record (a single cache line access):
-/// its position and its normalized power `p_i`, from which the estimate in the accumulation
-/// unit is `ê' = w_i · G_i(x)` with `w_i = N·p_i·2^-s` for uniform picking and `w_i = 2^-s`
-/// for power-proportional picking (`s` the scene's [`Scene::irradiance_shift`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[repr(C, align(32))]
-pub(crate) struct LightRecord {
-    position: DVec3,
-    pmf: f64,
-}
-
-/// The light records and emission profiles of a scene: built once per scene
-/// ([`SceneSamplers`] keeps them) and shared by its uniform and power renderers, where each
-/// once built its own (32 bytes per light per renderer).
+/// What a power-picking pass reads of the lights: the scene's own positions and powers
+/// (shared, not copied: no bytes per light beyond the scene's) and the scale that turns a
+/// power into its normalized share, `p_i =` [`PmfScale::of`]`(Φ_i)` (bit for bit the
+/// entries of [`crate::LightPowers::pmf`]); the estimate in the accumulation unit is then
+/// `ê' = w_i · G_i(x)` with `w_i = N·p_i·2^-s` for uniform picking and `w_i = 2^-s` for
+/// power-proportional picking (`s` the scene's [`Scene::irradiance_shift`]). Built once
+/// per scene ([`SceneSamplers`] keeps it) and shared by its uniform and power renderers.
+///
+/// Before, each scene kept a 32-byte record (position and `p_i`) per light, one cache line
+/// per pick; reading the scene's arrays costs the power lane nothing more (the position
+/// is its only load per pick), and the uniform lane one more load (the power).
 #[derive(Clone, Debug)]
 pub(crate) struct CpuLights {
-    records: Arc<[LightRecord]>,
+    positions: Arc<[DVec3]>,
+    powers: Arc<[f64]>,
+    pmf: PmfScale,
     emission: Option<Arc<[Emission]>>,
 }
 
 impl CpuLights {
-    /// The records of `scene`'s lights, in scene order (`O(N)`).
+    /// The lights of `scene`, sharing its arrays (`O(1)` but for the profiles, `O(N)`).
     pub(crate) fn of(scene: &Scene) -> Self {
-        let records = scene
-            .positions
-            .iter()
-            .zip(scene.powers.pmf())
-            .map(|(&position, pmf)| LightRecord { position, pmf })
-            .collect();
         Self {
-            records,
+            positions: Arc::clone(&scene.positions),
+            powers: Arc::clone(scene.powers.shared()),
+            pmf: scene.powers.pmf_scale(),
             emission: scene.emission.as_deref().map(Arc::from),
         }
     }
 
-    /// No records (the spatial scheme reads its sampler instead).
+    /// No lights (the spatial scheme reads its sampler instead).
     fn none() -> Self {
         Self {
-            records: Arc::from([]),
+            positions: Arc::from([]),
+            powers: Arc::from([]),
+            pmf: PmfScale::ONE,
             emission: None,
         }
     }
 
-    /// Heap bytes of the records and the profiles.
+    /// Heap bytes held beyond the scene's: the emission profiles' copy, if any.
     fn heap_bytes(&self) -> usize {
-        std::mem::size_of_val(&*self.records)
-            + self
-                .emission
-                .as_ref()
-                .map_or(0, |e| std::mem::size_of_val(&**e))
+        self.emission
+            .as_ref()
+            .map_or(0, |e| std::mem::size_of_val(&**e))
     }
 }
 
@@ -94,7 +90,7 @@ impl CpuLights {
 pub struct CpuRenderer {
     plane: ReceiverPlane,
     picker: Picker,
-    /// The light records and emission profiles (shared with the scene's other renderers
+    /// The scene's lights and emission profiles (shared with the scene's other renderers
     /// when built through [`CpuRenderer::from_samplers`]).
     lights: CpuLights,
     /// `N` for uniform picking (`w_i = N·p_i·2^-s`), `None` for power picking (`2^-s`).
@@ -135,9 +131,8 @@ impl CpuRenderer {
     /// alias schemes take `samplers`' table, the spatial scheme its spatial sampler (built
     /// now if no one has yet), uniform and CDF build their own (`O(1)`, `O(N)`).
     ///
-    /// The light records (position and `p_i` of every light, 32 bytes each) are the
-    /// scene's, built by the first renderer that needs them and shared by the others
-    /// ([`CpuRenderer::shares_lights_with`]).
+    /// The lights are read from the scene's own arrays ([`CpuRenderer::shares_lights_with`]
+    /// the scene's other renderers).
     pub fn from_samplers(samplers: &SceneSamplers, scheme: Scheme, seed: u64) -> Self {
         let scene = samplers.scene();
         let sampler = match scheme {
@@ -231,9 +226,10 @@ impl CpuRenderer {
         } = self;
         let (plane, picker, seed, to_unit) = (&*plane, &*picker, *seed, *to_unit);
         let lights = Lights {
-            records: &lights.records,
+            positions: &lights.positions,
+            powers: &lights.powers,
             emission: lights.emission.as_deref(),
-            uniform_n: *uniform_n,
+            uniform: uniform_n.map(|n| (n, lights.pmf)),
             to_unit,
         };
         accumulator
@@ -313,18 +309,25 @@ impl CpuRenderer {
         self.seed
     }
 
-    /// Heap bytes of the light records the renderer reads (32 bytes per light for the power
-    /// schemes, none for the spatial one, which reads its sampler) and of the emission
-    /// profiles; records shared with another renderer are counted by each
-    /// ([`CpuRenderer::shares_lights_with`]).
+    /// Heap bytes the renderer holds per light beyond the scene's: none for point lights
+    /// (the power schemes read the scene's positions and powers, the spatial one its
+    /// sampler), the emission profiles' copy for spots and ranges; profiles shared with
+    /// another renderer are counted by each ([`CpuRenderer::shares_lights_with`]).
     pub fn light_bytes(&self) -> usize {
         self.lights.heap_bytes()
     }
 
-    /// Whether this renderer reads the very light records of `other` (both built through
-    /// [`CpuRenderer::from_samplers`] from one scene's samplers), so that they are held once.
+    /// Whether this renderer reads the very lights (and profiles) of `other` (both built
+    /// through [`CpuRenderer::from_samplers`] from one scene's samplers), so that they are
+    /// held once.
     pub fn shares_lights_with(&self, other: &CpuRenderer) -> bool {
-        !self.lights.records.is_empty() && Arc::ptr_eq(&self.lights.records, &other.lights.records)
+        let (a, b) = (&self.lights, &other.lights);
+        let same_emission = match (&a.emission, &b.emission) {
+            (Some(x), Some(y)) => Arc::ptr_eq(x, y),
+            (None, None) => true,
+            _ => false,
+        };
+        !a.positions.is_empty() && Arc::ptr_eq(&a.positions, &b.positions) && same_emission
     }
 
     /// Heap bytes of the accumulator's per-pixel sums (16 bytes per pixel).
@@ -334,14 +337,15 @@ impl CpuRenderer {
     }
 }
 
-/// The light records a power-picking pass reads, and the emission profiles when the scene
-/// has any.
+/// The lights a power-picking pass reads, and the emission profiles when the scene has any.
 #[derive(Clone, Copy)]
 struct Lights<'a> {
-    records: &'a [LightRecord],
+    positions: &'a [DVec3],
+    powers: &'a [f64],
     emission: Option<&'a [Emission]>,
-    /// `N` for uniform picking, `None` for power picking ([`CpuRenderer::uniform_n`]).
-    uniform_n: Option<f64>,
+    /// `N` and the pmf's scale for uniform picking, `None` for power picking
+    /// ([`CpuRenderer::uniform_n`]).
+    uniform: Option<(f64, PmfScale)>,
     /// `2^-s`.
     to_unit: f64,
 }
@@ -351,17 +355,17 @@ impl Lights<'_> {
     /// `2^-s` (power), evaluated in that order.
     #[inline]
     fn estimate(&self, i: u32, x: DVec2) -> f64 {
-        let light = self.records[i as usize];
-        let weight = match self.uniform_n {
-            Some(n) => n * light.pmf * self.to_unit,
+        let i = i as usize;
+        let weight = match self.uniform {
+            Some((n, pmf)) => n * pmf.of(self.powers[i]) * self.to_unit,
             None => self.to_unit,
         };
-        weight * light_term(light.position, self.emission.map(|e| &e[i as usize]), x)
+        weight * light_term(self.positions[i], self.emission.map(|e| &e[i]), x)
     }
 }
 
-/// Samples handled together: their picks first, then their light records, so that the
-/// random memory accesses of a batch (alias table entries, light records: cache misses for
+/// Samples handled together: their picks first, then their lights, so that the
+/// random memory accesses of a batch (alias table entries, light positions: cache misses for
 /// large `N`) are independent loads in short loops, which the CPU overlaps.
 const BATCH: usize = 16;
 
