@@ -30,6 +30,7 @@ pub mod layout_ui;
 pub mod lights_ui;
 pub mod log_axes;
 mod memory;
+pub(crate) use memory::map_large_allocations;
 pub mod placement;
 pub mod precision_ui;
 pub mod render_ui;
@@ -631,6 +632,7 @@ impl LightpickApp {
         }
         let spp = self.published().map(|p| p.mean_spp());
         let note = self.placement_note();
+        let accounted: usize = self.memory_by_part().iter().map(|(_, b)| b).sum();
         if let Some(log) = &mut self.frame_log {
             log.frames += 1;
             log.ui_seconds += (now - started).as_secs_f64();
@@ -643,11 +645,12 @@ impl LightpickApp {
                     _ => "images restarted".to_owned(),
                 };
                 eprintln!(
-                    "lightpick frames: {:.1} fps, {:.2} ms/frame, ui() {:.2} ms/frame, {} lights, {rate}; {note}",
+                    "lightpick frames: {:.1} fps, {:.2} ms/frame, ui() {:.2} ms/frame, {} lights, {rate}; {note}; heap by part (memory_by_part) {:.1} MiB",
                     f64::from(log.frames) / elapsed,
                     elapsed * 1e3 / f64::from(log.frames),
                     log.ui_seconds * 1e3 / f64::from(log.frames),
-                    self.state.built.len()
+                    self.state.built.len(),
+                    accounted as f64 / f64::from(1u32 << 20)
                 );
                 *log = FrameLog {
                     start: Instant::now(),

@@ -83,6 +83,9 @@ pub fn main() -> ExitCode {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         None => {
+            // The desktop app holds large scenes for long: before anything is allocated,
+            // large blocks get their own mappings (see the function).
+            crate::app::map_large_allocations();
             let opened = match &cli.file {
                 Some(path) if !path.exists() => anyhow::bail!(
                     "'{}' is neither a subcommand nor a file (see `lightpick --help`)",
