@@ -1123,6 +1123,34 @@ mod tests {
         assert_eq!(state.built.len(), 5);
     }
 
+    #[test]
+    fn the_edit_shares_the_scenes_arrays_and_copies_only_what_it_writes() {
+        let mut state = AppState::new(scene_io::seed_scene(), Settings::default());
+        let scene = Arc::clone(&state.built.scene);
+        assert!(Arc::ptr_eq(&state.edit.positions, &scene.positions));
+        assert!(Arc::ptr_eq(&state.edit.powers, scene.powers.shared()));
+        // A refused value: the edit holds its own copy, the last good scene is untouched.
+        state.edit.powers_mut()[1] = f64::NAN;
+        assert!(!Arc::ptr_eq(&state.edit.powers, scene.powers.shared()));
+        state.powers_changed();
+        assert!(state.input_error.is_some());
+        assert_eq!(state.built.scene.powers.as_slice(), [2.0, 5.0, 20.0]);
+        // A valid value: the new scene takes the edit's arrays as they are.
+        state.edit.powers_mut()[1] = 7.0;
+        state.powers_changed();
+        assert!(state.input_error.is_none());
+        assert_eq!(state.built.scene.powers.as_slice(), [2.0, 7.0, 20.0]);
+        assert!(Arc::ptr_eq(
+            &state.edit.powers,
+            state.built.scene.powers.shared()
+        ));
+        assert!(Arc::ptr_eq(
+            &state.edit.positions,
+            &state.built.scene.positions
+        ));
+        assert!(Arc::ptr_eq(&state.built.scene.positions, &scene.positions));
+    }
+
     /// The picks of `sample_picks` recounted per light from the same streams.
     fn picks_per_light(state: &AppState, count: u64) -> (Vec<u64>, Vec<u64>) {
         let n = state.built.len();
