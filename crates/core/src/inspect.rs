@@ -42,6 +42,9 @@ pub struct LightShare {
     /// Its pick probability under the spatial scheme at the point, `P(i | x)`
     /// ([`crate::spatial`]), when the inspection was given the spatial sampler.
     pub spatial: Option<f64>,
+    /// For a spot, its cone term `t²` toward the point ([`crate::scene::Emission::cone_term`]:
+    /// 1 inside the inner cone, 0 beyond the outer); `None` for a light without a spot.
+    pub cone: Option<f64>,
 }
 
 /// The lights an inspection does not list one by one, summed.
@@ -160,6 +163,9 @@ impl PointInspection {
                     pmf: pmf[i],
                     share: share(i),
                     spatial: spatial.map(|q| q[i]),
+                    cone: scene
+                        .emission_of(i)
+                        .and_then(|e| e.cone_term(scene.positions[i], x)),
                 };
                 others.pmf -= light.pmf;
                 others.share -= light.share;

@@ -258,11 +258,13 @@ fn shares_table_ui(
     names: Option<&[String]>,
     dark: bool,
 ) {
+    // Scenes with spots get the cone term t² of each listed light.
+    let cones = inspection.lights.iter().any(|l| l.cone.is_some());
     egui::ScrollArea::vertical()
         .max_height(ui.available_height().max(120.0))
         .show(ui, |ui| {
             egui::Grid::new("inspector_lights")
-                .num_columns(6)
+                .num_columns(if cones { 7 } else { 6 })
                 .striped(true)
                 .show(ui, |ui| {
                     ui.strong("light");
@@ -276,6 +278,9 @@ fn shares_table_ui(
                         "Above 1: power sampling picks this light too rarely here \
                          (its estimate f/p is large); below 1: too often",
                     );
+                    if cones {
+                        ui.strong("cone t²").on_hover_text(CONE_TERM_HINT);
+                    }
                     ui.end_row();
                     for l in &inspection.lights {
                         ui.horizontal(|ui| {
@@ -297,6 +302,9 @@ fn shares_table_ui(
                         } else {
                             "—".to_owned()
                         });
+                        if cones {
+                            ui.label(l.cone.map_or("point".to_owned(), fractions::short));
+                        }
                         ui.end_row();
                     }
                     let others = inspection.others;
@@ -312,3 +320,9 @@ fn shares_table_ui(
                 });
         });
 }
+
+/// What the inspector's cone column means.
+const CONE_TERM_HINT: &str = "The spot's cone term toward this point, \
+     t² = clamp((cos α − cos θo)/(cos θi − cos θo), 0, 1)²: 1 inside its inner cone, 0 beyond \
+     its outer cone. Power picking ignores it; the spatial scheme's cone bounds weigh it \
+     ('point': a light without a spot)";

@@ -211,16 +211,13 @@ pub fn images_ui(
             });
         }
     });
-    if published.light_count == SEED_NOTE_LIGHTS {
+    if let Some(note) = image_note(&state.built.scene, published.light_count) {
         ui.label(
-            egui::RichText::new(SEED_IMAGE_NOTE)
+            egui::RichText::new(note.text)
                 .small()
                 .color(colors::muted(dark)),
         )
-        .on_hover_text(
-            "Var/E² = Σ s_i²/p_i − 1 at each pixel: zero only where the shares s_i of the \
-                 irradiance equal the power pmf p_i (click a pixel to see both)",
-        );
+        .on_hover_text(note.hover);
     }
     if stale {
         ui.label("restarting on the new table…");
@@ -237,6 +234,43 @@ const SEED_NOTE_LIGHTS: usize = 3;
 pub const SEED_IMAGE_NOTE: &str = "The images gain less than the seed's shading point (24.6×): \
      the geometry term G_i(x) varies across the plane, so the power pmf matches each pixel's \
      contributions only where every light's G is alike.";
+
+/// Why power picking fails on spot scenes, and what the spatial scheme uses instead.
+pub const SPOT_IMAGE_NOTE: &str = "Spots: a spot's power says little about what it gives a \
+     pixel. Its cone lights a small patch of the floor, so power picking (alias) spends most \
+     picks on spots aimed elsewhere. The spatial scheme weighs each group of spots by its peak \
+     intensity, its cone toward the pixel and its range, and never picks a group that cannot \
+     light it.";
+
+/// A sentence under the images and its hover text.
+struct ImageNote {
+    text: &'static str,
+    hover: &'static str,
+}
+
+/// The sentence under the images, for scenes that have one: the seed, and scenes with spots.
+fn image_note(scene: &lightpick_core::scene::Scene, light_count: usize) -> Option<ImageNote> {
+    // Stops at the first spot (a scene of spots has one near its start).
+    let spots = scene
+        .emission
+        .as_ref()
+        .is_some_and(|e| e.iter().any(|e| e.spot().is_some()));
+    if spots {
+        Some(ImageNote {
+            text: SPOT_IMAGE_NOTE,
+            hover: "Click a pixel: the inspector lists each spot's cone term t² there beside \
+                    its power pmf p and the spatial pick probability q",
+        })
+    } else if light_count == SEED_NOTE_LIGHTS {
+        Some(ImageNote {
+            text: SEED_IMAGE_NOTE,
+            hover: "Var/E² = Σ s_i²/p_i − 1 at each pixel: zero only where the shares s_i of \
+                    the irradiance equal the power pmf p_i (click a pixel to see both)",
+        })
+    } else {
+        None
+    }
+}
 
 /// Text rows under each image: title, spp, RMSE, time (which may wrap to two rows).
 const TEXT_ROWS_PER_IMAGE: f32 = 5.0;
@@ -283,11 +317,11 @@ fn columns(state: &AppState, textures: &ImageTextures) -> usize {
 pub fn wanted_height(ui: &Ui, width: f32, state: &AppState, textures: &ImageTextures) -> f32 {
     let side = side_by_width(ui, width, columns(state, textures));
     let images = if state.settings.show_error { 2.0 } else { 1.0 };
-    // The seed's note wraps to about two lines of small text.
-    let note_rows = if state.built.len() == SEED_NOTE_LIGHTS {
-        1.6
-    } else {
-        0.0
+    // The seed's note wraps to about two lines of small text, the spots' to about three.
+    let note_rows = match image_note(&state.built.scene, state.built.len()) {
+        Some(note) if note.text == SPOT_IMAGE_NOTE => 2.4,
+        Some(_) => 1.6,
+        None => 0.0,
     };
     images * (side + ui.spacing().item_spacing.y)
         + text_rows(ui, TEXT_ROWS_PER_IMAGE + HEADER_ROWS + note_rows)

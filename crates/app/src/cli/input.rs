@@ -29,7 +29,7 @@ pub struct SceneArgs {
     #[arg(long, value_name = "FILE", conflicts_with = "preset")]
     pub scene: Option<PathBuf>,
     /// A built-in scene: seed, equal, dominant, zeros, heavy-tail, million, extreme-range,
-    /// grid, stage.
+    /// grid, stage, gallery.
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
     /// The receiver's height (lightpick's z, glTF's y): every light's z becomes z − H.

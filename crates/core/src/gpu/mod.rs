@@ -367,6 +367,7 @@ mod tests {
             let shaped = spatial::ShapedSplit {
                 shapes: shape,
                 bounds: shape,
+                codes: shape,
             };
             kernels.push((label, spatial::spatial_source(shape, shape, Some(shaped))));
             kernels.push((label, histogram::histogram_source(shape, shape)));

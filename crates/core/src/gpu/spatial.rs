@@ -6,32 +6,49 @@ use glam::{UVec4, Vec4};
 use super::emission::{GpuShape, emission_source, shapes_layout};
 use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
 use super::{GpuContext, GpuError};
-use crate::spatial::{LaneBounds, SpatialLight, SpatialSampler, TREE_WIDTH};
+use crate::spatial::{LaneBounds, MappedLanes, SpatialLight, SpatialSampler, TREE_WIDTH};
 
 pub(crate) const SPATIAL_WGSL: &str = include_str!("spatial.wgsl");
 pub(crate) const SPATIAL_BOUNDS_WGSL: &str = include_str!("spatial_bounds.wgsl");
 
-/// GPU bytes per node's lane bounds (spots and ranges): 20 `vec4<f32>`.
-pub(crate) const BYTES_PER_NODE_BOUNDS: u64 = 320;
+/// GPU bytes per node's lanes over spots and ranges (bounds and maps): 28 `vec4<f32>`.
+pub(crate) const BYTES_PER_NODE_BOUNDS: u64 = 448;
 
-/// One node's lane bounds as `spatial_bounds.wgsl` reads them (`NodeBounds`).
+/// GPU bytes of a node's map codes: 4 lanes of [`crate::spatial::grid::GRID_CELLS`] bytes.
+pub(crate) const BYTES_PER_NODE_CODES: u64 = 4 * crate::spatial::grid::GRID_CELLS as u64;
+
+/// One node's lanes as `spatial_bounds.wgsl` reads them (`NodeBounds`).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct GpuNodeBounds {
-    v: [Vec4; 20],
+    v: [Vec4; 28],
 }
 
 impl GpuNodeBounds {
-    fn of(bounds: &[LaneBounds; TREE_WIDTH]) -> Self {
-        let mut v = [Vec4::ZERO; 20];
+    fn of(bounds: &[LaneBounds; TREE_WIDTH], mapped: &MappedLanes) -> Self {
+        let mut v = [Vec4::ZERO; 28];
         for (k, b) in bounds.iter().enumerate() {
             let [lo, hi] = b.footprint;
-            v[5 * k] = b.min.as_vec3().extend(b.intensity as f32);
-            v[5 * k + 1] = b.max.as_vec3().extend(b.range as f32);
-            v[5 * k + 2] = b.axis.as_vec3().extend(b.cos_spread as f32);
-            v[5 * k + 3] = Vec4::new(b.cos_emission as f32, 0.0, 0.0, 0.0);
+            let [map_x, map_y, per_x, per_y, scale] = mapped.map;
+            let [weight, c_x, c_y, c_z] = mapped.unbounded;
+            v[7 * k] = b.min.as_vec3().extend(b.intensity as f32);
+            v[7 * k + 1] = b.max.as_vec3().extend(b.range as f32);
+            v[7 * k + 2] = b.axis.as_vec3().extend(b.cos_spread as f32);
+            v[7 * k + 3] = Vec4::new(b.cos_emission as f32, scale[k] as f32, 0.0, 0.0);
             // Rounded outwards, so the f32 box still holds every lit point.
-            v[5 * k + 4] = Vec4::new(down(lo.x), down(lo.y), up(hi.x), up(hi.y));
+            v[7 * k + 4] = Vec4::new(down(lo.x), down(lo.y), up(hi.x), up(hi.y));
+            v[7 * k + 5] = Vec4::new(
+                map_x[k] as f32,
+                map_y[k] as f32,
+                per_x[k] as f32,
+                per_y[k] as f32,
+            );
+            v[7 * k + 6] = Vec4::new(
+                c_x[k] as f32,
+                c_y[k] as f32,
+                c_z[k] as f32,
+                weight[k] as f32,
+            );
         }
         GpuNodeBounds { v }
     }
@@ -56,12 +73,20 @@ pub(crate) const BOUNDS_LAYOUT: ArrayLayout = ArrayLayout {
     bytes: BYTES_PER_NODE_BOUNDS,
 };
 
+/// The split-array layout of the maps' codes (`u32` words of four codes).
+pub(crate) const CODES_LAYOUT: ArrayLayout = ArrayLayout {
+    name: "spatial_codes",
+    element: "u32",
+    bytes: 4,
+};
+
 /// How the emission data of a spatial kernel over spots or ranges is split: the profiles
-/// (leaf order) and the node bounds.
+/// (leaf order), the node bounds and the maps' codes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct ShapedSplit {
     pub(crate) shapes: SplitShape,
     pub(crate) bounds: SplitShape,
+    pub(crate) codes: SplitShape,
 }
 
 /// Scheme word of the exact contribution pick (`N ≤` [`crate::spatial::EXACT_MAX_LIGHTS`]).
@@ -112,18 +137,24 @@ pub(crate) fn spatial_source(
     let nodes_wgsl = declarations(NODES_LAYOUT, nodes, binding, Access::Read);
     binding += nodes.chunks as u32;
     let (emission_wgsl, bounds_wgsl) = match shaped {
-        Some(ShapedSplit { shapes, bounds }) => {
+        Some(ShapedSplit {
+            shapes,
+            bounds,
+            codes,
+        }) => {
             let emission = emission_source("spatial_shapes", Some((shapes, binding)));
             binding += shapes.chunks as u32;
-            let bounds = format!(
-                "{}\n{SPATIAL_BOUNDS_WGSL}",
-                declarations(BOUNDS_LAYOUT, bounds, binding, Access::Read)
-            );
-            (emission, bounds)
+            let bounds_wgsl = declarations(BOUNDS_LAYOUT, bounds, binding, Access::Read);
+            binding += bounds.chunks as u32;
+            let codes_wgsl = declarations(CODES_LAYOUT, codes, binding, Access::Read);
+            (
+                emission,
+                format!("{bounds_wgsl}\n{codes_wgsl}\n{SPATIAL_BOUNDS_WGSL}"),
+            )
         }
         None => (
             emission_source("spatial_shapes", None),
-            "fn bounded_importances(node: ptr<function, SpatialNode>, at: u32, x: vec2<f32>, importance: vec4<f32>) -> vec4<f32> { return importance; }\n".to_owned(),
+            "fn lane_weights(node: ptr<function, SpatialNode>, at: u32, x: vec2<f32>) -> LaneWeights { return point_lane_weights(node, x); }\n".to_owned(),
         ),
     };
     super::shader_source(&[
@@ -181,27 +212,35 @@ impl SpatialGpu {
                     .collect(),
             ),
         };
-        // Spots or ranges: the profiles in the lights' order, and the tree's node bounds.
-        let shaped: Option<(Vec<GpuShape>, Vec<GpuNodeBounds>)> = match sampler {
+        // Spots or ranges: the profiles in the lights' order, the tree's node bounds and
+        // the maps' codes.
+        type Shaped = (Vec<GpuShape>, Vec<GpuNodeBounds>, Vec<u8>);
+        let shaped: Option<Shaped> = match sampler {
             SpatialSampler::Exact(exact) => exact.emission(0).map(|_| {
                 let shapes = (0..exact.lights().len())
                     .filter_map(|k| exact.emission(k).map(GpuShape::of))
                     .collect();
-                (shapes, Vec::new())
+                (shapes, Vec::new(), Vec::new())
             }),
             SpatialSampler::Tree(tree) => (!tree.emission().is_empty()).then(|| {
                 let shapes = tree.emission().iter().map(GpuShape::of).collect();
-                let bounds = (0..tree.nodes().len())
-                    .filter_map(|k| tree.bounds(k).map(GpuNodeBounds::of))
+                let lanes = (0..tree.nodes().len())
+                    .filter_map(|k| Some((tree.bounds(k)?, tree.mapped(k)?)));
+                let bounds = lanes
+                    .clone()
+                    .map(|(b, m)| GpuNodeBounds::of(b, m))
                     .collect();
-                (shapes, bounds)
+                let codes = lanes
+                    .flat_map(|(_, m)| m.codes.iter().flatten().copied())
+                    .collect();
+                (shapes, bounds, codes)
             }),
         };
         let bytes = lights.len() as u64 * BYTES_PER_LIGHT
             + nodes.len() as u64 * BYTES_PER_NODE
-            + shaped.as_ref().map_or(0, |(s, b)| {
+            + shaped.as_ref().map_or(0, |(s, b, _)| {
                 s.len() as u64 * super::emission::BYTES_PER_SHAPE
-                    + b.len() as u64 * BYTES_PER_NODE_BOUNDS
+                    + b.len() as u64 * (BYTES_PER_NODE_BOUNDS + BYTES_PER_NODE_CODES)
             });
         // Every binding holds at least one element (a zero placeholder when there is none).
         let lights = SplitArray::with_contents(
@@ -219,7 +258,7 @@ impl SpatialGpu {
             wgpu::BufferUsages::empty(),
         )?;
         let shaped = match shaped {
-            Some((shapes, bounds)) => Some((
+            Some((shapes, bounds, codes)) => Some((
                 SplitArray::with_contents(
                     ctx,
                     "spatial lights' emission profiles (leaf order)",
@@ -234,12 +273,19 @@ impl SpatialGpu {
                     bytemuck::cast_slice(&bounds),
                     wgpu::BufferUsages::empty(),
                 )?,
+                SplitArray::with_contents(
+                    ctx,
+                    "light tree lane maps",
+                    CODES_LAYOUT,
+                    &codes,
+                    wgpu::BufferUsages::empty(),
+                )?,
             )),
             None => None,
         };
-        let shaped_bindings = shaped
-            .as_ref()
-            .map_or(0, |(s, b)| s.buffers().len() + b.buffers().len());
+        let shaped_bindings = shaped.as_ref().map_or(0, |(s, b, c)| {
+            s.buffers().len() + b.buffers().len() + c.buffers().len()
+        });
         let storage = 1 + (lights.buffers().len() + nodes.buffers().len() + shaped_bindings) as u32;
         check_bindings(ctx, "the spatial render kernel", storage)?;
         let pipeline = super::compute_pipeline_from_source(
@@ -248,24 +294,24 @@ impl SpatialGpu {
             spatial_source(
                 lights.shape(),
                 nodes.shape(),
-                shaped.as_ref().map(|(s, b)| ShapedSplit {
+                shaped.as_ref().map(|(s, b, c)| ShapedSplit {
                     shapes: s.shape(),
                     bounds: b.shape(),
+                    codes: c.shape(),
                 }),
             ),
             "accumulate_spatial",
         )?;
         let bind_group = super::scoped(ctx, "binding the light tree", || {
-            let buffers: Vec<&wgpu::Buffer> = [params, sums]
-                .into_iter()
-                .chain(lights.buffers())
-                .chain(nodes.buffers())
-                .chain(
-                    shaped
-                        .iter()
-                        .flat_map(|(s, b)| s.buffers().iter().chain(b.buffers())),
-                )
-                .collect();
+            let buffers: Vec<&wgpu::Buffer> =
+                [params, sums]
+                    .into_iter()
+                    .chain(lights.buffers())
+                    .chain(nodes.buffers())
+                    .chain(shaped.iter().flat_map(|(s, b, c)| {
+                        s.buffers().iter().chain(b.buffers()).chain(c.buffers())
+                    }))
+                    .collect();
             Ok(super::bind_buffers(
                 ctx,
                 "render accumulate spatial",

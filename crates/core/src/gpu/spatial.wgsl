@@ -4,9 +4,9 @@
 // `spatial_lights` (vec4<f32>: x, y, z, p_i of the contributing lights, in leaf order) and
 // `spatial_nodes` (SpatialNode), read through spatial_lights_at and spatial_nodes_at.
 // The scene's emission profiles enter through fn light_emission(j, light, x) (leaf order;
-// 1 for point lights) and, for a tree over spots or ranges, fn bounded_importances (the
-// lanes' intensities and reach from the split array `spatial_bounds`; for point lights a
-// stub returning the importances unchanged): both from spatial.rs.
+// 1 for point lights) and fn lane_weights (for a tree over spots or ranges the lanes' maps
+// and bounds of spatial_bounds.wgsl; for point lights point_lane_weights): both from
+// spatial.rs.
 // Same streams as the CPU: sample k of pixel p draws from rng_new(seed, p, k); the exact
 // pick takes one draw (u = (r >> 8)·2^-24, exact in f32), the descent one draw per node and
 // one in the leaf cluster, r >> 8 against the cumulative grid masses.
@@ -52,16 +52,29 @@ fn floor_mass(p: f32) -> u32 {
     return clamp(u32(floor(p * 16777216.0)), 1u, GRID);
 }
 
-// branch_probabilities then grid_masses for the four lanes of node `at`.
-fn node_masses(node: ptr<function, SpatialNode>, at: u32, x: vec2<f32>) -> vec4<u32> {
-    var importance = vec4<f32>(0.0);
-    var power = vec4<f32>(0.0);
+// What the branch probabilities of a node's four lanes are made of: each lane's importance
+// and its share of the defensive mixture.
+struct LaneWeights {
+    importance: vec4<f32>,
+    share: vec4<f32>,
+}
+
+// Point lights: each lane's representative light, and its power.
+fn point_lane_weights(node: ptr<function, SpatialNode>, x: vec2<f32>) -> LaneWeights {
+    var w: LaneWeights;
     for (var k = 0u; k < 4u; k++) {
         let lane = (*node).lane[k];
-        power[k] = lane.w;
-        importance[k] = representative_importance(lane, x);
+        w.share[k] = lane.w;
+        w.importance[k] = representative_importance(lane, x);
     }
-    importance = bounded_importances(node, at, x, importance);
+    return w;
+}
+
+// branch_probabilities then grid_masses for the four lanes of node `at`.
+fn node_masses(node: ptr<function, SpatialNode>, at: u32, x: vec2<f32>) -> vec4<u32> {
+    let w = lane_weights(node, at, x);
+    let importance = w.importance;
+    let power = w.share;
     let total_importance = importance.x + importance.y + importance.z + importance.w;
     let total_power = power.x + power.y + power.z + power.w;
     if !(total_power > 0.0) {

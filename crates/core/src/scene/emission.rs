@@ -212,6 +212,20 @@ impl Emission {
         s
     }
 
+    /// The spot's cone term `t²` toward `point_on_plane` for the light at `light_in_world`
+    /// (module docs: 1 inside the inner cone, 0 beyond the outer), or `None` for a light
+    /// without a spot. What power picking ignores and the light tree's cone bounds weigh.
+    pub fn cone_term(&self, light_in_world: DVec3, point_on_plane: DVec2) -> Option<f64> {
+        self.spot?;
+        let to_point = point_on_plane.extend(0.0) - light_in_world;
+        let distance = to_point.length();
+        Some(if distance > 0.0 {
+            self.falloff(self.axis.dot(to_point) / distance)
+        } else {
+            0.0
+        })
+    }
+
     /// Whether the light at `light_in_world` can light some point of the plane `z = 0`
     /// (strictly: `S > 0` somewhere below it): above the plane, a cone that reaches below
     /// the horizontal (`axis_z < sin θo`, the cone's open angle being `< θo` where `t > 0`),

@@ -148,6 +148,9 @@ impl Scene {
     pub fn same_geometry(&self, other: &Scene) -> bool {
         (Arc::ptr_eq(&self.positions, &other.positions) || self.positions == other.positions)
             && self.emission == other.emission
+            // A light tree over spots maps its lanes over the receiver's rectangle.
+            && (self.emission.is_none()
+                || (self.plane.min == other.plane.min && self.plane.max == other.plane.max))
     }
 
     /// Heap bytes the scene holds, by part and by capacity: its positions (24 bytes per

@@ -6,7 +6,7 @@ use super::Scene;
 use super::error::SceneError;
 
 /// Every preset name, in display order.
-pub const PRESET_NAMES: [&str; 9] = [
+pub const PRESET_NAMES: [&str; 10] = [
     "seed",
     "equal",
     "dominant",
@@ -16,10 +16,11 @@ pub const PRESET_NAMES: [&str; 9] = [
     "extreme-range",
     "grid",
     "stage",
+    "gallery",
 ];
 
 /// The embedded text of each preset, in the order of [`PRESET_NAMES`].
-const PRESET_FILES: [&str; 9] = [
+const PRESET_FILES: [&str; 10] = [
     include_str!("../../assets/scenes/seed.json"),
     include_str!("../../assets/scenes/equal.json"),
     include_str!("../../assets/scenes/dominant.json"),
@@ -29,6 +30,7 @@ const PRESET_FILES: [&str; 9] = [
     include_str!("../../assets/scenes/extreme-range.json"),
     include_str!("../../assets/scenes/grid.json"),
     include_str!("../../assets/scenes/stage.json"),
+    include_str!("../../assets/scenes/gallery.json"),
 ];
 
 impl Scene {
@@ -49,7 +51,11 @@ impl Scene {
     /// * `stage`: 300 named spot lights over a 16 × 10 m stage: three trusses of 80 narrow
     ///   spots 6 m up, each aimed at its own mark, 40 footlights grazing the floor from its
     ///   edges and 20 wide washes with a range: each spot lights a small part of the floor,
-    ///   so its power says little about what it gives a point (power sampling is poor).
+    ///   so its power says little about what it gives a point (power sampling is poor);
+    /// * `gallery`: 1356 named spot lights in twelve 12 × 10 m rooms of a 48 × 30 m museum
+    ///   floor: in each room 15 exhibits, each lit by 7 narrow spots (outer cones 4–12°)
+    ///   hung on three ceiling tracks 4.2 m up and aimed at their own marks around it, and
+    ///   8 wide washes (outer cones 43–60°) with a range of 7–9 m.
     pub fn preset(name: &str) -> Result<Scene, SceneError> {
         let index = PRESET_NAMES
             .iter()

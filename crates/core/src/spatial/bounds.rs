@@ -104,6 +104,10 @@ impl LaneBounds {
         if !(point_on_plane.cmpge(lo).all() && point_on_plane.cmple(hi).all()) {
             return 0.0;
         }
+        // A bounded footprint holds every point the lane's cones and ranges reach.
+        if lo.is_finite() && hi.is_finite() {
+            return 1.0;
+        }
         let p = point_on_plane.extend(0.0);
         let outside = (self.min - p).max(p - self.max).max(DVec3::ZERO);
         if outside.length_squared() >= self.range * self.range {

@@ -39,11 +39,13 @@
 
 mod bounds;
 mod exact;
+pub mod grid;
 pub mod importance;
 mod tree;
 
 pub use bounds::LaneBounds;
 pub use exact::ExactSampler;
+pub use grid::{LaneGrid, MappedLanes};
 pub use tree::{Child, ChildRef, LEAF_SIZE, LightTree, TREE_WIDTH, TreeNode};
 
 use glam::{DVec2, DVec3};
@@ -140,9 +142,23 @@ impl SpatialSampler {
         }
     }
 
-    /// The sampler of a scene: its positions, powers and emission profiles.
+    /// The sampler of a scene: its positions, powers and emission profiles; a tree over
+    /// spots or ranges maps its lanes over the scene's receiver rectangle
+    /// ([`LightTree::build_over`]).
     pub fn for_scene(scene: &Scene) -> Self {
-        Self::build_with_emission(&scene.positions, &scene.powers, scene.emission.as_deref())
+        let (positions, powers) = (&scene.positions, &scene.powers);
+        let emission = scene.emission.as_deref();
+        if uses_exact_pick(positions.len()) {
+            Self::build_with_emission(positions, powers, emission)
+        } else {
+            let region = [scene.plane.min, scene.plane.max];
+            SpatialSampler::Tree(LightTree::build_over(
+                positions,
+                powers,
+                emission,
+                Some(region),
+            ))
+        }
     }
 
     /// New powers for the same lights: `scene` has the positions, cones and ranges this

@@ -186,7 +186,7 @@ fn unknown_preset_lists_the_known_ones() {
     assert!(matches!(e, SceneError::UnknownPreset { .. }));
     assert_eq!(
         e.to_string(),
-        "unknown preset 'nope' (expected one of: seed, equal, dominant, zeros, heavy-tail, million, extreme-range, grid, stage)"
+        "unknown preset 'nope' (expected one of: seed, equal, dominant, zeros, heavy-tail, million, extreme-range, grid, stage, gallery)"
     );
 }
 

@@ -8,13 +8,12 @@
 
 use glam::DVec3;
 
-use super::layout::{part_internal_nodes, parts};
-use super::{LEAF_SIZE, TREE_WIDTH, TreeNode};
+use super::{Child, ChildRef, TREE_WIDTH, TreeNode};
 use crate::scene::Emission;
 use crate::spatial::{LaneBounds, SpatialLight};
 
-/// Subtrees over more lights than this are filled in parallel.
-const PARALLEL_FILL: usize = 1 << 13;
+/// Subtrees of more nodes than this (about `2^13` lights) are filled in parallel.
+const PARALLEL_FILL: usize = 1 << 9;
 
 /// What a lane (or a whole node) holds, summed: power, the pieces of its power-weighted
 /// centroid and the box of its lights. 80 bytes: the pass moves many of these, so the
@@ -164,18 +163,22 @@ impl Aggregate {
     }
 }
 
-/// One subtree to fill: its node slots (its own first) and their bounds, its light count
-/// and leaf-order offset.
+/// One subtree to fill: its node slots (its own first, then its subtrees depth first) and
+/// their bounds, and the global index of its node.
 pub(super) struct Fill<'a> {
     pub(super) nodes: &'a mut [TreeNode],
     pub(super) bounds: Option<&'a mut [[LaneBounds; TREE_WIDTH]]>,
-    pub(super) m: usize,
-    pub(super) first: usize,
+    pub(super) index: usize,
 }
 
 /// Fills the subtree's nodes' lanes from `lights` (leaf order, with `emission` beside them
 /// when the lights have profiles, then summed as [`Bounded`]) and returns the node's
 /// summary.
+///
+/// The node's child words say what each lane holds: a leaf cluster's lights, or an
+/// internal node whose subtree occupies the slots from its index up to the next internal
+/// lane's index (or the end of this subtree's slots): the depth-first layout, whatever
+/// split made it.
 pub(super) fn fill<S: Summary>(
     job: Fill<'_>,
     lights: &[SpatialLight],
@@ -184,9 +187,10 @@ pub(super) fn fill<S: Summary>(
     let Fill {
         nodes,
         bounds,
-        m,
-        first,
+        index,
     } = job;
+    let end = index + nodes.len();
+    let children = nodes[0].child.map(ChildRef::get);
     let (this, mut below) = nodes.split_at_mut(1);
     let (this_bounds, mut below_bounds) = match bounds {
         Some(b) => {
@@ -195,38 +199,42 @@ pub(super) fn fill<S: Summary>(
         }
         None => (None, None),
     };
-    let sizes = parts(m);
-    let counts = part_internal_nodes(m);
     // Each lane: a leaf cluster now, or a subtree to fill (in parallel when large).
     let mut lanes = [S::EMPTY; TREE_WIDTH];
     // At most one subtree per lane, in arrays: the pass allocates nothing.
     let mut jobs: [Option<Fill<'_>>; TREE_WIDTH] = std::array::from_fn(|_| None);
-    let mut next_first = first;
-    for (lane, (&s, &count)) in sizes.iter().zip(&counts).enumerate() {
-        if s == 0 {
-            continue;
+    for (lane, child) in children.iter().enumerate() {
+        match *child {
+            Child::Leaf { first, count } => {
+                lanes[lane] = S::of_leaf(
+                    &lights[first..first + count],
+                    emission.map(|e| &e[first..first + count]),
+                );
+            }
+            Child::Node(k) => {
+                let next = children[lane + 1..]
+                    .iter()
+                    .find_map(|c| match c {
+                        Child::Node(j) => Some(*j),
+                        _ => None,
+                    })
+                    .unwrap_or(end);
+                let count = next - k;
+                let (slots, rest) = below.split_at_mut(count);
+                below = rest;
+                let slot_bounds = below_bounds.take().map(|b| {
+                    let (slots, rest) = b.split_at_mut(count);
+                    below_bounds = Some(rest);
+                    slots
+                });
+                jobs[lane] = Some(Fill {
+                    nodes: slots,
+                    bounds: slot_bounds,
+                    index: k,
+                });
+            }
+            Child::Empty => {}
         }
-        if s <= LEAF_SIZE {
-            lanes[lane] = S::of_leaf(
-                &lights[next_first..next_first + s],
-                emission.map(|e| &e[next_first..next_first + s]),
-            );
-        } else {
-            let (slots, rest) = below.split_at_mut(count);
-            below = rest;
-            let slot_bounds = below_bounds.take().map(|b| {
-                let (slots, rest) = b.split_at_mut(count);
-                below_bounds = Some(rest);
-                slots
-            });
-            jobs[lane] = Some(Fill {
-                nodes: slots,
-                bounds: slot_bounds,
-                m: s,
-                first: next_first,
-            });
-        }
-        next_first += s;
     }
     // Each subtree's aggregate lands in its lane directly (no copies of the large
     // aggregates through a results array).
@@ -235,7 +243,7 @@ pub(super) fn fill<S: Summary>(
             *lane = fill(job, lights, emission);
         }
     };
-    if m > PARALLEL_FILL {
+    if end - index > PARALLEL_FILL {
         use rayon::prelude::*;
         lanes
             .par_iter_mut()

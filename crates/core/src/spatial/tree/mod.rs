@@ -47,12 +47,14 @@
 use glam::{DVec2, DVec3};
 
 use super::importance::{
-    GRID_CELL, branch_probabilities, grid_masses, lane_importances, pick_on_grid,
+    GRID_CELL, IMPORTANCE_CAP, branch_probabilities, grid_masses, lane_importances, pick_on_grid,
 };
 mod fill;
+mod footprint_split;
 mod layout;
 
 use super::bounds::LaneBounds;
+use super::grid::{LaneGrid, MappedLanes};
 use super::{SpatialLight, SpatialPick, contributing};
 use crate::powers::LightPowers;
 use crate::rng::Rng;
@@ -177,21 +179,22 @@ impl TreeNode {
         grid_masses(branch_probabilities(importance, self.power))
     }
 
-    /// The grid masses with lane bounds (lights with emission profiles): each lane's
-    /// importance is its intensity at the centroid times its reach at `point_on_plane`.
+    /// The grid masses of four lanes of lights with emission profiles at `point_on_plane`:
+    /// a lane whose bounds exclude the point gets none; the others are weighed by their
+    /// maps, mixed with their shares of peak intensity `Σ p_i·g_i`
+    /// ([`MappedLanes::weights`], [`branch_probabilities`]). All zero when every lane is
+    /// culled.
     #[inline]
-    pub fn masses_bounded(
-        &self,
+    pub fn masses_mapped(
         bounds: &[LaneBounds; TREE_WIDTH],
+        mapped: &MappedLanes,
         point_on_plane: DVec2,
     ) -> [u32; TREE_WIDTH] {
-        let [x, y, z] = &self.centroid;
-        let intensity = bounds.map(|b| b.intensity);
-        let mut importance = lane_importances([x, y, z], &intensity, point_on_plane);
-        for (i, b) in importance.iter_mut().zip(bounds) {
-            *i *= b.reach(point_on_plane);
-        }
-        grid_masses(branch_probabilities(importance, self.power))
+        let (importance, share) = mapped.weights(bounds, point_on_plane);
+        grid_masses(branch_probabilities(
+            importance.map(|i| i.min(IMPORTANCE_CAP)),
+            share,
+        ))
     }
 }
 
@@ -216,6 +219,13 @@ pub struct LightTree {
     emission: Vec<Emission>,
     /// Each node's lane bounds (empty for point lights).
     bounds: Vec<[LaneBounds; TREE_WIDTH]>,
+    /// Where each light is mapped on the plane, in leaf order: its footprint
+    /// ([`Emission::footprint`]) within the region of interest, or the region for a light
+    /// whose footprint is unbounded (`None` without a region); empty for point lights.
+    footprints: Vec<Option<[DVec2; 2]>>,
+    /// Each node's lanes as the descent over spots reads them ([`super::grid`]; empty for
+    /// point lights).
+    mapped: Vec<MappedLanes>,
 }
 
 impl LightTree {
@@ -241,33 +251,68 @@ impl LightTree {
         powers: &LightPowers,
         emission: Option<&[Emission]>,
     ) -> Self {
+        Self::build_over(positions, powers, emission, None)
+    }
+
+    /// [`LightTree::build_with_emission`] with lanes of spots mapped over `region` of the
+    /// plane (`[min, max]`, the receiver's rectangle: [`super::grid`]): each light's
+    /// footprint within it, and there too the lights whose footprint is unbounded (without a
+    /// region, those are weighed as one representative light per lane). Picks stay unbiased
+    /// everywhere; outside the region they are as good as the lanes' bounds make them.
+    ///
+    /// # Panics
+    /// As [`LightTree::build_with_emission`].
+    pub fn build_over(
+        positions: &[DVec3],
+        powers: &LightPowers,
+        emission: Option<&[Emission]>,
+        region: Option<[DVec2; 2]>,
+    ) -> Self {
         // Every light that can reach the plane, whatever its power: the layout depends on
         // the positions (and cones) only, so that new powers refit it ([`LightTree::refit`]).
         let contributing = contributing(positions, powers, emission, true);
-        let mut items: Vec<layout::Item> = contributing
-            .iter()
-            .map(|(i, l, _)| (*i, l.position_in_world))
-            .collect();
-        let m = items.len();
+        let m = contributing.len();
         assert!(m < 1 << 27, "at most 2^27 lights");
-        let node_count = layout::internal_nodes(m);
-        let mut nodes = vec![TreeNode::EMPTY; node_count];
-        let mut node_first = vec![0u32; node_count];
-        let root = if m == 0 {
-            ChildRef::EMPTY
-        } else if m <= LEAF_SIZE {
-            ChildRef::leaf(0, m)
-        } else {
-            layout::lay_out(layout::Job {
-                items: &mut items,
-                index: 0,
-                first: 0,
-                nodes: &mut nodes,
-                node_first: &mut node_first,
-            });
-            ChildRef::node(0)
+        let (nodes, node_first, order, root) = match emission {
+            // Spots and ranges: split by where the lights shine.
+            Some(e) if m > LEAF_SIZE => {
+                let mut items: Vec<footprint_split::Footprinted> = contributing
+                    .iter()
+                    .map(|(i, l, _)| {
+                        footprint_split::Footprinted::new(*i, l.position_in_world, &e[*i as usize])
+                    })
+                    .collect();
+                let (nodes, node_first) = footprint_split::lay_out(&mut items);
+                let order = items.iter().map(|l| l.index).collect();
+                (nodes, node_first, order, ChildRef::node(0))
+            }
+            _ => {
+                let mut items: Vec<layout::Item> = contributing
+                    .iter()
+                    .map(|(i, l, _)| (*i, l.position_in_world))
+                    .collect();
+                let node_count = layout::internal_nodes(m);
+                let mut nodes = vec![TreeNode::EMPTY; node_count];
+                let mut node_first = vec![0u32; node_count];
+                let root = if m == 0 {
+                    ChildRef::EMPTY
+                } else if m <= LEAF_SIZE {
+                    ChildRef::leaf(0, m)
+                } else {
+                    layout::lay_out(layout::Job {
+                        items: &mut items,
+                        index: 0,
+                        first: 0,
+                        nodes: &mut nodes,
+                        node_first: &mut node_first,
+                    });
+                    ChildRef::node(0)
+                };
+                let order: Vec<u32> = items.iter().map(|(i, _)| *i).collect();
+                (nodes, node_first, order, root)
+            }
         };
-        let order: Vec<u32> = items.iter().map(|(i, _)| *i).collect();
+        let node_count = nodes.len();
         let pmf = powers.pmf();
         let lights = order
             .iter()
@@ -290,6 +335,20 @@ impl LightTree {
             } else {
                 Vec::new()
             },
+            footprints: emission.map_or_else(Vec::new, |e| {
+                order
+                    .iter()
+                    .map(|&i| {
+                        let f = e[i as usize].footprint(positions[i as usize]);
+                        match (f, region) {
+                            (Some([a, b]), Some([lo, hi])) => Some([a.max(lo), b.min(hi)]),
+                            (None, Some(r)) => Some(r),
+                            (f, None) => f,
+                        }
+                    })
+                    .collect()
+            }),
+            mapped: Vec::new(),
             order,
         };
         tree.depth = tree.deepest(tree.root);
@@ -307,14 +366,72 @@ impl LightTree {
         let job = fill::Fill {
             nodes: &mut self.nodes,
             bounds,
-            m: self.lights.len(),
-            first: 0,
+            index: 0,
         };
         if emission.is_some() {
             fill::fill::<fill::Bounded>(job, &self.lights, emission);
+            self.fill_grids();
         } else {
             fill::fill::<fill::Aggregate>(job, &self.lights, None);
         }
+    }
+
+    /// Recomputes every lane's map ([`super::grid`]) from its lights, nodes in parallel
+    /// (each map depends on its own lights only: the same bits on any thread count).
+    fn fill_grids(&mut self) {
+        use rayon::prelude::*;
+        let ranges = self.lane_ranges();
+        let (lights, emission, footprints) = (&self.lights, &self.emission, &self.footprints);
+        let mut mapped = std::mem::take(&mut self.mapped);
+        mapped.resize(self.nodes.len(), MappedLanes::EMPTY);
+        mapped
+            .par_iter_mut()
+            .zip(ranges.par_iter())
+            .zip(self.bounds.par_iter())
+            .with_max_len(1)
+            .for_each(|((node, lanes), bounds)| {
+                let grids: [LaneGrid; TREE_WIDTH] = std::array::from_fn(|k| {
+                    let (first, count) = lanes[k];
+                    let r = first as usize..(first + count) as usize;
+                    if count == 0 {
+                        LaneGrid::EMPTY
+                    } else {
+                        LaneGrid::of_lights(
+                            &lights[r.clone()],
+                            &emission[r.clone()],
+                            &footprints[r],
+                        )
+                    }
+                });
+                *node = MappedLanes::new(bounds, &grids);
+            });
+        self.mapped = mapped;
+    }
+
+    /// Each node's lanes' lights as `(first, count)` in leaf order, top down.
+    fn lane_ranges(&self) -> Vec<[(u32, u32); TREE_WIDTH]> {
+        let mut ranges = vec![[(0u32, 0u32); TREE_WIDTH]; self.nodes.len()];
+        if self.nodes.is_empty() {
+            return ranges;
+        }
+        // (node, end of its lights)
+        let mut stack = vec![(0usize, self.lights.len())];
+        while let Some((k, end)) = stack.pop() {
+            let node = &self.nodes[k];
+            for lane in 0..TREE_WIDTH {
+                let Some(first) = self.first_of(node.child[lane]) else {
+                    continue;
+                };
+                let lane_end = (lane + 1..TREE_WIDTH)
+                    .find_map(|next| self.first_of(node.child[next]))
+                    .unwrap_or(end);
+                ranges[k][lane] = (first as u32, (lane_end - first) as u32);
+                if let Child::Node(j) = node.child[lane].get() {
+                    stack.push((j, lane_end));
+                }
+            }
+        }
+        ranges
     }
 
     /// New powers for the same lights (same positions, cones and ranges): each light's
@@ -343,15 +460,21 @@ impl LightTree {
     /// have emission profiles).
     #[inline]
     fn node_masses(&self, k: usize, x: DVec2) -> [u32; TREE_WIDTH] {
-        match self.bounds.get(k) {
-            Some(bounds) => self.nodes[k].masses_bounded(bounds, x),
-            None => self.nodes[k].masses(x),
+        match (self.bounds.get(k), self.mapped.get(k)) {
+            (Some(bounds), Some(mapped)) => TreeNode::masses_mapped(bounds, mapped, x),
+            _ => self.nodes[k].masses(x),
         }
     }
 
     /// Node `k`'s lane bounds, when the lights have emission profiles.
     pub fn bounds(&self, k: usize) -> Option<&[LaneBounds; TREE_WIDTH]> {
         self.bounds.get(k)
+    }
+
+    /// Node `k`'s lanes as the descent over spots reads them ([`super::grid`]), when the
+    /// lights have emission profiles.
+    pub fn mapped(&self, k: usize) -> Option<&MappedLanes> {
+        self.mapped.get(k)
     }
 
     /// The emission profiles in leaf order (empty for point lights).
@@ -393,6 +516,8 @@ impl LightTree {
             + self.order.capacity() * size_of::<u32>()
             + self.emission.capacity() * size_of::<Emission>()
             + self.bounds.capacity() * size_of::<[LaneBounds; TREE_WIDTH]>()
+            + self.footprints.capacity() * size_of::<Option<[DVec2; 2]>>()
+            + self.mapped.capacity() * size_of::<MappedLanes>()
     }
 
     /// The internal nodes, depth first.

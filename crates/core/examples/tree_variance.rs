@@ -1,0 +1,213 @@
+//! The exact variance of the spatial scheme against power sampling, per scene: how many times
+//! fewer samples the light tree needs than power picking for the same noise.
+//!
+//! At each of `G × G` shading points `x` (pixel centres of a `G × G` raster over the scene's
+//! plane) the exact per-sample variances are `Σ c_i²/P(i | x) − E²` for the spatial scheme
+//! and `Σ c_i²/p_i − E²` for power sampling (`c_i = p_i·G_i(x)·S_i(x)`, `E = Σ c_i`); the
+//! figure is the ratio of their means over the points. Also printed: the share of picks that
+//! land on a light giving `x` nothing (`1 − Σ_{c_i > 0} P(i | x)`, mean over the points).
+//!
+//! ```text
+//! cargo run --release -p lightpick-core --example tree_variance -- stage gallery random arena
+//! ```
+//!
+//! Names are presets, or `random` (2000 spots at random heights aimed at random marks, a
+//! third with ranges) and `arena` (1500 spots on a ring aimed into it, every fifth wide):
+//! spot sets the tree was not tuned to.
+
+use glam::{DVec2, DVec3, dvec2, dvec3};
+use lightpick_core::scene::{Emission, ReceiverPlane, Scene, Spot, pixel_center};
+use lightpick_core::spatial::SpatialSampler;
+
+/// SplitMix64: a fixed stream for the generated spot sets.
+struct Mix(u64);
+
+impl Mix {
+    fn unit(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.unit()
+    }
+}
+
+/// A spot at `from` aimed at `mark` on the plane.
+fn aimed(from: DVec3, mark: DVec3, inner: f64, outer: f64) -> Spot {
+    Spot {
+        direction: mark - from,
+        inner_cone: inner,
+        outer_cone: outer,
+    }
+}
+
+fn spot_scene(
+    name: &str,
+    side: f64,
+    lights: Vec<(DVec3, f64, Spot, Option<f64>)>,
+) -> Result<Scene, Box<dyn std::error::Error>> {
+    let plane = ReceiverPlane {
+        min: dvec2(-side, -side),
+        max: dvec2(side, side),
+        width: 128,
+        height: 128,
+    };
+    let mut scene = Scene::from_parts(
+        name,
+        plane,
+        lights.iter().map(|l| l.0).collect(),
+        lights.iter().map(|l| l.1).collect(),
+    )?;
+    scene.emission = Some(
+        lights
+            .iter()
+            .map(|l| Emission::new(Some(l.2), l.3))
+            .collect::<Result<_, _>>()?,
+    );
+    Ok(scene)
+}
+
+/// 2000 spots over a 20 m square, 2–8 m up, aimed at random marks, a third with ranges.
+fn random_spots() -> Result<Scene, Box<dyn std::error::Error>> {
+    let mut d = Mix(11);
+    let lights = (0..2000)
+        .map(|_| {
+            let from = dvec3(
+                d.range(-10.0, 10.0),
+                d.range(-10.0, 10.0),
+                d.range(2.0, 8.0),
+            );
+            let mark = dvec3(d.range(-10.0, 10.0), d.range(-10.0, 10.0), 0.0);
+            let outer = d.range(0.05, 0.8);
+            let range = (d.unit() < 0.3).then(|| d.range(6.0, 20.0));
+            let power = 10f64.powf(d.range(0.0, 2.0));
+            let inner = outer * d.range(0.0, 0.9);
+            (from, power, aimed(from, mark, inner, outer), range)
+        })
+        .collect();
+    spot_scene("random", 10.0, lights)
+}
+
+/// 1500 spots on a ring of radius 20 m, 12–15 m up, aimed at marks within 14 m of its
+/// centre; every fifth is wide.
+fn arena() -> Result<Scene, Box<dyn std::error::Error>> {
+    let mut d = Mix(12);
+    let lights = (0..1500)
+        .map(|i| {
+            let a = std::f64::consts::TAU * f64::from(i) / 1500.0;
+            let from = dvec3(20.0 * a.cos(), 20.0 * a.sin(), 12.0 + d.range(0.0, 3.0));
+            let r = 14.0 * d.unit().sqrt();
+            let b = d.range(0.0, std::f64::consts::TAU);
+            let mark = dvec3(r * b.cos(), r * b.sin(), 0.0);
+            let outer = if i % 5 == 0 {
+                d.range(0.3, 0.6)
+            } else {
+                d.range(0.03, 0.12)
+            };
+            let power = d.range(50.0, 500.0);
+            (from, power, aimed(from, mark, 0.7 * outer, outer), None)
+        })
+        .collect();
+    spot_scene("arena", 18.0, lights)
+}
+
+/// `(Var_power / Var_spatial, wasted share of picks)` over `side × side` points.
+fn measure(scene: &Scene, side: u32) -> (f64, f64) {
+    let sampler = SpatialSampler::for_scene(scene);
+    let pmf = scene.powers.pmf();
+    let raster = ReceiverPlane {
+        width: side,
+        height: side,
+        ..scene.plane.clone()
+    };
+    let (mut spatial, mut power, mut wasted) = (0.0, 0.0, 0.0);
+    for k in 0..side * side {
+        let x: DVec2 = pixel_center(&raster, k % side, k / side);
+        let q = sampler.pdfs(x);
+        let (mut e, mut s2, mut p2, mut useful) = (0.0, 0.0, 0.0, 0.0);
+        for (i, &p) in pmf.iter().enumerate() {
+            let c = p * scene.light_term(i, x);
+            if c > 0.0 {
+                e += c;
+                s2 += c * c / q[i];
+                p2 += c * c / p;
+                useful += q[i];
+            }
+        }
+        spatial += (s2 - e * e).max(0.0);
+        power += (p2 - e * e).max(0.0);
+        wasted += if e > 0.0 { 1.0 - useful } else { 0.0 };
+    }
+    (power / spatial, wasted / f64::from(side * side))
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let names: Vec<String> = std::env::args().skip(1).collect();
+    let names = if names.is_empty() {
+        ["stage", "gallery", "random", "arena", "heavy-tail", "grid"]
+            .map(String::from)
+            .to_vec()
+    } else {
+        names
+    };
+    println!(
+        "{:<12} {:>8} {:>24} {:>14}",
+        "scene", "lights", "Var power / Var spatial", "wasted picks"
+    );
+    for name in names {
+        let scene = match name.as_str() {
+            "random" => random_spots()?,
+            "random100k" => {
+                let mut d = Mix(5);
+                let lights = (0..100_000)
+                    .map(|_| {
+                        let from = dvec3(
+                            d.range(-50.0, 50.0),
+                            d.range(-50.0, 50.0),
+                            d.range(2.0, 8.0),
+                        );
+                        let mark = from + dvec3(d.range(-3.0, 3.0), d.range(-3.0, 3.0), -from.z);
+                        let outer = d.range(0.05, 0.5);
+                        (
+                            from,
+                            d.range(1.0, 10.0),
+                            aimed(from, mark, 0.5 * outer, outer),
+                            None,
+                        )
+                    })
+                    .collect();
+                spot_scene("random100k", 50.0, lights)?
+            }
+            "arena" => arena()?,
+            preset => Scene::preset(preset)?,
+        };
+        let side = if scene.light_count() > 100_000 {
+            17
+        } else {
+            37
+        };
+        if std::env::var("TIME").is_ok() {
+            let t = std::time::Instant::now();
+            let s = SpatialSampler::for_scene(&scene);
+            println!(
+                "build {:.1} ms ({} B heap)",
+                t.elapsed().as_secs_f64() * 1e3,
+                s.heap_bytes()
+            );
+        }
+        let (ratio, wasted) = measure(&scene, side);
+        println!(
+            "{name:<12} {:>8} {ratio:>23.1}× {:>13.1} %",
+            scene.light_count(),
+            100.0 * wasted
+        );
+    }
+    Ok(())
+}
+
+#[allow(dead_code)]
+fn build_times() {}
