@@ -19,7 +19,7 @@ use glam::{DVec2, DVec3, dvec2, dvec3};
 use lightpick_core::scene::{Emission, ReceiverPlane, Scene, Spot, pixel_center};
 use lightpick_core::spatial::SpatialSampler;
 
-/// SplitMix64: a fixed stream for the generated spot sets.
+/// `SplitMix64`: a fixed stream for the generated spot sets.
 struct Mix(u64);
 
 impl Mix {
@@ -48,7 +48,7 @@ fn aimed(from: DVec3, mark: DVec3, inner: f64, outer: f64) -> Spot {
 fn spot_scene(
     name: &str,
     side: f64,
-    lights: Vec<(DVec3, f64, Spot, Option<f64>)>,
+    lights: &[(DVec3, f64, Spot, Option<f64>)],
 ) -> Result<Scene, Box<dyn std::error::Error>> {
     let plane = ReceiverPlane {
         min: dvec2(-side, -side),
@@ -74,7 +74,7 @@ fn spot_scene(
 /// 2000 spots over a 20 m square, 2–8 m up, aimed at random marks, a third with ranges.
 fn random_spots() -> Result<Scene, Box<dyn std::error::Error>> {
     let mut d = Mix(11);
-    let lights = (0..2000)
+    let lights: Vec<_> = (0..2000)
         .map(|_| {
             let from = dvec3(
                 d.range(-10.0, 10.0),
@@ -89,14 +89,14 @@ fn random_spots() -> Result<Scene, Box<dyn std::error::Error>> {
             (from, power, aimed(from, mark, inner, outer), range)
         })
         .collect();
-    spot_scene("random", 10.0, lights)
+    spot_scene("random", 10.0, &lights)
 }
 
 /// 1500 spots on a ring of radius 20 m, 12–15 m up, aimed at marks within 14 m of its
 /// centre; every fifth is wide.
 fn arena() -> Result<Scene, Box<dyn std::error::Error>> {
     let mut d = Mix(12);
-    let lights = (0..1500)
+    let lights: Vec<_> = (0..1500)
         .map(|i| {
             let a = std::f64::consts::TAU * f64::from(i) / 1500.0;
             let from = dvec3(20.0 * a.cos(), 20.0 * a.sin(), 12.0 + d.range(0.0, 3.0));
@@ -112,7 +112,7 @@ fn arena() -> Result<Scene, Box<dyn std::error::Error>> {
             (from, power, aimed(from, mark, 0.7 * outer, outer), None)
         })
         .collect();
-    spot_scene("arena", 18.0, lights)
+    spot_scene("arena", 18.0, &lights)
 }
 
 /// `(Var_power / Var_spatial, wasted share of picks)` over `side × side` points.
@@ -161,27 +161,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for name in names {
         let scene = match name.as_str() {
             "random" => random_spots()?,
-            "random100k" => {
-                let mut d = Mix(5);
-                let lights = (0..100_000)
-                    .map(|_| {
-                        let from = dvec3(
-                            d.range(-50.0, 50.0),
-                            d.range(-50.0, 50.0),
-                            d.range(2.0, 8.0),
-                        );
-                        let mark = from + dvec3(d.range(-3.0, 3.0), d.range(-3.0, 3.0), -from.z);
-                        let outer = d.range(0.05, 0.5);
-                        (
-                            from,
-                            d.range(1.0, 10.0),
-                            aimed(from, mark, 0.5 * outer, outer),
-                            None,
-                        )
-                    })
-                    .collect();
-                spot_scene("random100k", 50.0, lights)?
-            }
             "arena" => arena()?,
             preset => Scene::preset(preset)?,
         };
@@ -190,15 +169,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         } else {
             37
         };
-        if std::env::var("TIME").is_ok() {
-            let t = std::time::Instant::now();
-            let s = SpatialSampler::for_scene(&scene);
-            println!(
-                "build {:.1} ms ({} B heap)",
-                t.elapsed().as_secs_f64() * 1e3,
-                s.heap_bytes()
-            );
-        }
         let (ratio, wasted) = measure(&scene, side);
         println!(
             "{name:<12} {:>8} {ratio:>23.1}× {:>13.1} %",
@@ -208,6 +178,3 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     Ok(())
 }
-
-#[allow(dead_code)]
-fn build_times() {}

@@ -61,14 +61,17 @@ const FULL_SIZES: [usize; 8] = [
 const QUICK_SIZES: [usize; 4] = [3, 1000, 100_000, 1_000_000];
 /// The largest `N` accepted by `--sizes`.
 const MAX_SIZE: usize = 1 << 26;
-/// Presets of a `--quick` run (`million` is left out: its reference dominates the run).
-const QUICK_PRESETS: [&str; 6] = [
+/// Presets of a `--quick` run (`million` is left out: its reference dominates the run; the
+/// two spot scenes stay, for the spatial scheme's figures where power picking fails).
+const QUICK_PRESETS: [&str; 8] = [
     "seed",
     "equal",
     "dominant",
     "zeros",
     "heavy-tail",
     "extreme-range",
+    "stage",
+    "gallery",
 ];
 /// Runs of each render; the fastest is kept.
 const RENDER_RUNS: usize = 3;

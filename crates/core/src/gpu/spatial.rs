@@ -214,8 +214,7 @@ impl SpatialGpu {
         };
         // Spots or ranges: the profiles in the lights' order, the tree's node bounds and
         // the maps' codes.
-        type Shaped = (Vec<GpuShape>, Vec<GpuNodeBounds>, Vec<u8>);
-        let shaped: Option<Shaped> = match sampler {
+        let shaped: Option<(Vec<GpuShape>, Vec<GpuNodeBounds>, Vec<u8>)> = match sampler {
             SpatialSampler::Exact(exact) => exact.emission(0).map(|_| {
                 let shapes = (0..exact.lights().len())
                     .filter_map(|k| exact.emission(k).map(GpuShape::of))

@@ -1,6 +1,7 @@
 //! Bounds of what a tree lane's lights can light (pbrt-v4's `LightBounds`, with a box on
 //! the plane): for lights with spot cones or ranges only. A lane whose bounds exclude a
-//! point gets no importance there (it keeps its power share: never bias, only variance).
+//! point is culled there (probability 0): the bounds hold every point any of its lights
+//! lights, so no light that gives the point anything is lost.
 
 use glam::{DQuat, DVec2, DVec3};
 
@@ -92,7 +93,9 @@ impl LaneBounds {
     }
 
     /// 0 when no light of the lane can light `point_on_plane`, else 1: outside the lane's
-    /// footprint, beyond the longest range from the box, or outside every cone: with `θw` the angle between the cone's
+    /// footprint (which, when bounded, already holds every point its cones and ranges
+    /// reach), or, for a lane whose footprint is unbounded, beyond the longest range from
+    /// the box or outside every cone: with `θw` the angle between the cone's
     /// axis and the direction from the box's centre to the point, `θb` the half-angle the
     /// box's bounding sphere subtends there (π inside it), no light direction within `θo` of
     /// the axis comes within `θe` of the point's direction when `max(0, θw − θo − θb) ≥ θe`

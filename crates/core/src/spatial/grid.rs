@@ -31,31 +31,35 @@
 //! code 0 for nothing. 256 bytes a lane; the GPU reads the same codes.
 //!
 //! # Measured: importances and splits for spots
-//! Exact variances `Σ c_i²/P_i − E²` (mean over 32 × 32 shading points, relative to power
-//! sampling's: how many times fewer samples the tree needs for the same noise), leaf clusters
-//! of 8, 4-wide nodes; `stage` (300 spots), `gallery` (1356), and two spot sets this was not
-//! tuned to: `random` (2000 spots at random heights aimed at random marks, a third with
-//! ranges) and `arena` (1500 spots on a ring aimed into it, every fifth wide). "Cull": lanes
-//! whose bounds exclude the point get probability 0 and the power share goes by peak
-//! intensity `Σ p_i·g_i`.
+//! Exact variances `Σ c_i²/P_i − E²` (mean over 37 × 37 shading points, over power
+//! sampling's mean: how many times fewer samples the tree needs for the same noise), 4-wide
+//! nodes, leaf clusters of 8, on `stage` (300 spots), `gallery` (1356) and two spot sets
+//! this was not tuned to: `random` (2000 spots 2–8 m up aimed at random marks, a third with
+//! ranges) and `arena` (1500 spots on a ring aimed into it, every fifth wide). "Cull": a lane
+//! whose bounds exclude the point gets probability 0 and the defensive share goes by peak
+//! intensity `Σ p_i·g_i`. The alternatives were measured with maps of exact cell means (4 × 4
+//! points a cell) in a lab before this module was written; the last row is this module
+//! (`cargo run --release -p lightpick-core --example tree_variance -- stage gallery random
+//! arena`).
 //!
 //! | split | lane importance | `stage` | `gallery` | `random` | `arena` |
 //! | --- | --- | ---: | ---: | ---: | ---: |
-//! | position median | representative light × reach (before) | 4.7× | 170× | 5.7× | 5.3× |
-//! | position median | pbrt `Φ·cos θ′/d²` × receiver cosine, cull | 4.0× | — | — | — |
-//! | SAOH (position, count) | pbrt, cull | 3.6× | — | — | — |
-//! | SAOH (position and axis) | pbrt, cull | 3.9× | 93× | 5.0× | 6.5× |
-//! | SAOH (position and axis) | pbrt, one light a leaf, cull | 3.3× | — | 3.6× | 4.7× |
-//! | any | any bound, with an oracle that culls exactly | 5–9× | — | — | 6–9× |
-//! | position median | map 8 × 8, cull | 32× | 799× | 75× | 27× |
-//! | SAOH (position and axis) | map 8 × 8, cull | 42× | 1322× | 72× | 30× |
-//! | footprint SAH | map 8 × 8, cull | 67× | 1357× | 81× | 62× |
-//! | SAOH (position and axis) | map 16 × 16, cull | 119× | — | — | 80× |
-//! | **footprint SAH** | **map 16 × 16, cull** | **220×** | — | — | **240×** |
+//! | position median | representative light × reach (the tree before) | 4.8× | 172× | 6.4× | 5.5× |
+//! | position median | pbrt-v4 `Φ·cos θ′/d²` × receiver cosine, cull | 4.1× | 142× | 7.1× | 6.2× |
+//! | SAOH (count · `M_Ω` · `K_r` · area) | pbrt-v4, cull | 3.7× | 95× | 5.6× | 6.2× |
+//! | SAOH, with the axis's `x`, `y` as keys too | pbrt-v4, cull | 4.0× | 96× | 5.5× | 6.7× |
+//! | any of the above | the best bound, with an oracle culling exactly | ≤ 9.6× | — | — | ≤ 9.3× |
+//! | position median | map 16 × 16, cull | 33× | 1025× | 137× | 61× |
+//! | SAOH, axis keys | map 16 × 16, cull | 86× | 2486× | 153× | 67× |
+//! | footprint SAH | map 8 × 8, cull | 62× | 1576× | 57× | 64× |
+//! | footprint SAH | map 16 × 16, cull | 163× | 3587× | 179× | 212× |
+//! | **footprint SAH** | **map 16 × 16 (this module's midpoints, 8-bit codes), cull** | **158×** | **3576×** | **176×** | **207×** |
 //!
-//! The bounds' trouble is not only where they fail to cull (40–65 % of picks land on lights
-//! that give the point nothing) but how they weigh what they keep: with an oracle that culls
-//! every lane giving nothing, the best bound still gains less than 10×.
+//! The bounds fail twice on spots: they cull too little (40–65 % of picks land on lights
+//! that give the point nothing) and, more, they weigh what they keep badly: with an oracle
+//! that culls every lane giving nothing the best of them still gains less than 10×. Maps
+//! need lanes whose lights shine on one region: split by position, the lanes of spots hung
+//! together but aimed apart have maps spread over the whole plane.
 
 use glam::{DVec2, DVec3};
 
@@ -74,7 +78,7 @@ const EIGHTH_OCTAVES: [f64; 8] = [
     0.917_004_043_204_671_2,
     0.840_896_415_253_714_5,
     0.771_105_412_703_970_4,
-    0.707_106_781_186_547_6,
+    std::f64::consts::FRAC_1_SQRT_2,
     0.648_419_777_325_504_8,
     0.594_603_557_501_360_5,
     0.545_253_866_332_628_8,
@@ -306,11 +310,11 @@ impl MappedLanes {
         let mut share = [0.0; 4];
         let last = side - 1.0;
         for k in 0..4 {
-            // Branch-free: `&` on the comparisons, every index clamped into the map.
-            let inside = (x >= lo_x[k]) & (x <= hi_x[k]) & (y >= lo_y[k]) & (y <= hi_y[k]);
+            // Every index clamped into the map, so nothing below depends on a branch.
+            let inside = x >= lo_x[k] && x <= hi_x[k] && y >= lo_y[k] && y <= hi_y[k];
             let cx = (x - map_x[k]) * per_x[k];
             let cy = (y - map_y[k]) * per_y[k];
-            let in_map = (cx >= 0.0) & (cy >= 0.0) & (cx < side) & (cy < side);
+            let in_map = cx >= 0.0 && cy >= 0.0 && cx < side && cy < side;
             // Within 0..16 after the clamp (NaN gives 0): a 32-bit conversion is exact.
             let cell = (cy.clamp(0.0, last) as i32 * GRID_SIDE as i32 + cx.clamp(0.0, last) as i32)
                 as usize;
@@ -401,6 +405,85 @@ fn add_light(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A point light 10 above a 4 × 3 region, mapped over it: each cell's value is its mean
+    /// of `p·G`, within the midpoint rule's error and half an eighth octave of rounding.
+    /// `|∂²G/∂x²| = z/(4π)·|15x²/r⁷ − 3/r⁵| ≤ 12z/(4π r⁵) ≤ 3/(π z⁴)` (the same along `y`),
+    /// so a cell of sides `h_x, h_y` split into `n × n` midpoints has a mean off by at most
+    /// `(h_x² + h_y²)/(24 n²) · 3/(π z⁴)`; the reference mean uses 64 × 64 points a cell.
+    #[test]
+    fn a_smooth_light_maps_to_its_mean_per_cell() {
+        let z = 10.0;
+        let light = SpatialLight {
+            position_in_world: DVec3::new(0.3, -0.2, z),
+            power: 0.7,
+        };
+        let (lo, hi) = (DVec2::new(-2.0, -1.0), DVec2::new(2.0, 2.0));
+        let grid = LaneGrid::of_lights(&[light], &[Emission::POINT], &[Some([lo, hi])]);
+        assert_eq!(grid.unbounded_intensity, 0.0);
+        let cell = (hi - lo) / GRID_SIDE as f64;
+        let curvature = 3.0 / (std::f64::consts::PI * z.powi(4));
+        let midpoint =
+            |n: f64| light.power * (cell.x * cell.x + cell.y * cell.y) / (24.0 * n * n) * curvature;
+        let rounding = 2f64.powf(1.0 / 16.0);
+        for cy in 0..GRID_SIDE {
+            for cx in 0..GRID_SIDE {
+                let corner = lo + cell * DVec2::new(cx as f64, cy as f64);
+                let reference: f64 = (0..64 * 64)
+                    .map(|k| {
+                        let at = DVec2::new((k % 64) as f64 + 0.5, (k / 64) as f64 + 0.5) / 64.0;
+                        light.contribution(corner + cell * at)
+                    })
+                    .sum::<f64>()
+                    / 4096.0;
+                let x = corner + 0.5 * cell;
+                let mapped = grid.importance(x);
+                // The map used at least one midpoint a cell.
+                let slack = midpoint(1.0) + midpoint(64.0);
+                assert!(
+                    mapped <= (reference + slack) * rounding
+                        && mapped >= (reference - slack) / rounding,
+                    "cell ({cx}, {cy}): {mapped} vs {reference} ± {slack}"
+                );
+            }
+        }
+        // Outside the map: nothing.
+        assert_eq!(grid.importance(DVec2::new(5.0, 0.0)), 0.0);
+    }
+
+    /// A narrow spot in a large map is sampled where it shines: its cell holds its flux.
+    #[test]
+    fn a_narrow_spot_is_never_missed_between_midpoints() {
+        let spot = crate::scene::Spot {
+            direction: DVec3::NEG_Z,
+            inner_cone: 0.001,
+            outer_cone: 0.002,
+        };
+        let e = Emission::new(Some(spot), None).expect("valid");
+        let light = SpatialLight {
+            position_in_world: DVec3::new(0.05, 0.05, 1.0),
+            power: 1.0,
+        };
+        let footprint = e.footprint(light.position_in_world).expect("bounded");
+        let (lo, hi) = (DVec2::new(-8.0, -8.0), DVec2::new(8.0, 8.0));
+        // A second light spans the map, so cells are 1 × 1 and the spot's disc (radius
+        // 0.002) lies inside one of them.
+        let wide = SpatialLight {
+            position_in_world: DVec3::new(0.0, 0.0, 50.0),
+            power: 1e-12,
+        };
+        let grid = LaneGrid::of_lights(
+            &[light, wide],
+            &[e, Emission::POINT],
+            &[Some(footprint), Some([lo, hi])],
+        );
+        let at = light.position_in_world.truncate();
+        // Midpoints spread over the cell (1 apart at most) would all miss the disc; the
+        // spot's own midpoints land on it. The wide light alone gives the cell ~1e-12·G.
+        let value = grid.importance(at);
+        let wide_only = 2.0 * wide.contribution(at);
+        assert!(value > 1e3 * wide_only, "{value} vs {wide_only}");
+    }
 
     #[test]
     fn codes_round_trip_within_half_an_eighth_octave() {

@@ -32,10 +32,11 @@
 //!
 //! # Spots and ranges
 //! With emission profiles the contribution is `c_i(x) = p_i·G_i(x)·S_i(x)`
-//! ([`crate::scene::light_term`]): the exact pick and the leaf clusters evaluate it as it is,
-//! and a tree over such lights bounds each child's cones and ranges (pbrt-v4's
-//! `LightBounds`, see [`LightTree`]'s docs) so that a child no light of which can reach `x` gets
-//! no importance (it keeps its power share: the pick stays unbiased).
+//! ([`crate::scene::light_term`]): the exact pick and the leaf clusters evaluate it as it is.
+//! A tree over such lights splits them by where they shine, weighs each lane by a map of
+//! what it gives the plane ([`grid`], where the choice is measured against pbrt-v4's and
+//! Cycles' bounds) and culls a lane whose bounds (pbrt-v4's `LightBounds`, see
+//! [`LightTree`]'s docs) cannot reach `x`.
 
 mod bounds;
 mod exact;

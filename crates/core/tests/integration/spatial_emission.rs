@@ -85,6 +85,22 @@ fn tree(scene: &Scene) -> LightTree {
     LightTree::build_with_emission(&scene.positions, &scene.powers, scene.emission.as_deref())
 }
 
+/// The two trees a scene with spots gets: without a region (unbounded lights weighed as
+/// representative lights) and mapped over the receiver's rectangle (as
+/// [`SpatialSampler::for_scene`] builds it).
+fn trees(scene: &Scene) -> [LightTree; 2] {
+    let region = [scene.plane.min, scene.plane.max];
+    [
+        tree(scene),
+        LightTree::build_over(
+            &scene.positions,
+            &scene.powers,
+            scene.emission.as_deref(),
+            Some(region),
+        ),
+    ]
+}
+
 /// `Σ_i P(i | x) ≤ 1`: with spots a descent may end in a leaf cluster none of whose lights
 /// lights `x` (then `ê = 0`, no bias: those lights contribute nothing), so the pdf over the
 /// lights sums to 1 less that leaf's probability; without such leaves it is 1.
@@ -92,7 +108,15 @@ fn tree(scene: &Scene) -> LightTree {
 fn the_pdf_sums_to_one_and_is_positive_exactly_where_a_light_contributes() {
     for (n, seed) in [(40, 1), (400, 2)] {
         let scene = shaped(n, seed);
-        let tree = tree(&scene);
+        for tree in trees(&scene) {
+            pdf_sums_and_positivity(&scene, &tree);
+        }
+    }
+}
+
+fn pdf_sums_and_positivity(scene: &Scene, tree: &LightTree) {
+    {
+        let n = scene.light_count();
         let pmf = scene.powers.pmf();
         let depth = f64::from(tree.depth());
         for x in POINTS {
@@ -317,5 +341,79 @@ fn a_refit_equals_a_fresh_build() {
         let fresh =
             LightTree::build_with_emission(&scene.positions, &powers, scene.emission.as_deref());
         assert!(tree == fresh, "refit differs from a fresh build");
+        // The scene's own sampler, its lanes mapped over the receiver.
+        let mut sampler = SpatialSampler::for_scene(&scene);
+        let mut repowered = scene.clone();
+        repowered.powers = powers;
+        sampler.refit(&repowered);
+        assert!(
+            sampler == SpatialSampler::for_scene(&repowered),
+            "the mapped tree's refit differs from a fresh build"
+        );
     }
+}
+
+/// pbrt-v4's `OneSpot`, for a tree: narrow spots aimed at their own marks leave most of the
+/// plane dark. Wherever no spot gives a point anything, the sampler says so: every pick is
+/// `None` and every pdf 0 (it never returns a light that gives nothing); wherever one does,
+/// each light that gives the point something has a positive pdf and the picks land only on
+/// such lights.
+#[test]
+fn where_no_spot_reaches_the_sampler_says_so() {
+    let mut d = SplitMix(41);
+    let mut positions = Vec::new();
+    let mut emission = Vec::new();
+    for _ in 0..200 {
+        let from = dvec3(d.range(-3.0, 3.0), d.range(-3.0, 3.0), d.range(2.0, 4.0));
+        let mark = dvec3(d.range(-3.0, 3.0), d.range(-3.0, 3.0), 0.0);
+        let outer = d.range(0.02, 0.08);
+        let range = (d.range(0.0, 1.0) < 0.3).then(|| d.range(4.5, 8.0));
+        positions.push(from);
+        let spot = Spot {
+            direction: mark - from,
+            inner_cone: 0.5 * outer,
+            outer_cone: outer,
+        };
+        emission.push(Emission::new(Some(spot), range).expect("valid"));
+    }
+    let powers = (0..200).map(|_| d.range(1.0, 100.0)).collect();
+    let plane = ReceiverPlane {
+        min: dvec2(-3.0, -3.0),
+        max: dvec2(3.0, 3.0),
+        width: 16,
+        height: 16,
+    };
+    let mut scene = Scene::from_parts("spots", plane, positions, powers).expect("valid");
+    scene.emission = Some(emission);
+    let pmf = scene.powers.pmf();
+    let (mut dark, mut lit) = (0, 0);
+    for tree in trees(&scene) {
+        for k in 0..400 {
+            let x = dvec2(d.range(-3.5, 3.5), d.range(-3.5, 3.5));
+            let c: Vec<f64> = (0..200).map(|i| pmf[i] * scene.light_term(i, x)).collect();
+            let pdfs = tree.pdfs(x);
+            for draw in 0..200 {
+                let pick = tree.sample(x, &mut Rng::new(k, draw));
+                if let Some(pick) = pick {
+                    assert!(c[pick.light as usize] > 0.0, "picked a dark light at {x}");
+                }
+            }
+            if c.iter().all(|&c| c == 0.0) {
+                dark += 1;
+                assert!(
+                    pdfs.iter().all(|&q| q == 0.0),
+                    "a pdf where nothing shines at {x}"
+                );
+            } else {
+                lit += 1;
+                for i in 0..200 {
+                    assert_eq!(pdfs[i] > 0.0, c[i] > 0.0, "light {i} at {x}");
+                }
+            }
+        }
+    }
+    assert!(
+        dark > 100 && lit > 100,
+        "both kinds of points ({dark} dark, {lit} lit)"
+    );
 }

@@ -33,16 +33,23 @@
 //! light of a leaf with `c_j > 0` too, so `P(i | x) > 0` wherever `p_i·G_i(x) > 0`: the
 //! estimate `p_i·G_i(x) / P(i | x)` is unbiased, with no rounding term from the decisions.
 //!
-//! # Spots and ranges: lane bounds
-//! Over lights with emission profiles each lane also keeps a [`LaneBounds`] (pbrt-v4's
-//! `LightBounds`): the box of its lights, the cone of their spot axes, their widest outer
-//! cone and longest range, and their power weighted by each spot's on-axis gain. A lane's
-//! importance is then that intensity at the representative centroid, `Σ p_i·g_i · G(c, x)`,
-//! times [`LaneBounds::reach`]: 0 where no light of the lane can light `x` (beyond every
-//! range, or outside every cone wherever in the box the light is), else 1. The mixture's
-//! power share still reaches every lane with power, so a bound that rounds the wrong way
-//! costs variance, never bias. A scene of point lights keeps no bounds and evaluates the
-//! importance as before, bit for bit.
+//! # Spots and ranges: footprints, maps and bounds
+//! A tree over lights with emission profiles is laid out by where the lights shine, not by
+//! where they hang: a surface-area heuristic over their footprints on the plane
+//! ([`footprint_split`]), so a lane holds spots that light one part of the plane. Each lane
+//! keeps a [`LaneBounds`] (pbrt-v4's `LightBounds`: the box of its lights, the cone of their
+//! spot axes, their widest outer cone and longest range, the box of their footprints) and a
+//! map of what its lights give the plane ([`super::grid`]: the mean irradiance per cell of a
+//! 16 × 16 raster over its footprints). At a point, a lane whose bounds exclude it is culled
+//! (probability 0: the bounds are conservative, so no light that gives the point anything is
+//! lost, and where no light reaches the point the descent returns `None` at the first node
+//! that says so); the others get the branch probabilities of
+//! [`super::importance::branch_probabilities`] with their map's value as importance and
+//! their peak intensity `Σ p_i·g_i` as the defensive share. Picking stays unbiased whatever
+//! the maps say, and every light with `c_i(x) > 0` keeps `P(i | x) > 0`. The layout depends
+//! on positions and cones only, so new powers refit the tree (maps included) bit for bit. A
+//! scene of point lights keeps the median layout and the representative-light importance,
+//! bit for bit as before.
 
 use glam::{DVec2, DVec3};
 
@@ -418,14 +425,14 @@ impl LightTree {
         let mut stack = vec![(0usize, self.lights.len())];
         while let Some((k, end)) = stack.pop() {
             let node = &self.nodes[k];
-            for lane in 0..TREE_WIDTH {
+            for (lane, range) in ranges[k].iter_mut().enumerate() {
                 let Some(first) = self.first_of(node.child[lane]) else {
                     continue;
                 };
                 let lane_end = (lane + 1..TREE_WIDTH)
                     .find_map(|next| self.first_of(node.child[next]))
                     .unwrap_or(end);
-                ranges[k][lane] = (first as u32, (lane_end - first) as u32);
+                *range = (first as u32, (lane_end - first) as u32);
                 if let Child::Node(j) = node.child[lane].get() {
                     stack.push((j, lane_end));
                 }
