@@ -9,6 +9,7 @@
 //! [`Scaled::to_f64`] gives the plain number (`±inf` past `f64::MAX`, `0` below the
 //! subnormals), [`Scaled::log10`] a finite figure for any nonzero value.
 
+use std::cmp::Ordering;
 use std::fmt;
 
 /// `significand · 2^exponent`, with `1 ≤ |significand| < 2` (or a zero significand and
@@ -143,6 +144,35 @@ impl Scaled {
     #[must_use]
     pub fn recip(self) -> Scaled {
         Scaled::from_f64(1.0) / self
+    }
+}
+
+impl PartialOrd for Scaled {
+    /// The order of the values (`None` when one is NaN): the sign first, then for two
+    /// finite nonzero values of the same sign the exponent and the significand, which
+    /// normalization makes a total order; an infinite value lies beyond every finite one.
+    fn partial_cmp(&self, other: &Scaled) -> Option<Ordering> {
+        let (a, b) = (self.significand, other.significand);
+        if a.is_nan() || b.is_nan() {
+            return None;
+        }
+        let sign = |m: f64| if m == 0.0 { 0 } else if m > 0.0 { 1 } else { -1 };
+        let (sa, sb) = (sign(a), sign(b));
+        if sa != sb || sa == 0 {
+            return Some(sa.cmp(&sb));
+        }
+        let magnitude = if a.is_infinite() || b.is_infinite() {
+            a.abs().partial_cmp(&b.abs())?
+        } else {
+            self.exponent
+                .cmp(&other.exponent)
+                .then(a.abs().partial_cmp(&b.abs())?)
+        };
+        Some(if sa > 0 {
+            magnitude
+        } else {
+            magnitude.reverse()
+        })
     }
 }
 
@@ -304,6 +334,36 @@ mod tests {
         assert_eq!(Scaled::new(1.0, -1074).to_f64(), 5e-324);
         assert_eq!(Scaled::new(1.0, 1023).to_f64(), 2f64.powi(1023));
         assert_eq!(Scaled::new(1.0, 1024).to_f64(), f64::INFINITY);
+    }
+
+    #[test]
+    fn orders_values_beyond_f64() {
+        let huge = Scaled::from_f64(3e200).square();
+        let tiny = Scaled::from_f64(1e-200).square();
+        let inf = Scaled::from_f64(f64::INFINITY);
+        let neg = |x: Scaled| x.mul_f64(-1.0);
+        let ascending = [
+            neg(inf),
+            neg(huge),
+            Scaled::from_f64(-1.0),
+            neg(tiny),
+            Scaled::ZERO,
+            tiny,
+            Scaled::from_f64(0.5),
+            Scaled::from_f64(0.75),
+            Scaled::from_f64(1.0),
+            huge,
+            huge * Scaled::from_f64(1.5),
+            inf,
+        ];
+        for (i, a) in ascending.iter().enumerate() {
+            for (j, b) in ascending.iter().enumerate() {
+                assert_eq!(a.partial_cmp(b), Some(i.cmp(&j)), "{a:?} vs {b:?}");
+            }
+        }
+        let nan = Scaled::from_f64(f64::NAN);
+        assert_eq!(nan.partial_cmp(&Scaled::ZERO), None);
+        assert_eq!(Scaled::ZERO.partial_cmp(&nan), None);
     }
 
     #[test]

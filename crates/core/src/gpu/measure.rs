@@ -24,8 +24,11 @@ pub struct GpuPassMeasurement {
     /// `V`: mean variance of one normalized sample over the pixels.
     pub variance_per_sample: f64,
     /// `V̂ = V/Φ_total²`: the same in units of the total power, what the efficiency
-    /// `1/(V̂·T)` divides by ([`crate::render::efficiency`]).
-    pub normalized_variance: f64,
+    /// `1/(V̂·T)` divides by ([`crate::render::efficiency_of`]), whatever its magnitude
+    /// (JSON: `null` beyond `f64`, with `normalized_variance_log10`).
+    pub normalized_variance: crate::Scaled,
+    /// `log10 V̂`, finite whatever its magnitude (`-inf` for 0).
+    pub normalized_variance_log10: f64,
     /// Where the time comes from.
     pub clock: PassClock,
 }
@@ -61,6 +64,7 @@ pub fn measure_passes(
     }
     let acc = renderer.readback()?;
     let (width, height) = renderer.size();
+    let normalized = normalized_variance_per_sample(&acc);
     let pixels = u64::from(width) * u64::from(height);
     let spp = renderer.samples_per_pixel();
     Ok(GpuPassMeasurement {
@@ -70,7 +74,8 @@ pub fn measure_passes(
         seconds,
         seconds_per_sample: seconds / (f64::from(spp) * pixels as f64),
         variance_per_sample: mean_variance_per_sample(&acc),
-        normalized_variance: normalized_variance_per_sample(&acc),
+        normalized_variance: normalized,
+        normalized_variance_log10: normalized.log10(),
         clock: renderer.pass_clock(),
     })
 }

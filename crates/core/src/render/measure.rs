@@ -25,8 +25,11 @@ pub struct CpuPassMeasurement {
     /// `V`: mean variance of one normalized sample over the pixels.
     pub variance_per_sample: f64,
     /// `V̂ = V/Φ_total²`: the same in units of the total power, what the efficiency
-    /// `1/(V̂·T)` divides by ([`crate::render::efficiency`]).
-    pub normalized_variance: f64,
+    /// `1/(V̂·T)` divides by ([`crate::render::efficiency_of`]), whatever its magnitude
+    /// (JSON: `null` beyond `f64`, with `normalized_variance_log10`).
+    pub normalized_variance: crate::Scaled,
+    /// `log10 V̂`, finite whatever its magnitude (`-inf` for 0).
+    pub normalized_variance_log10: f64,
 }
 
 /// Renders `samplers`' scene with `scheme` on the current rayon pool: one untimed warm-up
@@ -54,6 +57,7 @@ pub fn measure_cpu_passes(
         }
     }
     let acc = renderer.accumulator();
+    let normalized = normalized_variance_per_sample(acc);
     let pixels = u64::from(acc.width) * u64::from(acc.height);
     let spp = acc.samples_per_pixel;
     CpuPassMeasurement {
@@ -63,6 +67,7 @@ pub fn measure_cpu_passes(
         core_seconds,
         core_seconds_per_sample: core_seconds / (f64::from(spp) * pixels as f64),
         variance_per_sample: mean_variance_per_sample(acc),
-        normalized_variance: normalized_variance_per_sample(acc),
+        normalized_variance: normalized,
+        normalized_variance_log10: normalized.log10(),
     }
 }
