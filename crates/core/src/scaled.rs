@@ -156,7 +156,15 @@ impl PartialOrd for Scaled {
         if a.is_nan() || b.is_nan() {
             return None;
         }
-        let sign = |m: f64| if m == 0.0 { 0 } else if m > 0.0 { 1 } else { -1 };
+        let sign = |m: f64| {
+            if m == 0.0 {
+                0
+            } else if m > 0.0 {
+                1
+            } else {
+                -1
+            }
+        };
         let (sa, sb) = (sign(a), sign(b));
         if sa != sb || sa == 0 {
             return Some(sa.cmp(&sb));

@@ -128,7 +128,11 @@ impl LightArrays {
         };
         for (pos, &p) in scene.positions.iter().zip(&pmf) {
             if contributes(pos.z, p) {
-                let c = if close { p * to_unit } else { p * pos.z * to_unit };
+                let c = if close {
+                    p * to_unit
+                } else {
+                    p * pos.z * to_unit
+                };
                 arrays.push(pos.x, pos.y, pos.z, c);
             }
         }

@@ -114,15 +114,24 @@ fn check_real(
     e: &Efficiency,
     exact: bool,
 ) -> Result<(), TestCaseError> {
-    prop_assert!(m.rel_mse.is_finite() && !m.rmse_log10.is_nan(), "{scheme}: {m:?}");
+    prop_assert!(
+        m.rel_mse.is_finite() && !m.rmse_log10.is_nan(),
+        "{scheme}: {m:?}"
+    );
     prop_assert!(e.seconds_per_sample > 0.0, "{scheme}: {e:?}");
     if exact {
         // Rounding of the exact pick (a relative error near 1e-16), or exactly 0.
-        prop_assert!(m.rel_mse < 1e-20 && m.rmse_log10 < f64::INFINITY, "{scheme}: {m:?}");
+        prop_assert!(
+            m.rel_mse < 1e-20 && m.rmse_log10 < f64::INFINITY,
+            "{scheme}: {m:?}"
+        );
         prop_assert!(e.efficiency > Scaled::ZERO, "{scheme}: {e:?}");
         return Ok(());
     }
-    prop_assert!(m.rel_mse > 0.0 && m.rmse_log10.is_finite(), "{scheme}: {m:?}");
+    prop_assert!(
+        m.rel_mse > 0.0 && m.rmse_log10.is_finite(),
+        "{scheme}: {m:?}"
+    );
     for (name, x, log) in [
         (
             "normalized_variance",
@@ -135,7 +144,10 @@ fn check_real(
             x.is_finite() && x > Scaled::ZERO,
             "{scheme}: {name} {x:?} in {e:?}"
         );
-        prop_assert!(log.is_finite() && (log - x.log10()).abs() < 1e-12, "{scheme}: {name}");
+        prop_assert!(
+            log.is_finite() && (log - x.log10()).abs() < 1e-12,
+            "{scheme}: {name}"
+        );
     }
     prop_assert!(e.variance_log10.is_finite(), "{scheme}: {e:?}");
     Ok(())
@@ -180,7 +192,8 @@ fn compare(
         let variance_ratio = |e: &Efficiency, u: &Efficiency| {
             (e.normalized_variance / u.normalized_variance).to_f64()
         };
-        let efficiency_ratio = |e: &Efficiency, u: &Efficiency| (e.efficiency / u.efficiency).to_f64();
+        let efficiency_ratio =
+            |e: &Efficiency, u: &Efficiency| (e.efficiency / u.efficiency).to_f64();
         prop_assert!(close(
             variance_ratio(en, uniform_near),
             variance_ratio(eb, uniform_base)
@@ -248,7 +261,10 @@ fn the_issue_table_reads_one_rel_mse_and_an_efficiency_in_every_row() {
             first.rel_mse
         );
         assert!(m.rmse_log10.is_finite() && m.rmse > 0.0, "{m:?}");
-        assert!(e.efficiency > Scaled::ZERO && e.efficiency.is_finite(), "{e:?}");
+        assert!(
+            e.efficiency > Scaled::ZERO && e.efficiency.is_finite(),
+            "{e:?}"
+        );
         let decades = (z / 1e-3).log10();
         assert!(
             (e.efficiency_log10 - first_e.efficiency_log10 - 4.0 * decades).abs() < 1e-4,

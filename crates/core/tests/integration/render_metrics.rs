@@ -224,7 +224,10 @@ fn variance_time_and_efficiency_follow_their_definitions() {
         efficiency_of(Scaled::ZERO, 0.25),
         efficiency_of(Scaled::from_f64(v), 0.0),
     ] {
-        assert!(!infinite.is_finite() && infinite > Scaled::ZERO, "{infinite:?}");
+        assert!(
+            !infinite.is_finite() && infinite > Scaled::ZERO,
+            "{infinite:?}"
+        );
         assert_eq!(infinite.log10(), f64::INFINITY);
     }
     // Beyond f64 both ways: V̂ = 10^400 with T = 10^-8 is an efficiency of 10^-392.
