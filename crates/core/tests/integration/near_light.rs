@@ -16,6 +16,8 @@
 //!   pixels enter relMSE through `ε ∝ Ē² ∝ z^-4` and `V̂` through their `O(1)` variances:
 //!   every relative figure is its `z → 0` limit up to `O(z²)`, below `10^-10` for
 //!   `z ≤ 10^-6`.
+//! * `beside(z)`: the same with the near light `0.3` beside the centre, down to `10^-300`:
+//!   its share vanishes as `O(z)`, and the figures keep those of `z = 10^-16`.
 
 #![allow(clippy::unwrap_used)] // Tests unwrap: a failure is the test failing.
 
@@ -24,7 +26,7 @@ use lightpick_core::render::{
     CpuRenderer, Efficiency, ErrorMetrics, Reference, efficiency, error_metrics,
     is_zero_variance_scaled,
 };
-use lightpick_core::scene::{ReceiverPlane, Scene};
+use lightpick_core::scene::{ReceiverPlane, Scene, pixel_center};
 use lightpick_core::{Scaled, Scheme};
 use proptest::prelude::*;
 
@@ -73,6 +75,11 @@ fn similar(z: f64, k: i32) -> Scene {
 
 fn under(z: f64, powers: Vec<f64>) -> Scene {
     scene(4.0, [dvec3(1.5, 2.5, z), dvec3(3.0, 1.0, 1.0)], powers)
+}
+
+/// [`under`] with the near light `0.3` to the left of the centre of pixel (1, 1).
+fn beside(z: f64, powers: Vec<f64>) -> Scene {
+    scene(4.0, [dvec3(1.2, 2.5, z), dvec3(3.0, 1.0, 1.0)], powers)
 }
 
 /// Every scheme's error and efficiency after 4 samples per pixel (seed 1).
@@ -153,13 +160,12 @@ fn check_real(
     Ok(())
 }
 
-/// The figures of `near` against those of `base`, whose light is `scale` times lower
-/// (`scale < 1`; `log10_scale = log10(scale)`): `V̂` grows by `scale^-4` and the efficiency
-/// shrinks by it.
+/// The figures of `near` against those of `base`: the same relMSE and ratios, `V̂` larger by
+/// `10^shift` and the efficiency smaller by it.
 fn compare(
     base: &[(Scheme, ErrorMetrics, Efficiency)],
     near: &[(Scheme, ErrorMetrics, Efficiency)],
-    log10_scale: f64,
+    shift: f64,
 ) -> Result<(), TestCaseError> {
     let (_, _, uniform_base) = &base[0];
     let (_, _, uniform_near) = &near[0];
@@ -178,7 +184,6 @@ fn compare(
         );
         // log10 agreement to TOLERANCE·log10(e) ≈ 4.3e-11 is TOLERANCE relative.
         let log_tolerance = TOLERANCE * std::f64::consts::LOG10_E + 1e-12;
-        let shift = -4.0 * log10_scale;
         prop_assert!(
             (en.normalized_variance_log10 - eb.normalized_variance_log10 - shift).abs()
                 <= log_tolerance,
@@ -218,7 +223,8 @@ proptest! {
         let z = 10f64.powf(-decades);
         let base = measure(&similar(1.0, 0));
         let near = measure(&similar(z, k));
-        compare(&base, &near, z.log10())?;
+        // The geometry z times smaller: V̂ times z^-4.
+        compare(&base, &near, -4.0 * z.log10())?;
     }
 
     /// The scene, the near light from `10^-6` down to `10^-154` (where the figures
@@ -233,7 +239,41 @@ proptest! {
         let z0 = 1e-6;
         let base = measure(&under(z0, powers(0)));
         let near = measure(&under(z, powers(k)));
-        compare(&base, &near, (z / z0).log10())?;
+        compare(&base, &near, -4.0 * (z / z0).log10())?;
+    }
+
+    /// The near light `0.3` beside pixel (1, 1)'s centre, from `10^-16` down to `10^-300`:
+    /// its irradiance at every centre is `O(z)` and vanishes, so every figure (`V̂` too)
+    /// tends to that of the other light alone, `O(z)` away (`≈ 500z` relative at pixel
+    /// (1, 1)). The accumulation unit follows the largest irradiance at a pixel centre, not
+    /// `1/(4πz²)`, so the sums of squares keep a variance (no scheme turns "exact").
+    #[test]
+    fn a_light_between_pixel_centres_keeps_every_figure(
+        decades in 16.0f64..=300.0,
+        k in -1000i32..=1000,
+    ) {
+        let z = 10f64.powf(-decades);
+        let base = measure(&beside(1e-16, powers(0)));
+        let near = measure(&beside(z, powers(k)));
+        compare(&base, &near, 0.0)?;
+    }
+
+    /// The nearest pixel centre is the nearest of all the centres, inside the plane and out.
+    #[test]
+    fn the_nearest_pixel_centre_is_nearest(x in -3.0f64..7.0, y in -3.0f64..7.0) {
+        let plane = ReceiverPlane {
+            min: dvec2(-1.0, 0.5),
+            max: dvec2(4.0, 3.5),
+            width: 5,
+            height: 4,
+        };
+        let at = dvec2(x, y);
+        let nearest = plane.nearest_pixel_center(at);
+        let best = (0..plane.width)
+            .flat_map(|px| (0..plane.height).map(move |py| (px, py)))
+            .map(|(px, py)| pixel_center(&plane, px, py).distance(at))
+            .fold(f64::INFINITY, f64::min);
+        prop_assert!(nearest.distance(at) <= best + 1e-12, "{at} → {nearest}: {best}");
     }
 }
 
@@ -284,7 +324,7 @@ fn the_reference_under_a_low_light_is_the_direct_sum() {
         let at = 4 + 1;
         let position = reference.pixels().iter().position(|&p| p == at).unwrap();
         let in_unit = reference.in_unit()[position];
-        let direct = lightpick_core::scene::pixel_center(&scene.plane, 1, 1);
+        let direct = pixel_center(&scene.plane, 1, 1);
         let g = scene.light_term(0, direct) * 0.25 + scene.light_term(1, direct) * 0.75;
         let expected = Scaled::from_f64(g) * Scaled::pow2(-scene.irradiance_shift());
         assert!(
@@ -292,5 +332,53 @@ fn the_reference_under_a_low_light_is_the_direct_sum() {
             "z = {z:e}: {in_unit:e} vs {expected}"
         );
         assert!(in_unit > 0.01, "z = {z:e}: {in_unit:e}");
+    }
+}
+
+/// A dim light (`p ≈ 10^-300`) `10^-100` above a pixel centre sets the accumulation unit
+/// (`2^s ≈ 10^199`), so the bright light's irradiance is `≈ 10^-201` in it and its square
+/// is not an `f64`: RMSE and relMSE are still those of the same scene with the dim light at
+/// height 1, which differs by the dim light's share, `10^-99` relative at most (and the
+/// dim light is never picked by power: its table column keeps it with probability 0).
+#[test]
+fn metrics_hold_where_the_image_is_far_below_the_unit() {
+    // Two bright lights, so that every scheme has a variance.
+    let with_dim_at = |z: f64| {
+        Scene::from_parts(
+            "dim",
+            ReceiverPlane {
+                min: dvec2(0.0, 0.0),
+                max: dvec2(4.0, 4.0),
+                width: 4,
+                height: 4,
+            },
+            vec![
+                dvec3(1.5, 2.5, z),
+                dvec3(3.0, 1.0, 1.0),
+                dvec3(0.5, 0.5, 0.7),
+            ],
+            vec![1e-300, 1.0, 3.0],
+        )
+        .unwrap()
+    };
+    let (low, high) = (with_dim_at(1e-100), with_dim_at(1.0));
+    assert!(low.irradiance_shift() > 600, "{}", low.irradiance_shift());
+    let metrics = |scene: &Scene, scheme: Scheme| {
+        let reference = Reference::compute(scene);
+        let mut renderer = CpuRenderer::new(scene, scheme, 1);
+        renderer.accumulate(4);
+        error_metrics(renderer.accumulator(), &reference)
+    };
+    for scheme in [Scheme::Uniform, Scheme::Alias] {
+        let (a, b) = (metrics(&low, scheme), metrics(&high, scheme));
+        assert!(a.rel_mse > 0.0 && a.rmse > 0.0, "{scheme}: {a:?}");
+        assert!(
+            (a.rel_mse - b.rel_mse).abs() <= 1e-12 * b.rel_mse,
+            "{scheme}: {a:?} vs {b:?}"
+        );
+        assert!(
+            (a.rmse - b.rmse).abs() <= 1e-12 * b.rmse,
+            "{scheme}: {a:?} vs {b:?}"
+        );
     }
 }
