@@ -242,13 +242,13 @@ impl fmt::Display for Scaled {
 }
 
 impl serde::Serialize for Scaled {
-    /// The `f64` value, or `null` where it does not fit (pair it with a `_log10` field).
+    /// The `f64` value ([`Scaled::as_f64`]), or `null` where it does not fit: beyond
+    /// `f64::MAX`, and below the least subnormal too, where the `f64` would read 0 (pair it
+    /// with a `_log10` field).
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        let x = self.to_f64();
-        if x.is_finite() {
-            serializer.serialize_f64(x)
-        } else {
-            serializer.serialize_none()
+        match self.as_f64() {
+            Some(x) => serializer.serialize_f64(x),
+            None => serializer.serialize_none(),
         }
     }
 }
@@ -342,6 +342,17 @@ mod tests {
         assert_eq!(Scaled::new(1.0, -1074).to_f64(), 5e-324);
         assert_eq!(Scaled::new(1.0, 1023).to_f64(), 2f64.powi(1023));
         assert_eq!(Scaled::new(1.0, 1024).to_f64(), f64::INFINITY);
+    }
+
+    #[test]
+    fn json_gives_null_where_f64_cannot_hold_the_value() {
+        let json = |x: Scaled| serde_json::to_string(&x).unwrap_or_default();
+        assert_eq!(json(Scaled::from_f64(1.5)), "1.5");
+        assert_eq!(json(Scaled::ZERO), "0.0");
+        assert_eq!(json(Scaled::from_f64(1e200).square()), "null");
+        // 10^-400 is not 0: null (with its log10 beside it), never 0.
+        assert_eq!(json(Scaled::from_f64(1e-200).square()), "null");
+        assert_eq!(json(Scaled::from_f64(f64::INFINITY)), "null");
     }
 
     #[test]
