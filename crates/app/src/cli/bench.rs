@@ -13,13 +13,16 @@
 //! * GPU: samples per second of `gpu::histogram` (alias, two randoms), where an adapter
 //!   exists.
 //! * Renders: for each preset, at a small resolution, the variance per sample `V`, the
-//!   time per sample `T` and the efficiency `1/(V̂·T)` (`V̂ = V/Φ_total²`) of each scheme on the CPU, and the
-//!   RMSE each reaches at the same rendering time (the shortest of the schemes' runs,
-//!   interpolated log-log on its convergence series). The spatial (contribution-aware)
-//!   scheme is one of them; each row also gives the sampler's build time (the light tree's
-//!   `O(N log N)` for spatial). A zero-variance row (the exact spatial pick, `N ≤ 16`) has an
-//!   infinite efficiency, written `null` in the JSON. Beside `T` (wall time on rayon's
-//!   threads) each row has the core time (the threads' CPU time, `render::pool_core_seconds`).
+//!   time per sample `T` and the efficiency `1/(V̂·T)` (`V̂ = V/Φ_total²`) of each scheme on
+//!   the CPU, and the RMSE each reaches at the same rendering time (the shortest of the
+//!   schemes' runs, interpolated log-log on its convergence series). The spatial
+//!   (contribution-aware) scheme is one of them; each row also gives the sampler's build
+//!   time (the light tree's `O(N log N)` for spatial). A zero-variance row (the exact
+//!   spatial pick, `N ≤ 16`) has an infinite efficiency, written `null` in the JSON; `V̂`
+//!   and the efficiencies are `Scaled` (a scene with a light `10^-100` above a pixel has
+//!   `V̂ ≈ 10^400`): `null` beyond `f64` with their `*_log10` beside them, text
+//!   `1.234e-392`. Beside `T` (wall time on rayon's threads) each row has the core time
+//!   (the threads' CPU time, `render::pool_core_seconds`).
 //! * The app's figures (`app_renders`, `gpu_renders`): each preset at its own resolution, in
 //!   passes of one sample per pixel as the app's images render it, uniform, alias and
 //!   spatial: on the CPU the core time per sample (`render::measure_cpu_passes`), on the GPU

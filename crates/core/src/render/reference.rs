@@ -62,7 +62,8 @@ pub const PIXEL_BLOCK: usize = 16;
 pub const LIGHT_CHUNK: usize = 1024;
 
 /// Below this height (`2^-300`) a light's `r³` may underflow, and so may `p·z·2^-s`: the
-/// reference then sums `(c/r²)·(z/r)` with `c = p·2^-s` instead of `c/r³` with `c = p·z·2^-s`.
+/// reference then sums `(c/r²)·(z/r)` with `c = p·2^-s` instead of `c/r³` with
+/// `c = p·z·2^-s`.
 const CLOSE_HEIGHT: f64 = 4.909_093_465_297_727e-91;
 
 /// Independent partial sums per pixel and chunk (vectorizable lanes).
