@@ -740,6 +740,16 @@ fn gpu_rate(quick: bool, seed: u64) -> serde_json::Value {
     })
 }
 
+/// `V` as text at any magnitude: `1.2345e-3`, or beyond `f64` the value of its `log10`
+/// (`1.2345e400`), never `inf`.
+fn variance_text(variance: f64, log10: f64) -> String {
+    if variance.is_finite() {
+        format!("{variance:.4e}")
+    } else {
+        format!("{:.4}", Scaled::from_log10(log10))
+    }
+}
+
 /// The efficiency of a zero-variance scheme, with its `log10`: `+inf` (`null` in JSON).
 fn infinite_efficiency() -> (Scaled, f64) {
     (Scaled::from_f64(f64::INFINITY), f64::INFINITY)
@@ -752,6 +762,8 @@ pub struct SchemeRender {
     pub scheme: Scheme,
     /// `V`, mean variance of one sample over the pixels.
     pub variance_per_sample: f64,
+    /// `log10 V`, finite whatever its magnitude (`V` is `null` beyond `f64`).
+    pub variance_log10: f64,
     /// `V̂ = V/Φ_total²`, the same per unit of total power (the efficiencies divide by it, so
     /// they do not change when the powers are scaled); `null` beyond `f64`.
     pub normalized_variance: Scaled,
@@ -853,6 +865,7 @@ fn render_preset(
         schemes.push(SchemeRender {
             scheme,
             variance_per_sample: e.variance_per_sample,
+            variance_log10: e.variance_log10,
             normalized_variance: e.normalized_variance,
             normalized_variance_log10: e.normalized_variance_log10,
             seconds_per_sample: e.seconds_per_sample,
@@ -1006,10 +1019,10 @@ fn app_renders_text(renders: &[AppPresetRender]) -> String {
             };
             let _ = writeln!(
                 out,
-                "  {:<17} {:>6} {:>12.4e} {:>12.2} {:>12}",
+                "  {:<17} {:>6} {:>12} {:>12.2} {:>12}",
                 s.measured.scheme.name(),
                 s.measured.spp,
-                s.measured.variance_per_sample,
+                variance_text(s.measured.variance_per_sample, s.measured.variance_log10),
                 s.measured.core_seconds_per_sample * 1e9,
                 efficiency
             );
@@ -1157,10 +1170,10 @@ fn gpu_renders_text(renders: &[GpuPresetRender]) -> String {
             };
             let _ = writeln!(
                 out,
-                "  {:<17} {:>6} {:>12.4e} {:>12.2} {:>12} {:>9}",
+                "  {:<17} {:>6} {:>12} {:>12.2} {:>12} {:>9}",
                 s.measured.scheme.name(),
                 s.measured.spp,
-                s.measured.variance_per_sample,
+                variance_text(s.measured.variance_per_sample, s.measured.variance_log10),
                 s.measured.seconds_per_sample * 1e9,
                 efficiency,
                 vs_uniform
@@ -1338,9 +1351,9 @@ fn text(
             };
             let _ = writeln!(
                 out,
-                "  {:<17} {:>12.4e} {:>12.2} {:>10.2} {:>12} {:>12} {:>9} {:>12.4e} {:>14.4e} {:>10.3}{}",
+                "  {:<17} {:>12} {:>12.2} {:>10.2} {:>12} {:>12} {:>9} {:>12.4e} {:>14.4e} {:>10.3}{}",
                 s.scheme.name(),
-                s.variance_per_sample,
+                variance_text(s.variance_per_sample, s.variance_log10),
                 s.seconds_per_sample * 1e9,
                 s.core_seconds_per_sample * 1e9,
                 efficiency,

@@ -261,14 +261,86 @@ fn render_reports_rel_mse_and_efficiency_at_every_height() {
                 .as_f64()
                 .is_some_and(f64::is_finite)
         );
-        let shown = field(text, "efficiency ");
-        let decade: f64 = shown
-            .split_once('e')
-            .and_then(|(_, d)| d.parse().ok())
-            .unwrap_or_else(|| panic!("z = {z}: efficiency {shown}"));
+        // 1/(V̂·T): the logs add up to −log10 T, whatever the clock said.
+        let t = v["seconds_per_sample"].as_f64().expect("T");
+        let variance_log = v["normalized_variance_log10"].as_f64().expect("log10 V̂");
         assert!(
-            (decade - log.floor()).abs() <= 1.0,
-            "z = {z}: {shown} vs log10 {log}"
+            (log + variance_log + t.log10()).abs() < 1e-9,
+            "z = {z}: {v}"
         );
+        // The text run has its own clock: a number `m.mmme±X`, `1 ≤ m < 10`. Whatever `T`
+        // (between a picosecond and an hour), `V̂ ∝ z^-4` puts it below `10^-300` from
+        // `z = 10^-100` on, where an `f64` would print 0.
+        let shown = field(text, "efficiency ");
+        let (mantissa, decade) = shown
+            .split_once('e')
+            .and_then(|(m, d)| Some((m.parse::<f64>().ok()?, d.parse::<f64>().ok()?)))
+            .unwrap_or_else(|| panic!("z = {z}: efficiency {shown}"));
+        assert!((1.0..10.0).contains(&mantissa), "z = {z}: {shown}");
+        if z.parse::<f64>().is_ok_and(|z| z <= 1e-100) {
+            assert!(decade < -300.0, "z = {z}: {shown}");
+        }
+    }
+}
+
+/// `bench` on the issue's scene (`z = 10^-150`): its own 4×4 pixels (the app's rows) put the
+/// light above a pixel centre, `V̂ ≈ 10^596`, so `V`, `V̂` and the efficiencies are `null`
+/// with their `log10` (efficiency near `10^-590`), uniform's and alias's alike (equal
+/// powers: the same pmf, the same `V̂`); the exact spatial pick is the only zero variance.
+/// The renders at 64×64 put it between centres, where every figure is an ordinary number.
+#[test]
+fn bench_reports_efficiencies_beyond_f64_by_their_log10() {
+    let dir = super::common::scratch("near-light-bench");
+    let path = dir.join("near.json");
+    std::fs::write(
+        &path,
+        r#"{"name": "near", "plane": {"min": [0, 0], "max": [4, 4], "width": 4, "height": 4},
+           "lights": [{"position": [1.5, 2.5, 1e-150], "power": 1},
+                      {"position": [3, 1, 1], "power": 1}]}"#,
+    )
+    .expect("write scene");
+    let v = super::common::json(&[
+        "bench",
+        "--quick",
+        "--no-gpu",
+        "--sizes",
+        "3",
+        "--presets",
+        "none",
+        "--scene",
+        path.to_str().expect("utf-8"),
+        "--spp",
+        "16",
+        "--json",
+    ]);
+    let f = |x: &serde_json::Value| x.as_f64().unwrap_or(f64::NAN);
+    let app_rows = v["app_renders"][0]["schemes"].as_array().expect("app rows");
+    assert_eq!(app_rows.len(), 3);
+    for s in app_rows {
+        if s["scheme"] == "spatial" {
+            assert_eq!(s["zero_variance"], true, "{s}");
+            continue;
+        }
+        assert_eq!(s["zero_variance"], false, "{s}");
+        for key in ["efficiency", "normalized_variance", "variance_per_sample"] {
+            assert!(s[key].is_null(), "{key} beyond f64 is null: {s}");
+        }
+        let log = f(&s["efficiency_log10"]);
+        assert!(log.is_finite() && log < -500.0, "{s}");
+        let variance_log = f(&s["normalized_variance_log10"]);
+        assert!(variance_log.is_finite() && variance_log > 500.0, "{s}");
+        // 1/(V̂·T): the logs add up to −log10 T.
+        let t = f(&s["core_seconds_per_sample"]);
+        assert!((log + variance_log + t.log10()).abs() < 1e-9, "{s}");
+    }
+    for s in v["renders"][0]["schemes"].as_array().expect("renders") {
+        if s["zero_variance"] == true {
+            continue;
+        }
+        for key in ["efficiency", "core_efficiency", "normalized_variance"] {
+            let x = f(&s[key]);
+            let log = f(&s[&format!("{key}_log10")]);
+            assert!(x > 0.0 && (x.log10() - log).abs() < 1e-9, "{key}: {s}");
+        }
     }
 }
