@@ -342,6 +342,17 @@ mod tests {
             zero_variance_series(&[uniform.clone(), alias.clone(), exact.clone(), zeros]),
             [false, false, true, true]
         );
+        // Next to a light 10^-100 above a pixel the RMSEs near 10^200 square beyond f64:
+        // still two real curves, and the exact pick's 10^184 still rounding.
+        let near = |scheme, scale: f64| series(scheme, &[0.9 * scale, 0.64 * scale]);
+        assert_eq!(
+            zero_variance_series(&[
+                near(Scheme::Uniform, 1e200),
+                near(Scheme::Alias, 3e199),
+                near(Scheme::Spatial, 1e184),
+            ]),
+            [false, false, true]
+        );
         // Alone, nothing judges it.
         assert_eq!(zero_variance_series(std::slice::from_ref(&exact)), [false]);
         assert_eq!(
