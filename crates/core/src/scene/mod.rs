@@ -148,18 +148,24 @@ impl Scene {
     /// does not fit `f64` in any unit, and the reference reports it
     /// ([`crate::render::Reference::overflow`]).
     pub fn irradiance_shift(&self) -> i32 {
-        let max = self
-            .positions
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| p.z > 0.0)
-            .map(|(i, &p)| {
-                let gain = self.emission_of(i).map_or(1.0, Emission::gain);
+        let mut max = 0.0f64;
+        for (i, &p) in self.positions.iter().enumerate() {
+            if p.z <= 0.0 {
+                continue;
+            }
+            let gain = self.emission_of(i).map_or(1.0, Emission::gain);
+            // `g·G ≤ g/(4π z²)` anywhere (two divisions, without overflow for tiny z): the
+            // light's own term, at its nearest centre, only where that bound exceeds the
+            // largest so far — a few lights of a large scene, not all of them.
+            let bound = (gain / p.z) / (4.0 * std::f64::consts::PI * p.z);
+            if bound > max {
                 // G finite down to z ≈ 10^-154 right above the centre (geometry_term).
-                gain * geometry_term(p, self.plane.nearest_pixel_center(p.truncate()))
-            })
-            .filter(|g| g.is_finite())
-            .fold(0.0f64, f64::max);
+                let g = gain * geometry_term(p, self.plane.nearest_pixel_center(p.truncate()));
+                if g.is_finite() && g > max {
+                    max = g;
+                }
+            }
+        }
         if max > 0.0 {
             crate::Scaled::from_f64(max).exponent().clamp(-1000, 1000)
         } else {

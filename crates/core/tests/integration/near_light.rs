@@ -65,6 +65,22 @@ fn scene(side: f64, lights: [DVec3; 2], powers: Vec<f64>) -> Scene {
     .unwrap()
 }
 
+/// A 4×4 plane of side 4 with the given lights.
+fn scene_of(lights: Vec<DVec3>, powers: Vec<f64>) -> Scene {
+    Scene::from_parts(
+        "lights",
+        ReceiverPlane {
+            min: dvec2(0.0, 0.0),
+            max: dvec2(4.0, 4.0),
+            width: 4,
+            height: 4,
+        },
+        lights,
+        powers,
+    )
+    .unwrap()
+}
+
 fn similar(z: f64, k: i32) -> Scene {
     scene(
         4.0 * z,
@@ -256,6 +272,41 @@ proptest! {
         let base = measure(&beside(1e-16, powers(0)));
         let near = measure(&beside(z, powers(k)));
         compare(&base, &near, 0.0)?;
+    }
+
+    /// The accumulation unit's exponent is that of the largest irradiance per unit power
+    /// at any pixel centre, from any light, at any height down to `10^-150`.
+    #[test]
+    fn the_unit_follows_the_largest_irradiance_at_a_centre(
+        lights in prop::collection::vec(
+            (-2.0f64..6.0, -2.0f64..6.0, 0.0f64..150.0, -1.0f64..1.0),
+            1..12,
+        ),
+    ) {
+        let positions: Vec<DVec3> = lights
+            .iter()
+            .map(|&(x, y, decades, sign)| dvec3(x, y, sign.signum() * 10f64.powf(-decades)))
+            .collect();
+        let n = positions.len();
+        let s = scene_of(positions.clone(), vec![1.0; n]);
+        let largest = positions
+            .iter()
+            .flat_map(|&p| {
+                let plane = &s.plane;
+                (0..plane.width).flat_map(move |px| {
+                    (0..plane.height).map(move |py| {
+                        lightpick_core::scene::geometry_term(p, pixel_center(plane, px, py))
+                    })
+                })
+            })
+            .filter(|g| g.is_finite())
+            .fold(0.0f64, f64::max);
+        let expected = if largest > 0.0 {
+            Scaled::from_f64(largest).exponent().clamp(-1000, 1000)
+        } else {
+            0
+        };
+        prop_assert_eq!(s.irradiance_shift(), expected);
     }
 
     /// The nearest pixel centre is the nearest of all the centres, inside the plane and out.
