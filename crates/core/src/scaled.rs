@@ -9,6 +9,7 @@
 //! [`Scaled::to_f64`] gives the plain number (`±inf` past `f64::MAX`, `0` below the
 //! subnormals), [`Scaled::log10`] a finite figure for any nonzero value.
 
+use std::cmp::Ordering;
 use std::fmt;
 
 /// `significand · 2^exponent`, with `1 ≤ |significand| < 2` (or a zero significand and
@@ -146,6 +147,43 @@ impl Scaled {
     }
 }
 
+impl PartialOrd for Scaled {
+    /// The order of the values (`None` when one is NaN): the sign first, then for two
+    /// finite nonzero values of the same sign the exponent and the significand, which
+    /// normalization makes a total order; an infinite value lies beyond every finite one.
+    fn partial_cmp(&self, other: &Scaled) -> Option<Ordering> {
+        let (a, b) = (self.significand, other.significand);
+        if a.is_nan() || b.is_nan() {
+            return None;
+        }
+        let sign = |m: f64| {
+            if m == 0.0 {
+                0
+            } else if m > 0.0 {
+                1
+            } else {
+                -1
+            }
+        };
+        let (sa, sb) = (sign(a), sign(b));
+        if sa != sb || sa == 0 {
+            return Some(sa.cmp(&sb));
+        }
+        let magnitude = if a.is_infinite() || b.is_infinite() {
+            a.abs().partial_cmp(&b.abs())?
+        } else {
+            self.exponent
+                .cmp(&other.exponent)
+                .then(a.abs().partial_cmp(&b.abs())?)
+        };
+        Some(if sa > 0 {
+            magnitude
+        } else {
+            magnitude.reverse()
+        })
+    }
+}
+
 impl std::ops::Mul for Scaled {
     type Output = Scaled;
 
@@ -204,13 +242,13 @@ impl fmt::Display for Scaled {
 }
 
 impl serde::Serialize for Scaled {
-    /// The `f64` value, or `null` where it does not fit (pair it with a `_log10` field).
+    /// The `f64` value ([`Scaled::as_f64`]), or `null` where it does not fit: beyond
+    /// `f64::MAX`, and below the least subnormal too, where the `f64` would read 0 (pair it
+    /// with a `_log10` field).
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        let x = self.to_f64();
-        if x.is_finite() {
-            serializer.serialize_f64(x)
-        } else {
-            serializer.serialize_none()
+        match self.as_f64() {
+            Some(x) => serializer.serialize_f64(x),
+            None => serializer.serialize_none(),
         }
     }
 }
@@ -304,6 +342,47 @@ mod tests {
         assert_eq!(Scaled::new(1.0, -1074).to_f64(), 5e-324);
         assert_eq!(Scaled::new(1.0, 1023).to_f64(), 2f64.powi(1023));
         assert_eq!(Scaled::new(1.0, 1024).to_f64(), f64::INFINITY);
+    }
+
+    #[test]
+    fn json_gives_null_where_f64_cannot_hold_the_value() {
+        let json = |x: Scaled| serde_json::to_string(&x).unwrap_or_default();
+        assert_eq!(json(Scaled::from_f64(1.5)), "1.5");
+        assert_eq!(json(Scaled::ZERO), "0.0");
+        assert_eq!(json(Scaled::from_f64(1e200).square()), "null");
+        // 10^-400 is not 0: null (with its log10 beside it), never 0.
+        assert_eq!(json(Scaled::from_f64(1e-200).square()), "null");
+        assert_eq!(json(Scaled::from_f64(f64::INFINITY)), "null");
+    }
+
+    #[test]
+    fn orders_values_beyond_f64() {
+        let huge = Scaled::from_f64(3e200).square();
+        let tiny = Scaled::from_f64(1e-200).square();
+        let inf = Scaled::from_f64(f64::INFINITY);
+        let neg = |x: Scaled| x.mul_f64(-1.0);
+        let ascending = [
+            neg(inf),
+            neg(huge),
+            Scaled::from_f64(-1.0),
+            neg(tiny),
+            Scaled::ZERO,
+            tiny,
+            Scaled::from_f64(0.5),
+            Scaled::from_f64(0.75),
+            Scaled::from_f64(1.0),
+            huge,
+            huge * Scaled::from_f64(1.5),
+            inf,
+        ];
+        for (i, a) in ascending.iter().enumerate() {
+            for (j, b) in ascending.iter().enumerate() {
+                assert_eq!(a.partial_cmp(b), Some(i.cmp(&j)), "{a:?} vs {b:?}");
+            }
+        }
+        let nan = Scaled::from_f64(f64::NAN);
+        assert_eq!(nan.partial_cmp(&Scaled::ZERO), None);
+        assert_eq!(Scaled::ZERO.partial_cmp(&nan), None);
     }
 
     #[test]

@@ -6,7 +6,7 @@
 
 use egui::Ui;
 use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints};
-use lightpick_core::Scheme;
+use lightpick_core::{Scaled, Scheme};
 
 use super::colors;
 use super::engine::{ConvergencePoint, Published, SchemeImage};
@@ -192,7 +192,7 @@ fn figures_ui(
                     ui.label(
                         image
                             .efficiency(pixels)
-                            .map_or("–".to_owned(), fractions::short),
+                            .map_or("–".to_owned(), fractions::short_scaled),
                     );
                     ui.label(if scheme == Scheme::Uniform {
                         "1×".to_owned()
@@ -220,10 +220,11 @@ fn speedup_text(u: &SchemeImage, image: &SchemeImage, pixels: usize) -> String {
     let speedup = u
         .efficiency(pixels)
         .zip(image.efficiency(pixels))
-        .map(|(eu, e)| e / eu);
-    // V̂ ratios are V ratios (same scene, same Φ_total), finite whatever the powers.
-    let variance_ratio = (image.normalized_variance > 0.0)
-        .then(|| u.normalized_variance / image.normalized_variance);
+        .map(|(eu, e)| (e / eu).to_f64());
+    // V̂ ratios are V ratios (same scene, same Φ_total), finite whatever the powers and
+    // the geometry (each V̂ may lie beyond f64: divided as Scaled).
+    let variance_ratio = (image.normalized_variance > Scaled::ZERO)
+        .then(|| (u.normalized_variance / image.normalized_variance).to_f64());
     match (speedup, variance_ratio) {
         (Some(s), Some(v)) => format!(
             "{}× (variance {}×)",

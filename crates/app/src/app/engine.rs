@@ -14,7 +14,7 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use lightpick_core::render::{
-    CpuRenderer, Reference, mean_variance_scaled, normalized_variance_per_sample,
+    CpuRenderer, Reference, efficiency_of, mean_variance_scaled, normalized_variance_per_sample,
     pool_core_seconds, tonemap_rgba8,
 };
 use lightpick_core::scene::Scene;
@@ -102,8 +102,9 @@ pub struct SchemeImage {
     /// magnitude ([`lightpick_core::render::mean_variance_scaled`]).
     pub variance: lightpick_core::Scaled,
     /// `V̂ = V/Φ_total²`, the same in units of the total power (for the efficiency
-    /// `1/(V̂·T)`, [`lightpick_core::render::normalized_variance_per_sample`]).
-    pub normalized_variance: f64,
+    /// `1/(V̂·T)`, [`lightpick_core::render::normalized_variance_per_sample`]), whatever its
+    /// magnitude.
+    pub normalized_variance: lightpick_core::Scaled,
     /// Convergence curve.
     pub series: Vec<ConvergencePoint>,
 }
@@ -120,10 +121,12 @@ impl SchemeImage {
     }
 
     /// Efficiency `1/(V̂·T)` (normalized variance per sample times time per sample), the
-    /// figure of [`lightpick_core::render::efficiency`] and `lightpick bench`.
-    pub fn efficiency(&self, pixels: usize) -> Option<f64> {
+    /// figure of [`lightpick_core::render::efficiency`] and `lightpick bench`, whatever its
+    /// magnitude; `None` before a variance and a time are measured.
+    pub fn efficiency(&self, pixels: usize) -> Option<lightpick_core::Scaled> {
         let t = self.seconds_per_sample(pixels);
-        (self.normalized_variance > 0.0 && t > 0.0).then(|| 1.0 / (self.normalized_variance * t))
+        (self.normalized_variance > lightpick_core::Scaled::ZERO && t > 0.0)
+            .then(|| efficiency_of(self.normalized_variance, t))
     }
 }
 

@@ -105,16 +105,21 @@ pub fn trade_ui(ui: &mut Ui, state: &mut AppState) {
 
 /// The largest normalized variance per sample measured (`V̂ = V/Φ_total²`, the same at any
 /// scale of the powers): what a zero variance is judged against.
-fn largest_variance(m: &TradeMeasurement) -> f64 {
+fn largest_variance(m: &TradeMeasurement) -> Scaled {
     m.rows
         .iter()
         .map(|r| r.efficiency.normalized_variance)
-        .fold(0.0f64, f64::max)
+        .fold(Scaled::ZERO, larger)
+}
+
+/// The larger of two figures (`a` when they are not ordered).
+fn larger(a: Scaled, b: Scaled) -> Scaled {
+    if b > a { b } else { a }
 }
 
 /// Whether a row is a zero-variance estimator up to rounding (the exact spatial pick).
-fn is_exact(row: &TradeRow, largest: f64) -> bool {
-    lightpick_core::render::is_zero_variance(row.efficiency.normalized_variance, largest)
+fn is_exact(row: &TradeRow, largest: Scaled) -> bool {
+    lightpick_core::render::is_zero_variance_scaled(row.efficiency.normalized_variance, largest)
 }
 
 /// The table of `T`, `V`, `1/(V̂·T)` and the final RMSE per scheme. A zero-variance row (the
@@ -128,7 +133,7 @@ fn figures_ui(ui: &mut Ui, m: &TradeMeasurement) {
         .filter(|r| !is_exact(r, largest))
         .map(|r| r.efficiency.efficiency)
         .filter(|e| e.is_finite())
-        .fold(0.0f64, f64::max);
+        .fold(Scaled::ZERO, larger);
     egui::Grid::new("trade_figures")
         .striped(true)
         .spacing([14.0, 3.0])
@@ -161,12 +166,12 @@ fn figures_ui(ui: &mut Ui, m: &TradeMeasurement) {
                 ui.label(if exact {
                     "∞ (exact)".to_owned()
                 } else {
-                    fractions::short(e.efficiency)
+                    fractions::short_scaled(e.efficiency)
                 });
                 let relative = if exact {
                     "∞".to_owned()
-                } else if best > 0.0 && e.efficiency.is_finite() {
-                    format!("{:.0}%", 100.0 * e.efficiency / best)
+                } else if best > Scaled::ZERO && e.efficiency.is_finite() {
+                    format!("{:.0}%", 100.0 * (e.efficiency / best).to_f64())
                 } else {
                     "–".to_owned()
                 };

@@ -13,13 +13,16 @@
 //! * GPU: samples per second of `gpu::histogram` (alias, two randoms), where an adapter
 //!   exists.
 //! * Renders: for each preset, at a small resolution, the variance per sample `V`, the
-//!   time per sample `T` and the efficiency `1/(V̂·T)` (`V̂ = V/Φ_total²`) of each scheme on the CPU, and the
-//!   RMSE each reaches at the same rendering time (the shortest of the schemes' runs,
-//!   interpolated log-log on its convergence series). The spatial (contribution-aware)
-//!   scheme is one of them; each row also gives the sampler's build time (the light tree's
-//!   `O(N log N)` for spatial). A zero-variance row (the exact spatial pick, `N ≤ 16`) has an
-//!   infinite efficiency, written `null` in the JSON. Beside `T` (wall time on rayon's
-//!   threads) each row has the core time (the threads' CPU time, `render::pool_core_seconds`).
+//!   time per sample `T` and the efficiency `1/(V̂·T)` (`V̂ = V/Φ_total²`) of each scheme on
+//!   the CPU, and the RMSE each reaches at the same rendering time (the shortest of the
+//!   schemes' runs, interpolated log-log on its convergence series). The spatial
+//!   (contribution-aware) scheme is one of them; each row also gives the sampler's build
+//!   time (the light tree's `O(N log N)` for spatial). A zero-variance row (the exact
+//!   spatial pick, `N ≤ 16`) has an infinite efficiency, written `null` in the JSON; `V̂`
+//!   and the efficiencies are `Scaled` (a scene with a light `10^-100` above a pixel has
+//!   `V̂ ≈ 10^400`): `null` beyond `f64` with their `*_log10` beside them, text
+//!   `1.234e-392`. Beside `T` (wall time on rayon's threads) each row has the core time
+//!   (the threads' CPU time, `render::pool_core_seconds`).
 //! * The app's figures (`app_renders`, `gpu_renders`): each preset at its own resolution, in
 //!   passes of one sample per pixel as the app's images render it, uniform, alias and
 //!   spatial: on the CPU the core time per sample (`render::measure_cpu_passes`), on the GPU
@@ -41,11 +44,12 @@ use lightpick_core::draw::{self, ConvergenceAxis, ConvergencePoint, ConvergenceS
 use lightpick_core::gpu::{self, GpuContext};
 use lightpick_core::precision::Distribution;
 use lightpick_core::render::{
-    CpuRenderer, Reference, SeriesPoint, convergence_series, efficiency, pool_core_seconds,
+    CpuRenderer, Reference, SeriesPoint, convergence_series, efficiency, efficiency_of,
+    is_zero_variance_scaled, pool_core_seconds,
 };
 use lightpick_core::scene::Scene;
 use lightpick_core::{
-    AliasTable, CdfTable, Construction, LightPowers, Rng, Sampler, Scheme, Uniform,
+    AliasTable, CdfTable, Construction, LightPowers, Rng, Sampler, Scaled, Scheme, Uniform,
 };
 use rand::distr::Distribution as _;
 use rand::rngs::SmallRng;
@@ -739,6 +743,21 @@ fn gpu_rate(quick: bool, seed: u64) -> serde_json::Value {
     })
 }
 
+/// `V` as text at any magnitude: `1.2345e-3`, or beyond `f64` the value of its `log10`
+/// (`1.2345e400`), never `inf`.
+fn variance_text(variance: f64, log10: f64) -> String {
+    if variance.is_finite() {
+        format!("{variance:.4e}")
+    } else {
+        format!("{:.4}", Scaled::from_log10(log10))
+    }
+}
+
+/// The efficiency of a zero-variance scheme, with its `log10`: `+inf` (`null` in JSON).
+fn infinite_efficiency() -> (Scaled, f64) {
+    (Scaled::from_f64(f64::INFINITY), f64::INFINITY)
+}
+
 /// One scheme's render figures on one preset.
 #[derive(Clone, Debug, Serialize)]
 pub struct SchemeRender {
@@ -746,19 +765,29 @@ pub struct SchemeRender {
     pub scheme: Scheme,
     /// `V`, mean variance of one sample over the pixels.
     pub variance_per_sample: f64,
+    /// `log10 V`, finite whatever its magnitude (`V` is `null` beyond `f64`).
+    pub variance_log10: f64,
     /// `V̂ = V/Φ_total²`, the same per unit of total power (the efficiencies divide by it, so
-    /// they do not change when the powers are scaled).
-    pub normalized_variance: f64,
+    /// they do not change when the powers are scaled); `null` beyond `f64`.
+    pub normalized_variance: Scaled,
+    /// `log10 V̂`, finite whatever its magnitude.
+    pub normalized_variance_log10: f64,
     /// `T`, seconds per pixel sample (wall time on rayon's threads).
     pub seconds_per_sample: f64,
     /// Core seconds per pixel sample: the CPU time of rayon's threads in the passes
     /// (`pool_core_seconds`), what the app's CPU images show (its render pool leaves a core
     /// to the window, and the window shares the cores, so its wall time is not comparable).
     pub core_seconds_per_sample: f64,
-    /// `1/(V̂·T_core)`, the app's CPU efficiency; infinite (`null`) for zero variance.
-    pub core_efficiency: f64,
-    /// `1/(V̂·T)`; infinite (`null` in JSON) for a zero-variance scheme.
-    pub efficiency: f64,
+    /// `1/(V̂·T_core)`, the app's CPU efficiency; infinite (`null`) for zero variance,
+    /// `null` beyond `f64` too.
+    pub core_efficiency: Scaled,
+    /// `log10` of the core efficiency (`null` when infinite).
+    pub core_efficiency_log10: f64,
+    /// `1/(V̂·T)`; infinite (`null` in JSON) for a zero-variance scheme, `null` beyond
+    /// `f64` too.
+    pub efficiency: Scaled,
+    /// `log10` of the efficiency, finite whatever its magnitude (`null` when infinite).
+    pub efficiency_log10: f64,
     /// Whether `V` is the rounding of zero (the exact spatial pick on few lights:
     /// [`lightpick_core::render::is_zero_variance`] against the uniform scheme's `V`).
     pub zero_variance: bool,
@@ -835,14 +864,19 @@ fn render_preset(
         let samples = f64::from(spp) * f64::from(side) * f64::from(side);
         let seconds = series.last().map_or(0.0, |p| p.seconds);
         let e = efficiency(renderer.accumulator(), seconds);
+        let core_efficiency = efficiency_of(e.normalized_variance, core_seconds / samples);
         schemes.push(SchemeRender {
             scheme,
             variance_per_sample: e.variance_per_sample,
+            variance_log10: e.variance_log10,
             normalized_variance: e.normalized_variance,
+            normalized_variance_log10: e.normalized_variance_log10,
             seconds_per_sample: e.seconds_per_sample,
             core_seconds_per_sample: core_seconds / samples,
-            core_efficiency: 1.0 / (e.normalized_variance * core_seconds / samples),
+            core_efficiency,
+            core_efficiency_log10: core_efficiency.log10(),
             efficiency: e.efficiency,
+            efficiency_log10: e.efficiency_log10,
             zero_variance: false,
             efficiency_vs_uniform: 0.0,
             rmse: series.last().map_or(0.0, |p| p.rmse),
@@ -859,13 +893,12 @@ fn render_preset(
     let uniform_variance = schemes[0].normalized_variance;
     for s in &mut schemes {
         s.rmse_at_equal_time = rmse_at(&s.series, equal_time);
-        s.zero_variance =
-            lightpick_core::render::is_zero_variance(s.normalized_variance, uniform_variance);
+        s.zero_variance = is_zero_variance_scaled(s.normalized_variance, uniform_variance);
         if s.zero_variance {
-            s.efficiency = f64::INFINITY;
-            s.core_efficiency = f64::INFINITY;
+            (s.efficiency, s.efficiency_log10) = infinite_efficiency();
+            (s.core_efficiency, s.core_efficiency_log10) = infinite_efficiency();
         }
-        s.efficiency_vs_uniform = s.efficiency / uniform_eff;
+        s.efficiency_vs_uniform = (s.efficiency / uniform_eff).to_f64();
     }
     Ok(PresetRender {
         preset: name.to_owned(),
@@ -897,8 +930,11 @@ pub struct AppSchemeRender {
     /// The measurement: spp, core seconds, `T` (core), `V`.
     #[serde(flatten)]
     pub measured: lightpick_core::render::CpuPassMeasurement,
-    /// `1/(V̂·T)` with `T` in core seconds; infinite (`null`) for zero variance.
-    pub efficiency: f64,
+    /// `1/(V̂·T)` with `T` in core seconds; infinite (`null`) for zero variance, `null`
+    /// beyond `f64` too.
+    pub efficiency: Scaled,
+    /// `log10` of the efficiency, finite whatever its magnitude (`null` when infinite).
+    pub efficiency_log10: f64,
     /// Whether `V` is zero up to rounding (the exact spatial pick).
     pub zero_variance: bool,
 }
@@ -933,9 +969,13 @@ fn app_cpu_renders(
                         min_seconds,
                         GPU_RENDER_MAX_SPP,
                     );
+                    let efficiency = efficiency_of(
+                        measured.normalized_variance,
+                        measured.core_seconds_per_sample,
+                    );
                     AppSchemeRender {
-                        efficiency: 1.0
-                            / (measured.normalized_variance * measured.core_seconds_per_sample),
+                        efficiency,
+                        efficiency_log10: efficiency.log10(),
                         zero_variance: exact_pick && scheme == Scheme::Spatial,
                         measured,
                     }
@@ -943,12 +983,10 @@ fn app_cpu_renders(
                 .collect();
             let uniform_variance = schemes[0].measured.normalized_variance;
             for s in &mut schemes {
-                s.zero_variance |= lightpick_core::render::is_zero_variance(
-                    s.measured.normalized_variance,
-                    uniform_variance,
-                );
+                s.zero_variance |=
+                    is_zero_variance_scaled(s.measured.normalized_variance, uniform_variance);
                 if s.zero_variance {
-                    s.efficiency = f64::INFINITY;
+                    (s.efficiency, s.efficiency_log10) = infinite_efficiency();
                 }
             }
             Ok(AppPresetRender {
@@ -980,14 +1018,14 @@ fn app_renders_text(renders: &[AppPresetRender]) -> String {
             let efficiency = if s.zero_variance {
                 "inf".to_owned()
             } else {
-                format!("{:.4e}", s.efficiency)
+                format!("{:.4}", s.efficiency)
             };
             let _ = writeln!(
                 out,
-                "  {:<17} {:>6} {:>12.4e} {:>12.2} {:>12}",
+                "  {:<17} {:>6} {:>12} {:>12.2} {:>12}",
                 s.measured.scheme.name(),
                 s.measured.spp,
-                s.measured.variance_per_sample,
+                variance_text(s.measured.variance_per_sample, s.measured.variance_log10),
                 s.measured.core_seconds_per_sample * 1e9,
                 efficiency
             );
@@ -1009,8 +1047,11 @@ pub struct GpuSchemeRender {
     /// The measurement ([`gpu::measure_passes`]): spp, pass seconds, `T`, `V`, clock.
     #[serde(flatten)]
     pub measured: gpu::GpuPassMeasurement,
-    /// `1/(V̂·T)`; infinite (`null` in JSON) for a zero-variance scheme.
-    pub efficiency: f64,
+    /// `1/(V̂·T)`; infinite (`null` in JSON) for a zero-variance scheme, `null` beyond
+    /// `f64` too.
+    pub efficiency: Scaled,
+    /// `log10` of the efficiency, finite whatever its magnitude (`null` when infinite).
+    pub efficiency_log10: f64,
     /// Whether `V` is the rounding of zero (the exact spatial pick).
     pub zero_variance: bool,
     /// Efficiency over the uniform scheme's.
@@ -1061,13 +1102,19 @@ fn gpu_renders(presets: &[NamedScene], seed: u64, quick: bool) -> Vec<GpuPresetR
                     min_seconds,
                     GPU_RENDER_MAX_SPP,
                 ) {
-                    Ok(measured) => out.schemes.push(GpuSchemeRender {
-                        measured,
-                        efficiency: 1.0
-                            / (measured.normalized_variance * measured.seconds_per_sample),
-                        zero_variance: false,
-                        efficiency_vs_uniform: 0.0,
-                    }),
+                    Ok(measured) => {
+                        let efficiency = efficiency_of(
+                            measured.normalized_variance,
+                            measured.seconds_per_sample,
+                        );
+                        out.schemes.push(GpuSchemeRender {
+                            measured,
+                            efficiency,
+                            efficiency_log10: efficiency.log10(),
+                            zero_variance: false,
+                            efficiency_vs_uniform: 0.0,
+                        });
+                    }
                     Err(e) => {
                         out.note = Some(format!("{scheme}: {e}"));
                         out.schemes.clear();
@@ -1082,14 +1129,11 @@ fn gpu_renders(presets: &[NamedScene], seed: u64, quick: bool) -> Vec<GpuPresetR
                 // The exact spatial pick is known from N: on the GPU its f32 sums leave a
                 // rounding variance near 1e-7 of the signal, far above the f64 test's.
                 s.zero_variance = (exact_pick && s.measured.scheme == Scheme::Spatial)
-                    || lightpick_core::render::is_zero_variance(
-                        s.measured.normalized_variance,
-                        uniform_variance,
-                    );
+                    || is_zero_variance_scaled(s.measured.normalized_variance, uniform_variance);
                 if s.zero_variance {
-                    s.efficiency = f64::INFINITY;
+                    (s.efficiency, s.efficiency_log10) = infinite_efficiency();
                 }
-                s.efficiency_vs_uniform = s.efficiency / uniform_efficiency;
+                s.efficiency_vs_uniform = (s.efficiency / uniform_efficiency).to_f64();
             }
             out
         })
@@ -1123,16 +1167,16 @@ fn gpu_renders_text(renders: &[GpuPresetRender]) -> String {
                 ("inf".to_owned(), "inf".to_owned())
             } else {
                 (
-                    format!("{:.4e}", s.efficiency),
+                    format!("{:.4}", s.efficiency),
                     format!("{:.3e}", s.efficiency_vs_uniform),
                 )
             };
             let _ = writeln!(
                 out,
-                "  {:<17} {:>6} {:>12.4e} {:>12.2} {:>12} {:>9}",
+                "  {:<17} {:>6} {:>12} {:>12.2} {:>12} {:>9}",
                 s.measured.scheme.name(),
                 s.measured.spp,
-                s.measured.variance_per_sample,
+                variance_text(s.measured.variance_per_sample, s.measured.variance_log10),
                 s.measured.seconds_per_sample * 1e9,
                 efficiency,
                 vs_uniform
@@ -1303,16 +1347,16 @@ fn text(
                 ("inf".to_owned(), "inf".to_owned(), "inf".to_owned())
             } else {
                 (
-                    format!("{:.4e}", s.efficiency),
-                    format!("{:.4e}", s.core_efficiency),
+                    format!("{:.4}", s.efficiency),
+                    format!("{:.4}", s.core_efficiency),
                     format!("{:.3e}", s.efficiency_vs_uniform),
                 )
             };
             let _ = writeln!(
                 out,
-                "  {:<17} {:>12.4e} {:>12.2} {:>10.2} {:>12} {:>12} {:>9} {:>12.4e} {:>14.4e} {:>10.3}{}",
+                "  {:<17} {:>12} {:>12.2} {:>10.2} {:>12} {:>12} {:>9} {:>12.4e} {:>14.4e} {:>10.3}{}",
                 s.scheme.name(),
-                s.variance_per_sample,
+                variance_text(s.variance_per_sample, s.variance_log10),
                 s.seconds_per_sample * 1e9,
                 s.core_seconds_per_sample * 1e9,
                 efficiency,

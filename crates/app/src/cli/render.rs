@@ -15,14 +15,14 @@ use std::time::Instant;
 use anyhow::{Context as _, bail};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use lightpick_core::Scheme;
 use lightpick_core::draw::{auto_exposure, error_color};
 use lightpick_core::gpu::{GpuContext, GpuRenderer};
 use lightpick_core::render::{
-    Accumulator, CpuRenderer, Reference, SeriesPoint, efficiency, error_metrics, rmse, series_spp,
-    tonemap_rgba8,
+    Accumulator, CpuRenderer, ErrorMetrics, Reference, SeriesPoint, efficiency, error_metrics,
+    rmse, series_spp, tonemap_rgba8,
 };
 use lightpick_core::scene::{MAX_PIXELS, MAX_PLANE_SIDE, Scene};
+use lightpick_core::{Scaled, Scheme};
 use serde_json::json;
 
 use super::device::{Device, choose};
@@ -165,8 +165,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         "variance_per_sample": eff.variance_per_sample,
         "variance_log10": eff.variance_log10,
         "normalized_variance": eff.normalized_variance,
+        "normalized_variance_log10": eff.normalized_variance_log10,
         "seconds_per_sample": eff.seconds_per_sample,
         "efficiency": eff.efficiency,
+        "efficiency_log10": eff.efficiency_log10,
         "exposure": exposure,
         "reference": {
             "pixels": reference.pixels().len(),
@@ -194,8 +196,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
                 .map_or_else(|| "CPU".to_owned(), |c| format!("GPU {}", c.description()))
         );
         println!(
-            "RMSE {:.4e}  relMSE {:.4e}  {:.3} s  {:.3e} samples/s  efficiency {:.3e}",
-            metrics.rmse,
+            "RMSE {:.4}  relMSE {:.4e}  {:.3} s  {:.3e} samples/s  efficiency {:.3}",
+            rmse_scaled(&metrics),
             metrics.rel_mse,
             seconds,
             samples / seconds,
@@ -209,6 +211,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// The RMSE at any magnitude: its `f64` value, or the value of its `log10` beyond `f64`.
+fn rmse_scaled(metrics: &ErrorMetrics) -> Scaled {
+    if metrics.rmse.is_finite() {
+        Scaled::from_f64(metrics.rmse)
+    } else {
+        Scaled::from_log10(metrics.rmse_log10)
+    }
 }
 
 /// Applies `--width/--height`, refusing absurd sizes.

@@ -12,6 +12,7 @@ mod app_inspector;
 mod app_interaction;
 mod app_lights;
 mod app_memory;
+mod app_near_light;
 mod app_scale;
 mod app_scene_files;
 mod app_snapshots;

@@ -16,7 +16,8 @@ use super::axes::{self, Frame, Scale};
 use super::canvas::{self, LegendEntry, Mark};
 use super::palette::{self, Rgba8};
 use super::{DrawError, Style};
-use crate::render::is_zero_variance;
+use crate::Scaled;
+use crate::render::is_zero_variance_scaled;
 use crate::sampler::Scheme;
 
 /// One measurement of a progressive render.
@@ -93,15 +94,20 @@ fn largest_rmse(series: &ConvergenceSeries) -> Option<f64> {
 
 /// Which series have zero variance up to rounding: those whose largest squared RMSE is a
 /// zero variance next to the largest squared RMSE of all the series
-/// ([`is_zero_variance`]: `max_k RMSE_s² ≤ 10^-12 · max_{s', k} RMSE_{s'}²`). An unbiased
-/// series has `MSE = V/spp`, so at equal samples per pixel this compares variances. A
-/// lone series, or one with no finite RMSE, is never judged zero-variance.
+/// ([`is_zero_variance_scaled`]: `max_k RMSE_s² ≤ 10^-12 · max_{s', k} RMSE_{s'}²`). An
+/// unbiased series has `MSE = V/spp`, so at equal samples per pixel this compares
+/// variances. A lone series, or one with no finite RMSE, is never judged zero-variance.
 pub fn zero_variance_series(series: &[ConvergenceSeries]) -> Vec<bool> {
     let largest: Vec<Option<f64>> = series.iter().map(largest_rmse).collect();
     let overall = largest.iter().flatten().copied().fold(0.0, f64::max);
     largest
         .iter()
-        .map(|m| m.is_some_and(|m| is_zero_variance(m * m, overall * overall)))
+        .map(|m| {
+            // Squared as `Scaled`: an RMSE of `10^200` (a light `10^-100` above a pixel)
+            // squares beyond `f64`, where `inf ≤ 10^-12·inf` would call every series exact.
+            let square = |x: f64| Scaled::from_f64(x).square();
+            m.is_some_and(|m| is_zero_variance_scaled(square(m), square(overall)))
+        })
         .collect()
 }
 
@@ -335,6 +341,17 @@ mod tests {
         assert_eq!(
             zero_variance_series(&[uniform.clone(), alias.clone(), exact.clone(), zeros]),
             [false, false, true, true]
+        );
+        // Next to a light 10^-100 above a pixel the RMSEs near 10^200 square beyond f64:
+        // still two real curves, and the exact pick's 10^184 still rounding.
+        let near = |scheme, scale: f64| series(scheme, &[0.9 * scale, 0.64 * scale]);
+        assert_eq!(
+            zero_variance_series(&[
+                near(Scheme::Uniform, 1e200),
+                near(Scheme::Alias, 3e199),
+                near(Scheme::Spatial, 1e184),
+            ]),
+            [false, false, true]
         );
         // Alone, nothing judges it.
         assert_eq!(zero_variance_series(std::slice::from_ref(&exact)), [false]);

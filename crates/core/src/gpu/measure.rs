@@ -5,7 +5,7 @@
 use super::pass_timer::PassClock;
 use super::{GpuContext, GpuError, GpuRenderer};
 use crate::Scheme;
-use crate::render::{mean_variance_per_sample, normalized_variance_per_sample};
+use crate::render::{mean_variance_scaled, normalized_variance_per_sample};
 use crate::scene::Scene;
 
 /// One scheme's measured cost and variance on the GPU.
@@ -21,11 +21,17 @@ pub struct GpuPassMeasurement {
     pub seconds: f64,
     /// `T`: pass seconds per pixel sample.
     pub seconds_per_sample: f64,
-    /// `V`: mean variance of one normalized sample over the pixels.
+    /// `V`: mean variance of one normalized sample over the pixels (`inf` beyond `f64`,
+    /// JSON `null`).
     pub variance_per_sample: f64,
+    /// `log10 V`, finite whatever its magnitude (`-inf` for 0).
+    pub variance_log10: f64,
     /// `V̂ = V/Φ_total²`: the same in units of the total power, what the efficiency
-    /// `1/(V̂·T)` divides by ([`crate::render::efficiency`]).
-    pub normalized_variance: f64,
+    /// `1/(V̂·T)` divides by ([`crate::render::efficiency_of`]), whatever its magnitude
+    /// (JSON: `null` beyond `f64`, with `normalized_variance_log10`).
+    pub normalized_variance: crate::Scaled,
+    /// `log10 V̂`, finite whatever its magnitude (`-inf` for 0).
+    pub normalized_variance_log10: f64,
     /// Where the time comes from.
     pub clock: PassClock,
 }
@@ -61,6 +67,8 @@ pub fn measure_passes(
     }
     let acc = renderer.readback()?;
     let (width, height) = renderer.size();
+    let variance = mean_variance_scaled(&acc);
+    let normalized = normalized_variance_per_sample(&acc);
     let pixels = u64::from(width) * u64::from(height);
     let spp = renderer.samples_per_pixel();
     Ok(GpuPassMeasurement {
@@ -69,8 +77,10 @@ pub fn measure_passes(
         pixels,
         seconds,
         seconds_per_sample: seconds / (f64::from(spp) * pixels as f64),
-        variance_per_sample: mean_variance_per_sample(&acc),
-        normalized_variance: normalized_variance_per_sample(&acc),
+        variance_per_sample: variance.to_f64(),
+        variance_log10: variance.log10(),
+        normalized_variance: normalized,
+        normalized_variance_log10: normalized.log10(),
         clock: renderer.pass_clock(),
     })
 }

@@ -4,9 +4,7 @@
 //! bench` prints it beside its convergence runs (which use large passes on a small image,
 //! where a sample costs less: fewer cache misses per pixel row).
 
-use super::{
-    CpuRenderer, mean_variance_per_sample, normalized_variance_per_sample, pool_core_seconds,
-};
+use super::{CpuRenderer, mean_variance_scaled, normalized_variance_per_sample, pool_core_seconds};
 use crate::{SceneSamplers, Scheme};
 
 /// One scheme's measured core time and variance on the CPU.
@@ -22,11 +20,17 @@ pub struct CpuPassMeasurement {
     pub core_seconds: f64,
     /// `T`: core seconds per pixel sample.
     pub core_seconds_per_sample: f64,
-    /// `V`: mean variance of one normalized sample over the pixels.
+    /// `V`: mean variance of one normalized sample over the pixels (`inf` beyond `f64`,
+    /// JSON `null`).
     pub variance_per_sample: f64,
+    /// `log10 V`, finite whatever its magnitude (`-inf` for 0).
+    pub variance_log10: f64,
     /// `V̂ = V/Φ_total²`: the same in units of the total power, what the efficiency
-    /// `1/(V̂·T)` divides by ([`crate::render::efficiency`]).
-    pub normalized_variance: f64,
+    /// `1/(V̂·T)` divides by ([`crate::render::efficiency_of`]), whatever its magnitude
+    /// (JSON: `null` beyond `f64`, with `normalized_variance_log10`).
+    pub normalized_variance: crate::Scaled,
+    /// `log10 V̂`, finite whatever its magnitude (`-inf` for 0).
+    pub normalized_variance_log10: f64,
 }
 
 /// Renders `samplers`' scene with `scheme` on the current rayon pool: one untimed warm-up
@@ -54,6 +58,8 @@ pub fn measure_cpu_passes(
         }
     }
     let acc = renderer.accumulator();
+    let variance = mean_variance_scaled(acc);
+    let normalized = normalized_variance_per_sample(acc);
     let pixels = u64::from(acc.width) * u64::from(acc.height);
     let spp = acc.samples_per_pixel;
     CpuPassMeasurement {
@@ -62,7 +68,9 @@ pub fn measure_cpu_passes(
         pixels,
         core_seconds,
         core_seconds_per_sample: core_seconds / (f64::from(spp) * pixels as f64),
-        variance_per_sample: mean_variance_per_sample(acc),
-        normalized_variance: normalized_variance_per_sample(acc),
+        variance_per_sample: variance.to_f64(),
+        variance_log10: variance.log10(),
+        normalized_variance: normalized,
+        normalized_variance_log10: normalized.log10(),
     }
 }

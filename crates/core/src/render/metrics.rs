@@ -19,7 +19,9 @@
 //!   estimate (irradiance per unit of total power): the inverse of the error-variance × time
 //!   product, so a scheme twice as efficient reaches a given MSE in half the time. Measured
 //!   in units of the scene's total power, it does not change when every power is scaled,
-//!   and its ratios between schemes are those of `1/(V·T)`.
+//!   and its ratios between schemes are those of `1/(V·T)`. `V̂` still carries the
+//!   geometry (`1/z⁴` under a light at height `z`): a light `10^-100` above a pixel makes it
+//!   `≈ 10^400`, so `V̂` and the efficiency are [`Scaled`] ([`efficiency_of`]).
 //!
 //! # Scale
 //! Every figure is computed from the sums in the accumulation unit `U = Φ_total·2^s`
@@ -27,7 +29,13 @@
 //! [`Scaled`]: scaling every power by `2^k` multiplies the RMSE by exactly `2^k` and `V` by
 //! `2^(2k)`, and leaves relMSE, `V̂` and the efficiency unchanged bit for bit (while nothing
 //! is subnormal). A `V` beyond `f64` is reported as `inf` with its finite
-//! [`Efficiency::variance_log10`], never as 0 or NaN.
+//! [`Efficiency::variance_log10`], never as 0 or NaN; `V̂` and the efficiency keep their
+//! value whatever it is, with their `log10` beside them.
+//!
+//! The RMSE and relMSE sums take every value in units of `2^k ≈ Ē` (an exact power of two,
+//! `Ē` the reference's mean in the accumulation unit): the terms have the bits of the
+//! definition, and neither `(Ê_p − E_p)²` nor `E_p² + ε` underflows where the whole image is
+//! far below the unit (`Ē ≈ 10^-300`), which would otherwise leave `0/0` terms.
 
 use std::time::Instant;
 
@@ -59,6 +67,20 @@ pub fn is_zero_variance(variance: f64, reference: f64) -> bool {
     reference > 0.0 && variance <= ZERO_VARIANCE_RTOL * reference
 }
 
+/// Whether `variance` is a zero variance up to rounding next to `reference`, at any
+/// magnitude: [`is_zero_variance`] for [`Scaled`] figures (a `V̂` of `10^400` is not the
+/// rounding of another `10^400`).
+pub fn is_zero_variance_scaled(variance: Scaled, reference: Scaled) -> bool {
+    reference > Scaled::ZERO && variance <= reference.mul_f64(ZERO_VARIANCE_RTOL)
+}
+
+/// The efficiency `1/(V̂·T)` of a normalized variance per sample `V̂` and a time per sample
+/// `T` (seconds), whatever its magnitude: `+inf` when `V̂·T = 0` (a zero-variance
+/// estimator). The one formula behind every efficiency the crate and the app report.
+pub fn efficiency_of(normalized_variance: Scaled, seconds_per_sample: f64) -> Scaled {
+    normalized_variance.mul_f64(seconds_per_sample).recip()
+}
+
 /// RMSE and relMSE of an image against a reference (see the module docs for the formulas).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct ErrorMetrics {
@@ -81,12 +103,17 @@ pub struct Efficiency {
     /// `log10 V`, finite whatever its magnitude (`-inf` for 0).
     pub variance_log10: f64,
     /// `V̂ = V/Φ_total²`, the variance of one sample of irradiance per unit of total power:
-    /// unchanged when the powers are scaled.
-    pub normalized_variance: f64,
+    /// unchanged when the powers are scaled (JSON: `null` beyond `f64`).
+    pub normalized_variance: Scaled,
+    /// `log10 V̂`, finite whatever its magnitude (`-inf` for 0).
+    pub normalized_variance_log10: f64,
     /// `T = seconds/(n·P)`, seconds per pixel sample.
     pub seconds_per_sample: f64,
-    /// `1/(V̂·T)` (`+inf` when `V = 0`, a zero-variance estimator).
-    pub efficiency: f64,
+    /// `1/(V̂·T)` ([`efficiency_of`]; `+inf` when `V = 0`, a zero-variance estimator; JSON:
+    /// `null` beyond `f64`).
+    pub efficiency: Scaled,
+    /// `log10` of the efficiency, finite whatever its magnitude (`+inf` for an infinite one).
+    pub efficiency_log10: f64,
 }
 
 /// One point of a convergence series: the error after `spp` samples per pixel and the
@@ -125,23 +152,28 @@ pub fn error_metrics(acc: &Accumulator, reference: &Reference) -> ErrorMetrics {
             pixels: 0,
         };
     }
-    // Both in the reference's unit: 1 for a renderer of the same scene.
-    let to_reference_unit = (acc.unit() / reference.unit()).to_f64();
     let exact_in_unit = reference.in_unit();
-    let mean_ref = exact_in_unit.iter().sum::<f64>() / m as f64;
-    let eps = REL_MSE_EPSILON * mean_ref * mean_ref;
+    let mean_in_unit = exact_in_unit.iter().sum::<f64>() / m as f64;
+    // Values in units of 2^k ≈ Ē (module docs): exact, and the mean lands in [1, 2).
+    let k = Scaled::from_f64(mean_in_unit).exponent().clamp(-1022, 1022);
+    let to_mean = Scaled::pow2(-k).to_f64();
+    // Both in the reference's unit (1 for a renderer of the same scene), then in 2^k.
+    let to_reference_unit = (acc.unit() / reference.unit()).to_f64() * to_mean;
+    let mean = mean_in_unit * to_mean;
+    let eps = REL_MSE_EPSILON * mean * mean;
     let (mut se, mut rel) = (0.0, 0.0);
     for (&p, &exact) in reference.pixels().iter().zip(exact_in_unit) {
+        let exact = exact * to_mean;
         let d = acc.mean_in_unit(p as usize) * to_reference_unit - exact;
         se += d * d;
         let denominator = exact * exact + eps;
-        // Zero only when the whole reference is 0 (every light below the plane), where the
-        // estimates are exactly 0 too: the pixel adds no relative error.
+        // At least `ε ≥ 10^-4` unless the whole reference is 0 (every light below the
+        // plane), where the estimates are exactly 0 too: the pixel adds no relative error.
         if denominator > 0.0 {
             rel += d * d / denominator;
         }
     }
-    let rmse = reference.unit().mul_f64((se / m as f64).sqrt());
+    let rmse = (reference.unit() * Scaled::pow2(k)).mul_f64((se / m as f64).sqrt());
     ErrorMetrics {
         rmse: rmse.to_f64(),
         rmse_log10: rmse.log10(),
@@ -170,9 +202,10 @@ pub fn mean_variance_scaled(acc: &Accumulator) -> Scaled {
 }
 
 /// `V̂ = V/Φ_total²`, the variance per sample of irradiance per unit of total power: the
-/// mean in the squared unit times `2^(2s)`; unchanged when the powers are scaled.
-pub fn normalized_variance_per_sample(acc: &Accumulator) -> f64 {
-    Scaled::new(mean_variance_in_unit(acc), 2 * acc.shift).to_f64()
+/// mean in the squared unit times `2^(2s)`; unchanged when the powers are scaled, kept
+/// whatever its magnitude (`≈ 10^400` under a light `10^-100` above a pixel).
+pub fn normalized_variance_per_sample(acc: &Accumulator) -> Scaled {
+    Scaled::new(mean_variance_in_unit(acc), 2 * acc.shift)
 }
 
 /// `(1/P) Σ_p s_p²` in the accumulator's squared unit.
@@ -194,12 +227,15 @@ pub fn efficiency(acc: &Accumulator, seconds: f64) -> Efficiency {
     } else {
         0.0
     };
+    let efficiency = efficiency_of(normalized, per_sample);
     Efficiency {
         variance_per_sample: variance.to_f64(),
         variance_log10: variance.log10(),
         normalized_variance: normalized,
+        normalized_variance_log10: normalized.log10(),
         seconds_per_sample: per_sample,
-        efficiency: 1.0 / (normalized * per_sample),
+        efficiency,
+        efficiency_log10: efficiency.log10(),
     }
 }
 

@@ -43,9 +43,9 @@ pub use cpu::CpuRenderer;
 pub use measure::{CpuPassMeasurement, measure_cpu_passes};
 pub use metrics::{
     Efficiency, ErrorMetrics, ProgressiveRenderer, REL_MSE_EPSILON, SchemeSeries, SeriesPoint,
-    ZERO_VARIANCE_RTOL, convergence_series, cpu_convergence, efficiency, error_metrics,
-    is_zero_variance, mean_variance_per_sample, mean_variance_scaled,
-    normalized_variance_per_sample, rmse, series_spp,
+    ZERO_VARIANCE_RTOL, convergence_series, cpu_convergence, efficiency, efficiency_of,
+    error_metrics, is_zero_variance, is_zero_variance_scaled, mean_variance_per_sample,
+    mean_variance_scaled, normalized_variance_per_sample, rmse, series_spp,
 };
 pub use reference::{
     DEFAULT_REFERENCE_BUDGET, IrradianceOverflow, LIGHT_CHUNK, MIN_REFERENCE_PIXELS, PIXEL_BLOCK,

@@ -6,16 +6,21 @@
 //! renderers' per-pixel estimate (same normalization, so the same `f64` range whatever the
 //! powers). Lights with `z_i ≤ 0` or `p_i = 0` contribute exactly 0 and are dropped first;
 //! the rest are summed as `(1/4π) · Σ_i c_i / (r_i²·√(r_i²))` with `c_i = p_i·z_i`
-//! (algebraically `Σ p_i·G_i`; the rounding differs by a few ulps). A scene with spots or
-//! ranges sums `p_i·G_i(x)·S_i(x)` ([`crate::scene::light_term`]) light by light instead.
+//! (algebraically `Σ p_i·G_i`; the rounding differs by a few ulps). A scene with a light
+//! below `2^-300` sums `(1/4π) · Σ_i (c_i/r_i²)·(z_i/r_i)` with `c_i = p_i` instead, so that
+//! neither `r_i³` nor `p_i·z_i·2^-s` (below) underflows: under a light `10^-150` above a
+//! pixel the term is `≈ p_i·2^-s/z_i²`, near 1, while `p_i·z_i·2^-s ≈ 10^-450` is not an
+//! `f64`. A scene with spots or ranges sums `p_i·G_i(x)·S_i(x)`
+//! ([`crate::scene::light_term`]) light by light instead.
 //!
 //! # Scale
 //! The sums run in the renderers' accumulation unit `U = Φ_total·2^s`
-//! ([`crate::render::Accumulator::unit`]): `c_i = p_i·z_i·2^-s`, so they neither overflow
-//! nor vanish whatever the powers, and scaling every power by `2^k` leaves them unchanged bit
-//! for bit ([`Reference::in_unit`]). [`Reference::values`] are `U` times them, in `f64`.
-//! Where a light is so close to a pixel that the irradiance itself exceeds `f64` (a light
-//! `10^-160` above a pixel centre), [`Reference::overflow`] names the pixel and the light.
+//! ([`crate::render::Accumulator::unit`]): `c_i = p_i·z_i·2^-s` (or `p_i·2^-s`), so they
+//! neither overflow nor vanish whatever the powers, and scaling every power by `2^k` leaves
+//! them unchanged bit for bit ([`Reference::in_unit`]). [`Reference::values`] are `U` times
+//! them, in `f64`. Where a light is so close to a pixel that the irradiance itself exceeds
+//! `f64` (a light `10^-160` above a pixel centre), [`Reference::overflow`] names the pixel
+//! and the light.
 //!
 //! # Pixel subset
 //! A full reference costs `N·P` light evaluations. When that exceeds the budget `B`
@@ -56,8 +61,9 @@ pub const PIXEL_BLOCK: usize = 16;
 /// Lights per cache-resident chunk (`4 · 8 · 1024` bytes = 32 KiB of light data).
 pub const LIGHT_CHUNK: usize = 1024;
 
-/// Below this height (`2^-300`) a light's `r³` may underflow: the reference then sums
-/// `(c/r)/r²` (two divisions) instead of `c/r³`.
+/// Below this height (`2^-300`) a light's `r³` may underflow, and so may `p·z·2^-s`: the
+/// reference then sums `(c/r²)·(z/r)` with `c = p·2^-s` instead of `c/r³` with
+/// `c = p·z·2^-s`.
 const CLOSE_HEIGHT: f64 = 4.909_093_465_297_727e-91;
 
 /// Independent partial sums per pixel and chunk (vectorizable lanes).
@@ -95,26 +101,40 @@ pub struct IrradianceOverflow {
 }
 
 /// The lights in structure-of-arrays form, zero contributors dropped, padded to a multiple
-/// of [`LANES`] with lights of `c = 0` (which add exactly 0).
+/// of [`LANES`] with lights of `c = 0` (which add exactly 0). `c_i = p_i·z_i·2^-s`, or
+/// `p_i·2^-s` when `close` (some light below [`CLOSE_HEIGHT`]).
 struct LightArrays {
     x: Vec<f64>,
     y: Vec<f64>,
     z: Vec<f64>,
     c: Vec<f64>,
+    close: bool,
 }
 
 impl LightArrays {
     fn new(scene: &Scene, to_unit: f64) -> Self {
         let pmf = scene.powers.pmf();
+        let contributes = |z: f64, p: f64| z > 0.0 && p > 0.0;
+        let close = scene
+            .positions
+            .iter()
+            .zip(&pmf)
+            .any(|(pos, &p)| contributes(pos.z, p) && pos.z < CLOSE_HEIGHT);
         let mut arrays = LightArrays {
             x: Vec::new(),
             y: Vec::new(),
             z: Vec::new(),
             c: Vec::new(),
+            close,
         };
         for (pos, &p) in scene.positions.iter().zip(&pmf) {
-            if pos.z > 0.0 && p > 0.0 {
-                arrays.push(pos.x, pos.y, pos.z, p * pos.z * to_unit);
+            if contributes(pos.z, p) {
+                let c = if close {
+                    p * to_unit
+                } else {
+                    p * pos.z * to_unit
+                };
+                arrays.push(pos.x, pos.y, pos.z, c);
             }
         }
         while !arrays.c.len().is_multiple_of(LANES) {
@@ -132,8 +152,10 @@ impl LightArrays {
 }
 
 /// `Σ_i c_i / (r_i²·√(r_i²))` over one chunk (its length a multiple of [`LANES`]), in
-/// [`LANES`] partial sums added in a fixed order. `CLOSE`: lights so low (`z < 2^-300`)
-/// that `r³` may underflow, summed as `(c_i/r_i)/r_i²` instead.
+/// [`LANES`] partial sums added in a fixed order. `CLOSE`: a scene with lights so low
+/// (`z < 2^-300`) that `r³` and `p·z·2^-s` may underflow, summed as `(c_i/r_i²)·(z_i/r_i)`
+/// with `c_i = p_i·2^-s` instead: `c_i/r_i² ≤ p_i·2^-s/z_i²` stays near 1 at most, and
+/// `z_i/r_i ≤ 1`.
 #[inline]
 fn chunk_sum<const CLOSE: bool>(x: &[f64], y: &[f64], z: &[f64], c: &[f64], at: DVec2) -> f64 {
     let mut lanes = [0.0f64; LANES];
@@ -148,7 +170,7 @@ fn chunk_sum<const CLOSE: bool>(x: &[f64], y: &[f64], z: &[f64], c: &[f64], at: 
             let dy = ys[l] - at.y;
             let r2 = dx * dx + dy * dy + zs[l] * zs[l];
             lanes[l] += if CLOSE {
-                (cs[l] / r2.sqrt()) / r2
+                (cs[l] / r2) * (zs[l] / r2.sqrt())
             } else {
                 cs[l] / (r2 * r2.sqrt())
             };
@@ -222,7 +244,7 @@ impl Reference {
             return Self::from_unit_values(scene, pixels, values, unit, to_unit);
         }
         let lights = LightArrays::new(scene, to_unit);
-        let close = lights.z.iter().any(|&z| z < CLOSE_HEIGHT);
+        let close = lights.close;
         values
             .par_chunks_mut(PIXEL_BLOCK)
             .zip(pixels.par_chunks(PIXEL_BLOCK))

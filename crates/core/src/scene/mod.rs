@@ -62,6 +62,27 @@ impl ReceiverPlane {
     pub fn pixel_count(&self) -> usize {
         self.width as usize * self.height as usize
     }
+
+    /// The pixel centre ([`pixel_center`]) nearest to `point_on_plane`: that of the pixel
+    /// containing it, or of the nearest edge pixel when it lies outside. The centres form a
+    /// regular grid, so the nearest one is nearest along each axis.
+    pub fn nearest_pixel_center(&self, point_on_plane: DVec2) -> DVec2 {
+        let cell = |offset: f64, extent: f64, count: u32| {
+            // `as u32` saturates (and maps NaN to 0): the clamp to the last pixel remains.
+            ((offset / extent * f64::from(count)).floor() as u32).min(count.saturating_sub(1))
+        };
+        let px = cell(
+            point_on_plane.x - self.min.x,
+            self.max.x - self.min.x,
+            self.width,
+        );
+        let py = cell(
+            self.max.y - point_on_plane.y,
+            self.max.y - self.min.y,
+            self.height,
+        );
+        pixel_center(self, px, py)
+    }
 }
 
 /// A scene: the receiver and the lights, as positions beside validated powers.
@@ -114,27 +135,37 @@ impl Scene {
     }
 
     /// The binary exponent `s` of the renderers' accumulation unit: the largest irradiance
-    /// per unit power any light can deliver, `max_i g_i/(4π z_i²)` over the lights above the
-    /// plane (`g_i` a spot's gain, 1 otherwise), is `≈ 2^s`. Estimates are summed as
-    /// `ê·2^-s` so their squares stay in range for a light `10^-150` above the plane as for
-    /// one at height 1. It depends on positions and cones only: scaling the powers leaves it
-    /// unchanged. Clamped to `[-1000, 1000]`; 0 for a scene with no light above the plane.
-    /// A light so low that its bound exceeds `f64` (`z ≲ 10^-154`) is left out: the
-    /// irradiance under it does not fit `f64` in any unit, and the reference reports it
+    /// per unit power any light can deliver at a pixel centre, `max_i g_i·G_i(c_i)` over
+    /// the lights above the plane (`c_i` the pixel centre nearest to light `i`,
+    /// [`ReceiverPlane::nearest_pixel_center`]; `g_i` a spot's gain, 1 otherwise), is
+    /// `≈ 2^s`. Estimates are summed as `ê·2^-s` so their squares stay in range for a light
+    /// `10^-150` above a pixel centre as for one at height 1, and for one `10^-150` above a
+    /// point between the centres too (where `1/(4π z²)` would be `10^298` times too large a
+    /// unit, and every `ê'²` would underflow to a zero variance). It depends on positions,
+    /// cones and the pixel grid only: scaling the powers leaves it unchanged. Clamped to
+    /// `[-1000, 1000]`; 0 for a scene with no light above the plane. A light whose bound
+    /// exceeds `f64` (`z ≲ 10^-154` above a centre) is left out: the irradiance under it
+    /// does not fit `f64` in any unit, and the reference reports it
     /// ([`crate::render::Reference::overflow`]).
     pub fn irradiance_shift(&self) -> i32 {
-        let max = self
-            .positions
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| p.z > 0.0)
-            .map(|(i, p)| {
-                let gain = self.emission_of(i).map_or(1.0, Emission::gain);
-                // gain/(4π z²) without overflowing for tiny z: (gain/z)/(4π z).
-                (gain / p.z) / (4.0 * std::f64::consts::PI * p.z)
-            })
-            .filter(|g| g.is_finite())
-            .fold(0.0f64, f64::max);
+        let mut max = 0.0f64;
+        for (i, &p) in self.positions.iter().enumerate() {
+            if p.z <= 0.0 {
+                continue;
+            }
+            let gain = self.emission_of(i).map_or(1.0, Emission::gain);
+            // `g·G ≤ g/(4π z²)` anywhere (two divisions, without overflow for tiny z): the
+            // light's own term, at its nearest centre, only where that bound exceeds the
+            // largest so far — a few lights of a large scene, not all of them.
+            let bound = (gain / p.z) / (4.0 * std::f64::consts::PI * p.z);
+            if bound > max {
+                // G finite down to z ≈ 10^-154 right above the centre (geometry_term).
+                let g = gain * geometry_term(p, self.plane.nearest_pixel_center(p.truncate()));
+                if g.is_finite() && g > max {
+                    max = g;
+                }
+            }
+        }
         if max > 0.0 {
             crate::Scaled::from_f64(max).exponent().clamp(-1000, 1000)
         } else {

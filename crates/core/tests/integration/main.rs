@@ -26,6 +26,7 @@ mod gpu_spatial;
 #[cfg(feature = "gpu")]
 mod gpu_split;
 mod inspect;
+mod near_light;
 mod point_estimate;
 mod precision_lab;
 mod render_cpu;

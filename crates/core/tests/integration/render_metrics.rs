@@ -6,8 +6,8 @@
 use glam::{dvec2, dvec3};
 use lightpick_core::render::{
     Accumulator, CpuRenderer, MIN_REFERENCE_PIXELS, REL_MSE_EPSILON, Reference, SeriesPoint,
-    cpu_convergence, efficiency, error_metrics, mean_variance_per_sample, rmse, series_spp,
-    subset_pixels,
+    cpu_convergence, efficiency, efficiency_of, error_metrics, is_zero_variance_scaled,
+    mean_variance_per_sample, rmse, series_spp, subset_pixels,
 };
 use lightpick_core::scene::{ReceiverPlane, Scene, pixel_center};
 use lightpick_core::{Scaled, Scheme};
@@ -214,13 +214,49 @@ fn variance_time_and_efficiency_follow_their_definitions() {
     assert_eq!(eff.variance_per_sample, v);
     assert_eq!(eff.seconds_per_sample, 2.0 / 8.0);
     // V̂ = V/Φ² (Φ = 4): the efficiency in units of the total power.
-    assert!(rel(eff.normalized_variance, v / 16.0) < 1e-15);
-    assert!(rel(eff.efficiency, 1.0 / (v / 16.0 * 0.25)) < 1e-15);
+    assert!(rel(eff.normalized_variance.to_f64(), v / 16.0) < 1e-15);
+    assert!(rel(eff.efficiency.to_f64(), 1.0 / (v / 16.0 * 0.25)) < 1e-15);
     assert!((eff.variance_log10 - v.log10()).abs() < 1e-14);
+    assert!((eff.normalized_variance_log10 - (v / 16.0).log10()).abs() < 1e-14);
+    assert!((eff.efficiency_log10 + (v / 16.0 * 0.25).log10()).abs() < 1e-14);
+    // A zero variance (or no time) is an infinite efficiency, never 0 or NaN.
+    for infinite in [
+        efficiency_of(Scaled::ZERO, 0.25),
+        efficiency_of(Scaled::from_f64(v), 0.0),
+    ] {
+        assert!(
+            !infinite.is_finite() && infinite > Scaled::ZERO,
+            "{infinite:?}"
+        );
+        assert_eq!(infinite.log10(), f64::INFINITY);
+    }
+    // Beyond f64 both ways: V̂ = 10^400 with T = 10^-8 is an efficiency of 10^-392.
+    let huge = Scaled::from_f64(1e200).square();
+    let tiny = efficiency_of(huge, 1e-8);
+    assert_eq!(tiny.to_f64(), 0.0);
+    assert!((tiny.log10() + 392.0).abs() < 1e-12, "{tiny:?}");
+    assert!((efficiency_of(huge.recip(), 1e-8).log10() - 408.0).abs() < 1e-12);
     assert_eq!(
         mean_variance_per_sample(&Accumulator::new(3, 3, Scaled::from_f64(1.0), 0)),
         0.0
     );
+}
+
+/// The zero-variance test at any magnitude: `10^-12` of the reference and below is zero,
+/// above is not, whether the reference is `1` or `10^400`; nothing is zero next to 0 or
+/// next to itself, even where `f64` would read both as `inf`.
+#[test]
+fn zero_variance_is_judged_beyond_f64() {
+    let huge = Scaled::from_f64(1e200).square();
+    for reference in [Scaled::from_f64(1.0), huge, huge.recip()] {
+        let at = |f: f64| reference.mul_f64(f);
+        assert!(is_zero_variance_scaled(Scaled::ZERO, reference));
+        assert!(is_zero_variance_scaled(at(0.9e-12), reference));
+        assert!(!is_zero_variance_scaled(at(1.1e-12), reference));
+        assert!(!is_zero_variance_scaled(reference, reference));
+    }
+    assert!(!is_zero_variance_scaled(Scaled::ZERO, Scaled::ZERO));
+    assert!(!is_zero_variance_scaled(huge, huge.mul_f64(2.0)));
 }
 
 #[test]
