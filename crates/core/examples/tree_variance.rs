@@ -13,7 +13,8 @@
 //!
 //! Names are presets, or `random` (2000 spots at random heights aimed at random marks, a
 //! third with ranges) and `arena` (1500 spots on a ring aimed into it, every fifth wide):
-//! spot sets the tree was not tuned to.
+//! spot sets the tree was not tuned to. `--write DIR` also saves those two as lightpick JSON
+//! (`DIR/random.json`, `DIR/arena.json`) for `lightpick bench --scene`.
 
 use glam::{DVec2, DVec3, dvec2, dvec3};
 use lightpick_core::scene::{Emission, ReceiverPlane, Scene, Spot, pixel_center};
@@ -140,13 +141,21 @@ fn measure(scene: &Scene, side: u32) -> (f64, f64) {
         }
         spatial += (s2 - e * e).max(0.0);
         power += (p2 - e * e).max(0.0);
-        wasted += if e > 0.0 { 1.0 - useful } else { 0.0 };
+        wasted += if e > 0.0 { (1.0 - useful).max(0.0) } else { 0.0 };
     }
     (power / spatial, wasted / f64::from(side * side))
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let names: Vec<String> = std::env::args().skip(1).collect();
+    let mut names: Vec<String> = std::env::args().skip(1).collect();
+    // `--write DIR`: save `random` and `arena` as lightpick JSON (for `lightpick bench
+    // --scene`).
+    if let Some(at) = names.iter().position(|a| a == "--write") {
+        let dir = std::path::PathBuf::from(names.get(at + 1).ok_or("--write DIR")?);
+        std::fs::write(dir.join("random.json"), random_spots()?.to_json())?;
+        std::fs::write(dir.join("arena.json"), arena()?.to_json())?;
+        names.drain(at..=at + 1);
+    }
     let names = if names.is_empty() {
         ["stage", "gallery", "random", "arena", "heavy-tail", "grid"]
             .map(String::from)
