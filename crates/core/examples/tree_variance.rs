@@ -141,7 +141,11 @@ fn measure(scene: &Scene, side: u32) -> (f64, f64) {
         }
         spatial += (s2 - e * e).max(0.0);
         power += (p2 - e * e).max(0.0);
-        wasted += if e > 0.0 { (1.0 - useful).max(0.0) } else { 0.0 };
+        wasted += if e > 0.0 {
+            (1.0 - useful).max(0.0)
+        } else {
+            0.0
+        };
     }
     (power / spatial, wasted / f64::from(side * side))
 }

@@ -194,3 +194,49 @@ fn the_inspector_shows_the_spatial_pick_and_its_variance() {
         top.index + 1
     );
 }
+
+/// On `stage` (spots) the inspector adds each listed light's cone term `t²` at the point, the
+/// core's, and the images say why power picking fails there and what the spatial scheme
+/// uses instead.
+#[test]
+fn spot_scenes_show_the_cone_term_and_why_power_picking_fails() {
+    let app = LightpickApp::for_tests_on("stage");
+    let mut harness = Harness::builder().with_size([620.0, 700.0]).build_ui_state(
+        |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Inspector),
+        app,
+    );
+    harness.state_mut().state.inspector.pixel = Some([126, 81]);
+    harness.run();
+    let state = &harness.state().state;
+    let scene = &state.built.scene;
+    let inspection = PointInspection::at(scene, pixel_center(&scene.plane, 126, 81));
+    assert!(shows_containing(&harness, "cone t²"), "the cone column");
+    let top = inspection.lights[0];
+    let cone = top.cone.expect("stage's lights are spots");
+    assert!(
+        cone > 0.0,
+        "the largest share comes from a spot that shines here"
+    );
+    assert!(
+        harness.query_all_by_label(&short(cone)).next().is_some(),
+        "cone term {} of light {} missing",
+        short(cone),
+        top.index + 1
+    );
+    // A spot aimed elsewhere is listed too (by its pmf), with no cone term here.
+    assert!(
+        inspection.lights.iter().any(|l| l.cone == Some(0.0)),
+        "some listed spot is dark here"
+    );
+
+    let mut images = Harness::builder().with_size([900.0, 520.0]).build_ui_state(
+        |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Images),
+        LightpickApp::for_tests_on("stage"),
+    );
+    images.state_mut().step();
+    images.run();
+    assert!(
+        shows_containing(&images, "a spot's power says little about what it gives"),
+        "the note under the images"
+    );
+}
