@@ -1,12 +1,13 @@
 //! The exact integer sweep, cut into pieces that run in parallel (module docs of
 //! `integer`): each piece starts from a state `(s, t, h, w)` of the sequential sweep,
-//! computed from the chunks' prefix sums, and stops where the next piece starts.
+//! computed from the chunks' prefix sums, and stops where the next piece starts. Its two
+//! cursors walk the bitmap of large lights (`heavy`).
 
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 use rayon::prelude::*;
 
-use super::lists::Lists;
+use super::heavy::Census;
 use super::{CAPACITY, REACH_FLAG, full, word};
 
 /// Pieces per thread: enough that uneven pieces balance out.
@@ -44,9 +45,9 @@ pub(super) enum Order {
     Reversed,
 }
 
-/// Sweeps the masses in `table` into packed entries (lists in `scratch`, see `lists`).
-pub(super) fn sweep(table: &mut [u64], scratch: &[u32], lists: &Lists, order: Order) {
-    let (small, large) = (lists.small(), lists.large());
+/// Sweeps the masses in `table` into packed entries (large lights marked in `heavy`).
+pub(super) fn sweep(table: &mut [u64], heavy: &[u64], census: &Census, order: Order) {
+    let (small, large) = (census.small(), census.large());
     if large == 0 {
         // Impossible when Σ m = N·C; keep the table valid regardless.
         for (i, slot) in table.iter_mut().enumerate() {
@@ -54,11 +55,11 @@ pub(super) fn sweep(table: &mut [u64], scratch: &[u32], lists: &Lists, order: Or
         }
         return;
     }
-    let pieces = pieces(table, scratch, lists);
+    let pieces = pieces(table, heavy, census);
     let table = atomic_view(table);
     let last = pieces.len() - 1;
     let run_piece = |(k, piece): (usize, &Piece)| {
-        let end = run(table, scratch, lists, piece);
+        let end = run(table, heavy, census, piece);
         (k == last).then_some(end)
     };
     let tail = match order {
@@ -85,9 +86,9 @@ pub(super) fn sweep(table: &mut [u64], scratch: &[u32], lists: &Lists, order: Or
         "integer sweep ran short"
     );
     table[end.h].store(full(end.h), Relaxed);
-    let mut cursor = lists.large_cursor(end.t + 1);
+    let mut cursor = census.large_cursor(end.t + 1, heavy);
     for _ in end.t + 1..large {
-        let j = scratch[cursor.pos] as usize;
+        let j = cursor.pos();
         table[j].store(full(j), Relaxed);
         cursor.advance(1);
     }
@@ -95,15 +96,15 @@ pub(super) fn sweep(table: &mut [u64], scratch: &[u32], lists: &Lists, order: Or
 
 /// The pieces: cut where the merge reaches `V = D(s)` at the first small ordinal `s` of
 /// evenly spaced chunks (the same table for any cuts; their number follows the pool).
-fn pieces(masses: &[u64], scratch: &[u32], lists: &Lists) -> Vec<Piece> {
-    let chunks = lists.chunks();
+fn pieces(masses: &[u64], heavy: &[u64], census: &Census) -> Vec<Piece> {
+    let chunks = census.chunks();
     let wanted = (rayon::current_num_threads() * PIECES_PER_THREAD).clamp(1, chunks);
     let mut starts: Vec<State> = (0..wanted)
         .map(|k| {
             let c = k * chunks / wanted;
-            let (s, v) = (lists.small_before[c], lists.deficit_before[c]);
-            let t = lists.large_below(v, scratch, masses);
-            let (h, opened) = lists.large_at(t, scratch, masses);
+            let (s, v) = (census.small_before[c], census.deficit_before[c]);
+            let t = census.large_below(v, heavy, masses);
+            let (h, opened) = census.large_at(t, heavy, masses);
             let m_h = masses[h] & !REACH_FLAG;
             // w = E(t+1) − D(s) + C = E(t) + m_h − D(s) ≥ C (the cut comes before a fill).
             State {
@@ -126,11 +127,11 @@ fn pieces(masses: &[u64], scratch: &[u32], lists: &Lists) -> Vec<Piece> {
         .collect();
     let last = *starts.last().expect("at least one cut");
     // No other piece touches the last large light; its mass goes through the same hand-over.
-    let (h_last, _) = lists.large_at(lists.large() - 1, scratch, masses);
+    let (h_last, _) = census.large_at(census.large() - 1, heavy, masses);
     pieces.push(Piece {
         start: last,
-        end_s: lists.small(),
-        end_t: lists.large() - 1,
+        end_s: census.small(),
+        end_t: census.large() - 1,
         end_mass: masses[h_last] & !REACH_FLAG,
     });
     pieces
@@ -143,15 +144,15 @@ fn pieces(masses: &[u64], scratch: &[u32], lists: &Lists) -> Vec<Piece> {
 /// branch to mispredict (about half the steps would, with powers in random order). The
 /// piece stops before a fill when its small columns are done, and before a turn when its
 /// large ones are.
-fn run(table: &[AtomicU64], scratch: &[u32], lists: &Lists, piece: &Piece) -> State {
+fn run(table: &[AtomicU64], heavy: &[u64], census: &Census, piece: &Piece) -> State {
     let State {
         mut s,
         mut t,
         mut h,
         mut w,
     } = piece.start;
-    let mut small = lists.small_cursor(s);
-    let mut large = lists.large_cursor(t + 1);
+    let mut small = census.small_cursor(s, heavy);
+    let mut large = census.large_cursor(t + 1, heavy);
     loop {
         // All ones when `h` fills the next small column, zero when `h` itself turns. The
         // step selects with this mask (bit operations, no branch on `fill`, which the
@@ -162,10 +163,10 @@ fn run(table: &[AtomicU64], scratch: &[u32], lists: &Lists, piece: &Piece) -> St
         if done != 0 {
             return State { s, t, h, w };
         }
-        // The next small column and the next large one (past either list's end a valid
-        // index whose values go unused).
-        let l = u64::from(scratch[small.pos]);
-        let h_next = u64::from(scratch[large.pos]);
+        // The next small column and the next large one (past either sequence's end a
+        // valid index whose values go unused).
+        let l = small.pos() as u64;
+        let h_next = large.pos() as u64;
         let raw = table[l as usize].load(Relaxed);
         let m_l = raw & !REACH_FLAG;
         let loaded_next = table[h_next as usize].load(Relaxed) & !REACH_FLAG;
@@ -188,8 +189,8 @@ fn run(table: &[AtomicU64], scratch: &[u32], lists: &Lists, piece: &Piece) -> St
         h = ((h64 & fill) | (h_next & !fill)) as usize;
         s += filling;
         t += filling ^ 1;
-        small.advance(filling as usize);
-        large.advance((filling ^ 1) as usize);
+        small.advance(filling);
+        large.advance(filling ^ 1);
     }
 }
 

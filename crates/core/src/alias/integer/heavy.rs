@@ -1,0 +1,275 @@
+//! The large lights as a bitmap, and the per-chunk sums that place any state of the sweep.
+//!
+//! Bit `i mod 64` of word `i / 64` is set when light `i` is large (`m_i ≥ C`). The small
+//! lights (clear bits) and the large ones (set bits), each in ascending order, are the two
+//! sequences the sweep merges: a [`BitCursor`] walks one of them, finding the next index of
+//! its kind with one trailing-zero count, so the sweep needs no index lists (an eighth of a
+//! byte per light instead of four) and both cursors read the bitmap and the masses as
+//! forward streams. Per chunk of [`CHUNK`] lights (`CHUNK / 64` whole words) the census
+//! counts the small lights and sums the masses; prefix sums over the chunks locate any
+//! ordinal of either sequence and its running deficit or excess.
+
+use super::quantize::exclusive_prefix;
+use super::{CAPACITY, CHUNK, REACH_FLAG};
+
+/// Bitmap words per chunk.
+pub(super) const WORDS_PER_CHUNK: usize = CHUNK / 64;
+
+/// One chunk's census: how many small lights, their masses' sum and every mass's sum
+/// (flags removed). The deficit `Σ (C − m)` of the small lights and the excess `Σ (m − C)`
+/// of the large ones follow from these and the chunk's length.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct ChunkCensus {
+    pub(super) small: u64,
+    pub(super) small_mass: u64,
+    pub(super) mass: u64,
+}
+
+impl ChunkCensus {
+    /// Counts mass `m` (without its flag), branch-free; returns whether it is large.
+    #[inline]
+    pub(super) fn add(&mut self, m: u64) -> bool {
+        let large = m >= CAPACITY;
+        let small_mask = u64::from(large).wrapping_sub(1);
+        self.small += small_mask & 1;
+        self.small_mass += m & small_mask;
+        self.mass += m;
+        large
+    }
+
+    /// Counts mass `after` instead of `before` (flags removed); returns whether `after` is
+    /// large.
+    pub(super) fn replace(&mut self, before: u64, after: u64) -> bool {
+        if before < CAPACITY {
+            self.small -= 1;
+            self.small_mass -= before;
+        }
+        self.mass -= before;
+        self.add(after)
+    }
+}
+
+/// Every chunk's counts as exclusive prefix sums over the chunks (each `chunks + 1` long):
+/// small and large counts (ordinals), deficits `D` and excesses `E`.
+#[derive(Debug)]
+pub(super) struct Census {
+    n: usize,
+    pub(super) small_before: Vec<u64>,
+    pub(super) large_before: Vec<u64>,
+    pub(super) deficit_before: Vec<u64>,
+    pub(super) excess_before: Vec<u64>,
+}
+
+impl Census {
+    /// The prefix sums of the chunks' censuses (`n` lights in all).
+    pub(super) fn new(chunks: &[ChunkCensus], n: usize) -> Self {
+        let len = |c: usize| CHUNK.min(n - c * CHUNK) as u64;
+        let small: Vec<u64> = chunks.iter().map(|c| c.small).collect();
+        let large: Vec<u64> = (0..chunks.len()).map(|c| len(c) - small[c]).collect();
+        let deficit: Vec<u64> = chunks
+            .iter()
+            .map(|c| c.small * CAPACITY - c.small_mass)
+            .collect();
+        let excess: Vec<u64> = chunks
+            .iter()
+            .zip(&large)
+            .map(|(c, &l)| (c.mass - c.small_mass) - l * CAPACITY)
+            .collect();
+        Self {
+            n,
+            small_before: exclusive_prefix(&small),
+            large_before: exclusive_prefix(&large),
+            deficit_before: exclusive_prefix(&deficit),
+            excess_before: exclusive_prefix(&excess),
+        }
+    }
+
+    /// Number of chunks.
+    pub(super) fn chunks(&self) -> usize {
+        self.small_before.len() - 1
+    }
+
+    /// How many small lights `S`.
+    pub(super) fn small(&self) -> u64 {
+        self.small_before[self.chunks()]
+    }
+
+    /// How many large lights `L`.
+    pub(super) fn large(&self) -> u64 {
+        self.large_before[self.chunks()]
+    }
+
+    /// The chunk holding ordinal `k` of a sequence whose prefix is `before` (`k` < total).
+    fn chunk_of(before: &[u64], k: u64) -> usize {
+        before.partition_point(|&b| b <= k) - 1
+    }
+
+    /// Chunk `c`'s bitmap words.
+    fn words_of(c: usize, heavy: &[u64]) -> std::ops::Range<usize> {
+        c * WORDS_PER_CHUNK..((c + 1) * WORDS_PER_CHUNK).min(heavy.len())
+    }
+
+    /// How many large ordinals `t ≤ L − 2` have `E(t+1) < v`, at most `L − 1`: with
+    /// `v = D(s)`, the large columns that turn before small column `s` is filled.
+    pub(super) fn large_below(&self, v: u64, heavy: &[u64], masses: &[u64]) -> u64 {
+        let last = self.large() - 1;
+        if v == 0 {
+            return 0;
+        }
+        // The last chunk whose excess prefix at its start is below v: the crossing is in it.
+        let c = (self.excess_before.partition_point(|&e| e < v) - 1).min(self.chunks() - 1);
+        let mut t = self.large_before[c];
+        let mut opened = self.excess_before[c];
+        'words: for w in Self::words_of(c, heavy) {
+            let mut bits = heavy[w];
+            while bits != 0 {
+                let i = w * 64 + bits.trailing_zeros() as usize;
+                opened += (masses[i] & !REACH_FLAG) - CAPACITY;
+                if opened >= v {
+                    break 'words;
+                }
+                t += 1;
+                bits &= bits - 1;
+            }
+        }
+        t.min(last)
+    }
+
+    /// Large ordinal `t`: its light and `E(t) = Σ_{j<t} (m_{h_j} − C)`.
+    pub(super) fn large_at(&self, t: u64, heavy: &[u64], masses: &[u64]) -> (usize, u64) {
+        let c = Self::chunk_of(&self.large_before, t);
+        let mut opened = self.excess_before[c];
+        let mut skip = t - self.large_before[c];
+        for w in Self::words_of(c, heavy) {
+            let mut bits = heavy[w];
+            while bits != 0 {
+                let i = w * 64 + bits.trailing_zeros() as usize;
+                if skip == 0 {
+                    return (i, opened);
+                }
+                opened += (masses[i] & !REACH_FLAG) - CAPACITY;
+                skip -= 1;
+                bits &= bits - 1;
+            }
+        }
+        unreachable!("large ordinal {t} lies in chunk {c}")
+    }
+
+    /// A cursor on the small lights at small ordinal `s` (`s == S`: past the end).
+    pub(super) fn small_cursor<'a>(&self, s: u64, heavy: &'a [u64]) -> BitCursor<'a> {
+        let mut cursor = BitCursor::new(heavy, !0, self.n);
+        if s < self.small() {
+            let c = Self::chunk_of(&self.small_before, s);
+            cursor.seek(Self::words_of(c, heavy), s - self.small_before[c]);
+        }
+        cursor
+    }
+
+    /// A cursor on the large lights at large ordinal `t` (`t == L`: past the end).
+    pub(super) fn large_cursor<'a>(&self, t: u64, heavy: &'a [u64]) -> BitCursor<'a> {
+        let mut cursor = BitCursor::new(heavy, 0, self.n);
+        if t < self.large() {
+            let c = Self::chunk_of(&self.large_before, t);
+            cursor.seek(Self::words_of(c, heavy), t - self.large_before[c]);
+        }
+        cursor
+    }
+}
+
+/// Walks the lights of one kind in ascending order: the set bits of the bitmap (large) or
+/// its clear bits below `N` (small). Past the end it rests on light 0, a valid index whose
+/// reads are never used.
+#[derive(Clone, Debug)]
+pub(super) struct BitCursor<'a> {
+    heavy: &'a [u64],
+    /// `0` to walk set bits, all ones to walk clear ones.
+    flip: u64,
+    /// The lights of the last word (its bits at and above `N mod 64` are not lights).
+    tail: u64,
+    /// The current word, `heavy.len()` past the end.
+    word: usize,
+    /// `64·word` (0 past the end).
+    base: usize,
+    /// The lights of the kind still ahead in the current word (never 0).
+    bits: u64,
+}
+
+impl<'a> BitCursor<'a> {
+    /// A cursor past the end, over `n` lights.
+    fn new(heavy: &'a [u64], flip: u64, n: usize) -> Self {
+        let tail = match n % 64 {
+            0 => !0,
+            r => (1u64 << r) - 1,
+        };
+        Self {
+            heavy,
+            flip,
+            tail,
+            word: heavy.len(),
+            base: 0,
+            bits: 1,
+        }
+    }
+
+    /// Word `w`'s lights of the cursor's kind.
+    #[inline]
+    fn bits_of(&self, w: usize) -> u64 {
+        let bits = self.heavy[w] ^ self.flip;
+        if w + 1 == self.heavy.len() {
+            bits & self.tail
+        } else {
+            bits
+        }
+    }
+
+    /// Moves to the `k`-th light of the kind within `words` (there is one).
+    fn seek(&mut self, words: std::ops::Range<usize>, mut k: u64) {
+        for w in words {
+            let mut bits = self.bits_of(w);
+            let count = u64::from(bits.count_ones());
+            if k < count {
+                for _ in 0..k {
+                    bits &= bits - 1;
+                }
+                self.word = w;
+                self.base = 64 * w;
+                self.bits = bits;
+                return;
+            }
+            k -= count;
+        }
+        unreachable!("the ordinal lies in its chunk");
+    }
+
+    /// The current light.
+    #[inline]
+    pub(super) fn pos(&self) -> usize {
+        self.base + self.bits.trailing_zeros() as usize
+    }
+
+    /// Moves `step` (0 or 1) lights on, without a branch on `step`.
+    #[inline]
+    pub(super) fn advance(&mut self, step: u64) {
+        self.bits &= self.bits.wrapping_sub(step);
+        if self.bits == 0 {
+            self.next_word();
+        }
+    }
+
+    /// Moves to the next word holding a light of the kind (or past the end).
+    #[cold]
+    fn next_word(&mut self) {
+        for w in self.word + 1..self.heavy.len() {
+            let bits = self.bits_of(w);
+            if bits != 0 {
+                self.word = w;
+                self.base = 64 * w;
+                self.bits = bits;
+                return;
+            }
+        }
+        self.word = self.heavy.len();
+        self.base = 0;
+        self.bits = 1;
+    }
+}
