@@ -155,65 +155,67 @@ impl Census {
         unreachable!("large ordinal {t} lies in chunk {c}")
     }
 
-    /// A cursor on the small lights at small ordinal `s` (`s == S`: past the end).
-    pub(super) fn small_cursor<'a>(&self, s: u64, heavy: &'a [u64]) -> BitCursor<'a> {
-        let mut cursor = BitCursor::new(heavy, !0, self.n);
-        if s < self.small() {
+    /// The walk over the small lights and a cursor at small ordinal `s` (`s == S`: past the
+    /// end).
+    pub(super) fn small_cursor<'a>(&self, s: u64, heavy: &'a [u64]) -> (Walk<'a>, BitCursor) {
+        let walk = Walk::new(heavy, !0, self.n);
+        let cursor = if s < self.small() {
             let c = Self::chunk_of(&self.small_before, s);
-            cursor.seek(Self::words_of(c, heavy), s - self.small_before[c]);
-        }
-        cursor
+            walk.seek(Self::words_of(c, heavy), s - self.small_before[c])
+        } else {
+            walk.end()
+        };
+        (walk, cursor)
     }
 
-    /// A cursor on the large lights at large ordinal `t` (`t == L`: past the end).
-    pub(super) fn large_cursor<'a>(&self, t: u64, heavy: &'a [u64]) -> BitCursor<'a> {
-        let mut cursor = BitCursor::new(heavy, 0, self.n);
-        if t < self.large() {
+    /// The walk over the large lights and a cursor at large ordinal `t` (`t == L`: past the
+    /// end).
+    pub(super) fn large_cursor<'a>(&self, t: u64, heavy: &'a [u64]) -> (Walk<'a>, BitCursor) {
+        let walk = Walk::new(heavy, 0, self.n);
+        let cursor = if t < self.large() {
             let c = Self::chunk_of(&self.large_before, t);
-            cursor.seek(Self::words_of(c, heavy), t - self.large_before[c]);
-        }
-        cursor
+            walk.seek(Self::words_of(c, heavy), t - self.large_before[c])
+        } else {
+            walk.end()
+        };
+        (walk, cursor)
     }
 }
 
-/// Walks the lights of one kind in ascending order: the set bits of the bitmap (large) or
-/// its clear bits below `N` (small). Past the end it rests on light 0, a valid index whose
-/// reads are never used.
-#[derive(Clone, Debug)]
-pub(super) struct BitCursor<'a> {
+/// Which lights a [`BitCursor`] walks: the set bits of the bitmap (large) or its clear bits
+/// below `N` (small).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Walk<'a> {
     heavy: &'a [u64],
     /// `0` to walk set bits, all ones to walk clear ones.
     flip: u64,
     /// The lights of the last word (its bits at and above `N mod 64` are not lights).
     tail: u64,
-    /// The current word, `heavy.len()` past the end.
-    word: usize,
-    /// `64·word` (0 past the end).
+}
+
+/// A position in a [`Walk`], two registers: the first light of its word and the lights of
+/// the kind still ahead in that word (never 0). Past the end it rests on the last light,
+/// a valid index whose reads are never used, and stays there.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct BitCursor {
+    /// `64·word`.
     base: usize,
-    /// The lights of the kind still ahead in the current word (never 0).
     bits: u64,
 }
 
-impl<'a> BitCursor<'a> {
-    /// A cursor past the end, over `n` lights.
+impl<'a> Walk<'a> {
+    /// The walk over `n` lights.
     fn new(heavy: &'a [u64], flip: u64, n: usize) -> Self {
         let tail = match n % 64 {
             0 => !0,
             r => (1u64 << r) - 1,
         };
-        Self {
-            heavy,
-            flip,
-            tail,
-            word: heavy.len(),
-            base: 0,
-            bits: 1,
-        }
+        Self { heavy, flip, tail }
     }
 
-    /// Word `w`'s lights of the cursor's kind.
+    /// Word `w`'s lights of the walk's kind.
     #[inline]
-    fn bits_of(&self, w: usize) -> u64 {
+    fn bits_of(self, w: usize) -> u64 {
         let bits = self.heavy[w] ^ self.flip;
         if w + 1 == self.heavy.len() {
             bits & self.tail
@@ -222,8 +224,17 @@ impl<'a> BitCursor<'a> {
         }
     }
 
-    /// Moves to the `k`-th light of the kind within `words` (there is one).
-    fn seek(&mut self, words: std::ops::Range<usize>, mut k: u64) {
+    /// The cursor past the end: on the last light (bit `(N − 1) mod 64` of the last word).
+    fn end(self) -> BitCursor {
+        let last = self.heavy.len() - 1;
+        BitCursor {
+            base: 64 * last,
+            bits: 1 << (63 - (self.tail.leading_zeros())),
+        }
+    }
+
+    /// The cursor on the `k`-th light of the kind within `words` (there is one).
+    fn seek(self, words: std::ops::Range<usize>, mut k: u64) -> BitCursor {
         for w in words {
             let mut bits = self.bits_of(w);
             let count = u64::from(bits.count_ones());
@@ -231,45 +242,42 @@ impl<'a> BitCursor<'a> {
                 for _ in 0..k {
                     bits &= bits - 1;
                 }
-                self.word = w;
-                self.base = 64 * w;
-                self.bits = bits;
-                return;
+                return BitCursor { base: 64 * w, bits };
             }
             k -= count;
         }
         unreachable!("the ordinal lies in its chunk");
     }
 
-    /// The current light.
-    #[inline]
-    pub(super) fn pos(&self) -> usize {
-        self.base + self.bits.trailing_zeros() as usize
-    }
-
-    /// Moves `step` (0 or 1) lights on, without a branch on `step`.
-    #[inline]
-    pub(super) fn advance(&mut self, step: u64) {
-        self.bits &= self.bits.wrapping_sub(step);
-        if self.bits == 0 {
-            self.next_word();
-        }
-    }
-
-    /// Moves to the next word holding a light of the kind (or past the end).
+    /// The first light of the kind in a word after `cursor`'s (or past the end).
     #[cold]
-    fn next_word(&mut self) {
-        for w in self.word + 1..self.heavy.len() {
+    #[inline(never)]
+    fn next_word(self, cursor: BitCursor) -> BitCursor {
+        for w in cursor.base / 64 + 1..self.heavy.len() {
             let bits = self.bits_of(w);
             if bits != 0 {
-                self.word = w;
-                self.base = 64 * w;
-                self.bits = bits;
-                return;
+                return BitCursor { base: 64 * w, bits };
             }
         }
-        self.word = self.heavy.len();
-        self.base = 0;
-        self.bits = 1;
+        self.end()
+    }
+
+    /// `cursor` moved `step` (0 or 1) lights on, without a branch on `step`.
+    #[inline]
+    pub(super) fn advance(self, cursor: BitCursor, step: u64) -> BitCursor {
+        let bits = cursor.bits & cursor.bits.wrapping_sub(step);
+        if bits == 0 {
+            self.next_word(cursor)
+        } else {
+            BitCursor { bits, ..cursor }
+        }
+    }
+}
+
+impl BitCursor {
+    /// The current light.
+    #[inline]
+    pub(super) fn pos(self) -> usize {
+        self.base + self.bits.trailing_zeros() as usize
     }
 }

@@ -86,11 +86,11 @@ pub(super) fn sweep(table: &mut [u64], heavy: &[u64], census: &Census, order: Or
         "integer sweep ran short"
     );
     table[end.h].store(full(end.h), Relaxed);
-    let mut cursor = census.large_cursor(end.t + 1, heavy);
+    let (walk, mut cursor) = census.large_cursor(end.t + 1, heavy);
     for _ in end.t + 1..large {
         let j = cursor.pos();
         table[j].store(full(j), Relaxed);
-        cursor.advance(1);
+        cursor = walk.advance(cursor, 1);
     }
 }
 
@@ -140,58 +140,70 @@ fn pieces(masses: &[u64], heavy: &[u64], census: &Census) -> Vec<Piece> {
 /// Runs one piece of the sweep and returns the state it stopped in.
 ///
 /// Each step finishes one column, either the next small one (filled by `h`) or `h` itself,
-/// and both candidates are computed and one selected, so the step has no data-dependent
-/// branch to mispredict (about half the steps would, with powers in random order). The
-/// piece stops before a fill when its small columns are done, and before a turn when its
-/// large ones are.
+/// and both candidates are computed and one selected (`cmov`), so the step has no
+/// data-dependent branch to mispredict (about half the steps would, with powers in random
+/// order). Steps run in blocks that cannot reach either end of the piece, with no test of
+/// the ends inside (the block's length is the distance to the nearer one); at the ends a
+/// step checks them. The piece stops before a fill when its small columns are done, and
+/// before a turn when its large ones are.
 fn run(table: &[AtomicU64], heavy: &[u64], census: &Census, piece: &Piece) -> State {
-    let State {
-        mut s,
-        mut t,
-        mut h,
-        mut w,
-    } = piece.start;
-    let mut small = census.small_cursor(s, heavy);
-    let mut large = census.large_cursor(t + 1, heavy);
+    let mut state = piece.start;
+    let (small_walk, mut small) = census.small_cursor(state.s, heavy);
+    let (large_walk, mut large) = census.large_cursor(state.t + 1, heavy);
     loop {
-        // All ones when `h` fills the next small column, zero when `h` itself turns. The
-        // step selects with this mask (bit operations, no branch on `fill`, which the
-        // compiler otherwise turns back into a mispredicted jump).
-        let fill = u64::from(w >= CAPACITY).wrapping_neg();
-        let filling = fill & 1;
-        let done = (u64::from(s == piece.end_s) & fill) | (u64::from(t == piece.end_t) & !fill);
-        if done != 0 {
-            return State { s, t, h, w };
+        // Neither `s` nor the next large ordinal `t + 1` reaches its end in `k` steps.
+        let k = (piece.end_s - state.s).min((piece.end_t - state.t).saturating_sub(1));
+        if k == 0 {
+            // One step at an end: stop, or open the next piece's first large light, whose
+            // word may be gone already (its mass was handed over).
+            let fill = state.w >= CAPACITY;
+            if (fill && state.s == piece.end_s) || (!fill && state.t == piece.end_t) {
+                return state;
+            }
+            let m_next = if state.t + 1 == piece.end_t {
+                piece.end_mass
+            } else {
+                table[large.pos()].load(Relaxed)
+            };
+            step(table, &mut state, small.pos(), large.pos(), m_next);
+            let filling = u64::from(fill);
+            state.t += filling ^ 1;
+            small = small_walk.advance(small, filling);
+            large = large_walk.advance(large, filling ^ 1);
+            continue;
         }
-        // The next small column and the next large one (past either sequence's end a
-        // valid index whose values go unused).
-        let l = small.pos() as u64;
-        let h_next = large.pos() as u64;
-        let raw = table[l as usize].load(Relaxed);
-        let m_l = raw & !REACH_FLAG;
-        let loaded_next = table[h_next as usize].load(Relaxed) & !REACH_FLAG;
-        // The piece's last turn opens the next piece's first large light: its word may be
-        // gone already, its mass was handed over.
-        let m_next = if t + 1 == piece.end_t {
-            piece.end_mass
-        } else {
-            loaded_next
-        };
-        let h64 = h as u64;
-        let column = (l & fill) | (h64 & !fill);
-        let threshold = ((m_l | raw >> 63) & fill) | (w & !fill);
-        let alias = (h64 & fill) | (h_next & !fill);
-        table[column as usize].store(word(threshold as u32, alias as u32), Relaxed);
-        // Filled: h gives C − m_l. Turned: h_next gives C − w to h's column.
-        let w_fill = w.wrapping_add(m_l).wrapping_sub(CAPACITY);
-        let w_turn = m_next.wrapping_add(w).wrapping_sub(CAPACITY);
-        w = (w_fill & fill) | (w_turn & !fill);
-        h = ((h64 & fill) | (h_next & !fill)) as usize;
-        s += filling;
-        t += filling ^ 1;
-        small.advance(filling);
-        large.advance(filling ^ 1);
+        let s_before = state.s;
+        for _ in 0..k {
+            let (l, h_next) = (small.pos(), large.pos());
+            let filling = step(table, &mut state, l, h_next, table[h_next].load(Relaxed));
+            small = small_walk.advance(small, filling);
+            large = large_walk.advance(large, filling ^ 1);
+        }
+        state.t += k - (state.s - s_before);
     }
+}
+
+/// One step of the sweep from `state` with the next small light `l` and the next large
+/// light `h_next` of mass `m_next`: fills `l` from `h` (if `w ≥ C`) or turns `h` (threshold
+/// `w`, alias `h_next`), selecting between the two without a branch. Counts a fill in
+/// `state.s` (a turn's `t` is counted by the caller) and returns 1 for a fill, 0 for a turn.
+#[inline]
+fn step(table: &[AtomicU64], state: &mut State, l: usize, h_next: usize, m_next: u64) -> u64 {
+    use std::hint::select_unpredictable as select;
+    let State { s, t: _, h, w } = *state;
+    let fill = w >= CAPACITY;
+    let raw = table[l].load(Relaxed);
+    let m_l = raw & !REACH_FLAG;
+    let column = select(fill, l, h);
+    let threshold = select(fill, m_l | raw >> 63, w);
+    let alias = select(fill, h, h_next);
+    table[column].store(word(threshold as u32, alias as u32), Relaxed);
+    // Filled: h gives C − m_l. Turned: h_next gives C − w to h's column.
+    state.w = (select(fill, m_l, m_next) + w) - CAPACITY;
+    state.h = select(fill, h, h_next);
+    let filling = u64::from(fill);
+    state.s = s + filling;
+    filling
 }
 
 /// The table's words as atomics, so that pieces running at once can write their (disjoint)
