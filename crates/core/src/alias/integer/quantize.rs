@@ -5,8 +5,8 @@
 use rayon::prelude::*;
 
 use super::heavy::{Census, ChunkCensus, WORDS_PER_CHUNK};
-use super::{CHUNK, REACH_FLAG};
-use crate::alias::exact::{double_double_sum_of, two_product, two_sum};
+use super::{CAPACITY, CHUNK, REACH_FLAG};
+use crate::alias::exact::{double_double_sum_and_max, double_double_sum_of, two_product, two_sum};
 use crate::powers::{Pow2Scale, pow2_scale_to_unit, unit_exponent};
 
 /// Writes the masses `m_i` (with [`REACH_FLAG`] where due) into `table`, marks the large
@@ -88,10 +88,13 @@ fn rounded_masses(
     masses: &mut [u64],
     heavy: &mut [u64],
 ) -> (ChunkCensus, u64) {
-    let half = (1u64 << shift) >> 1;
-    let mut sum = start;
-    let mut rounded_before = (sum + half) >> shift;
-    let mut census = ChunkCensus::default();
+    // The running sum is kept half a unit ahead, so that its whole units are round(P).
+    let mut sum = start + ((1u64 << shift) >> 1);
+    let first = sum >> shift;
+    let mut rounded_before = first;
+    // Σ min(m, C) and the large lights' count give the census without a test per light.
+    let mut capped = 0u64;
+    let mut large = 0u64;
     for ((word, slots), group) in heavy
         .iter_mut()
         .zip(masses.chunks_mut(64))
@@ -100,14 +103,21 @@ fn rounded_masses(
         let mut bits = 0u64;
         for (b, (slot, &p)) in slots.iter_mut().zip(group).enumerate() {
             sum += nearest_integer(fixed_of(p));
-            let rounded = (sum + half) >> shift;
+            let rounded = sum >> shift;
             let m = rounded - rounded_before;
             rounded_before = rounded;
             *slot = flagged(m, p);
-            bits |= u64::from(census.add(m)) << b;
+            capped += m.min(CAPACITY);
+            bits |= u64::from(m >= CAPACITY) << b;
         }
         *word = bits;
+        large += u64::from(bits.count_ones());
     }
+    let census = ChunkCensus {
+        small: chunk.len() as u64 - large,
+        small_mass: capped - large * CAPACITY,
+        mass: rounded_before - first,
+    };
     (census, rounded_before)
 }
 
@@ -187,14 +197,18 @@ struct ChunkTotal {
     lo: f64,
 }
 
-/// Every chunk's [`ChunkTotal`]. Each chunk sums its powers scaled by its own largest
-/// power's scale; rescaling a chunk's sum to the common scale is exact (a power of two)
-/// unless it underflows, where it is below `2^-1022` of the total `≥ 1` anyway.
+/// Every chunk's [`ChunkTotal`]. Each chunk's sum is taken in its own largest power's
+/// scale; rescaling it to the common scale is exact (a power of two) unless it underflows,
+/// where it is below `2^-1022` of the total `≥ 1` anyway. One pass sums and finds the
+/// largest power at once, unscaled; where that largest power lies outside `2^±960` (a sum
+/// could overflow, or its compensation lose bits below `2^-1074`) a second pass sums the
+/// scaled powers.
 fn chunk_totals(powers: &[f64]) -> Vec<ChunkTotal> {
+    const SAFE: std::ops::RangeInclusive<f64> = 1.0e-289..=1.0e289; // within 2^±960
     powers
         .par_chunks(CHUNK)
         .map(|chunk| {
-            let max = chunk.iter().copied().fold(0.0, f64::max);
+            let (hi, lo, max) = double_double_sum_and_max(chunk);
             if max == 0.0 {
                 return ChunkTotal {
                     max,
@@ -203,7 +217,11 @@ fn chunk_totals(powers: &[f64]) -> Vec<ChunkTotal> {
                 };
             }
             let scale = pow2_scale_to_unit(max);
-            let (hi, lo) = double_double_sum_of(chunk, |p| scale.apply(p));
+            let (hi, lo) = if SAFE.contains(&max) {
+                (scale.apply(hi), scale.apply(lo))
+            } else {
+                double_double_sum_of(chunk, |p| scale.apply(p))
+            };
             ChunkTotal { max, hi, lo }
         })
         .collect()
