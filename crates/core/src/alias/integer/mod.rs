@@ -115,15 +115,6 @@ pub(crate) fn build(powers: &[f64], table: &mut Vec<u64>, heavy: &mut Vec<u64>) 
         table[0] = full(0);
         return;
     }
-    let t0 = std::time::Instant::now();
     let census = quantize::quantize(powers, table, heavy);
-    let t1 = std::time::Instant::now();
     sweep::sweep(table, heavy, &census, sweep::Order::Parallel);
-    if std::env::var_os("PHASES").is_some() {
-        eprintln!(
-            "PHASES quantize {:.3} sweep {:.3}",
-            (t1 - t0).as_secs_f64() * 1e3,
-            t1.elapsed().as_secs_f64() * 1e3
-        );
-    }
 }

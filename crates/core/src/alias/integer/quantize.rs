@@ -13,11 +13,7 @@ use crate::powers::{Pow2Scale, pow2_scale_to_unit, unit_exponent};
 /// lights in `heavy` (one bit per light) and returns the chunks' census.
 pub(super) fn quantize(powers: &[f64], table: &mut [u64], heavy: &mut [u64]) -> Census {
     let n = powers.len();
-    let t0 = std::time::Instant::now();
     let (ideal, anchors) = IdealMass::with_anchors(powers);
-    if std::env::var_os("PHASES").is_some() {
-        eprintln!("PHASES total {:.3}", t0.elapsed().as_secs_f64() * 1e3);
-    }
     let chunks: Vec<ChunkCensus> = powers
         .par_chunks(CHUNK)
         .zip(table.par_chunks_mut(CHUNK))
