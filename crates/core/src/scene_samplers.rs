@@ -79,25 +79,50 @@ impl SceneSamplers {
     /// If `scene` holds a different number of lights.
     #[must_use]
     pub fn repowered(&self, scene: Arc<Scene>) -> Self {
+        self.repowered_then(scene, |_| ()).0
+    }
+
+    /// [`SceneSamplers::repowered`], and `with_table` applied to the new table: the table's
+    /// rebuild and then `with_table` run beside the tree's copy and refit (`rayon::join`),
+    /// so work that needs only the table (a pmf for display, say) takes no time of its own
+    /// while the tree, the longer part, is refitted.
+    ///
+    /// # Panics
+    /// If `scene` holds a different number of lights.
+    pub fn repowered_then<R: Send>(
+        &self,
+        scene: Arc<Scene>,
+        with_table: impl FnOnce(&AliasTable) -> R + Send,
+    ) -> (Self, R) {
         assert_eq!(
             scene.light_count(),
             self.scene.light_count(),
             "one power per light"
         );
-        let mut table = AliasTable::clone(&self.table);
-        table.rebuild(&scene.powers);
-        let spatial = OnceLock::new();
-        if let Some(built) = self.spatial.get() {
-            let mut refitted = SpatialSampler::clone(built);
-            refitted.refit(&scene);
-            let _ = spatial.set(Arc::new(refitted));
-        }
-        Self {
+        let ((table, result), spatial) = rayon::join(
+            || {
+                let mut table = AliasTable::clone(&self.table);
+                table.rebuild(&scene.powers);
+                let result = with_table(&table);
+                (table, result)
+            },
+            || {
+                let spatial = OnceLock::new();
+                if let Some(built) = self.spatial.get() {
+                    let mut refitted = SpatialSampler::clone(built);
+                    refitted.refit(&scene);
+                    let _ = spatial.set(Arc::new(refitted));
+                }
+                spatial
+            },
+        );
+        let samplers = Self {
             scene,
             table: Arc::new(table),
             spatial: Arc::new(spatial),
             cpu_lights: Arc::new(OnceLock::new()),
-        }
+        };
+        (samplers, result)
     }
 
     /// The lights every power-picking CPU renderer of the scene reads (the scene's arrays
