@@ -49,6 +49,7 @@
 mod batch;
 mod exact;
 mod integer;
+mod pages;
 
 use std::sync::OnceLock;
 

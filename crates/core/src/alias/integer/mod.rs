@@ -109,6 +109,10 @@ fn full(i: usize) -> u64 {
 pub(crate) fn build(powers: &[f64], table: &mut Vec<u64>, heavy: &mut Vec<u64>) {
     let n = powers.len();
     debug_assert!((1..=MAX_LEN).contains(&n));
+    if table.capacity() < n {
+        // A fresh table: untouched pages, faulted in by the parallel passes that write them.
+        *table = super::pages::fresh_words(n);
+    }
     table.resize(n, 0);
     heavy.resize(n.div_ceil(64), 0);
     if n == 1 {
