@@ -10,7 +10,7 @@
 //! # Two constructions: the speed/accuracy trade, made explicit ([`Construction`])
 //! * [`Construction::Integer`] (the default, [`AliasTable::build`]): the powers are
 //!   quantized to integer masses `m_i` that sum to exactly `N·2^32`, then an exact integer
-//!   sweep builds the packed table (`integer.rs`). The table realizes **exactly** the pmf
+//!   sweep builds the packed table (`integer/`). The table realizes **exactly** the pmf
 //!   `m_i/(N·2^32)`, with `|m_i/(N·2^32) − p_i| ≤ (1 + a_i)·2^-32/N` (`a_i` columns alias to
 //!   `i`) and `< 2^-32/N` for every light unless some `p_i < 2^-32/N` (whose columns take
 //!   one unit from their alias to stay reachable). 8 bytes per light; no `f64` table is
@@ -20,8 +20,8 @@
 //!   double-double carries (`exact.rs`). Its `f64` table implies `p_i` within `10^-12`
 //!   relative (a few ulps in practice) — the seed powers `2, 5, 20` give thresholds
 //!   `6/27, 15/27, 1` and aliases `2, 2, 2` exactly, which the classroom views show — and
-//!   its packed form is that table quantized (within `(1 + a_i)·2^-32/N`). About 4× slower
-//!   to build and 28 bytes per light.
+//!   its packed form is that table quantized (within `(1 + a_i)·2^-32/N`). Several times
+//!   slower to build (README § Numbers) and 28 bytes per light.
 //!
 //! Both sample through the same packed form, on the CPU and in WGSL.
 //!
