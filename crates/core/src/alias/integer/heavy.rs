@@ -110,29 +110,35 @@ impl Census {
     }
 
     /// How many large ordinals `t ≤ L − 2` have `E(t+1) < v`, at most `L − 1`: with
-    /// `v = D(s)`, the large columns that turn before small column `s` is filled.
-    pub(super) fn large_below(&self, v: u64, heavy: &[u64], masses: &[u64]) -> u64 {
+    /// `v = D(s)`, the large columns that turn before small column `s` is filled. Returns
+    /// `t` with its light `h_t` and `E(t)` ([`Census::large_at`]), from one scan of the
+    /// chunk where the crossing lies.
+    pub(super) fn large_below(&self, v: u64, heavy: &[u64], masses: &[u64]) -> (u64, usize, u64) {
         let last = self.large() - 1;
         if v == 0 {
-            return 0;
+            let (h, opened) = self.large_at(0, heavy, masses);
+            return (0, h, opened);
         }
         // The last chunk whose excess prefix at its start is below v: the crossing is in it.
         let c = (self.excess_before.partition_point(|&e| e < v) - 1).min(self.chunks() - 1);
         let mut t = self.large_before[c];
         let mut opened = self.excess_before[c];
-        'words: for w in Self::words_of(c, heavy) {
+        for w in Self::words_of(c, heavy) {
             let mut bits = heavy[w];
             while bits != 0 {
                 let i = w * 64 + bits.trailing_zeros() as usize;
-                opened += (masses[i] & !REACH_FLAG) - CAPACITY;
-                if opened >= v {
-                    break 'words;
+                let next = opened + (masses[i] & !REACH_FLAG) - CAPACITY;
+                if next >= v && t <= last {
+                    return (t, i, opened);
                 }
+                opened = next;
                 t += 1;
                 bits &= bits - 1;
             }
         }
-        t.min(last)
+        let t = t.min(last);
+        let (h, opened) = self.large_at(t, heavy, masses);
+        (t, h, opened)
     }
 
     /// Large ordinal `t`: its light and `E(t) = Σ_{j<t} (m_{h_j} − C)`.

@@ -10,8 +10,10 @@ use rayon::prelude::*;
 use super::heavy::Census;
 use super::{CAPACITY, REACH_FLAG, full, word};
 
-/// Pieces per thread: enough that uneven pieces balance out.
-const PIECES_PER_THREAD: usize = 4;
+/// Pieces per thread: enough that uneven pieces balance out, and that a thread the system
+/// takes off its core in the middle of a piece (a machine shared with other work) holds
+/// up the others for a small part of the sweep only.
+const PIECES_PER_THREAD: usize = 8;
 
 /// A state of the sequential sweep: `s` small columns filled, `t` large ones turned, the
 /// current large light `h` (ordinal `t`) holding the rest `w` of its mass.
@@ -100,11 +102,11 @@ fn pieces(masses: &[u64], heavy: &[u64], census: &Census) -> Vec<Piece> {
     let chunks = census.chunks();
     let wanted = (rayon::current_num_threads() * PIECES_PER_THREAD).clamp(1, chunks);
     let mut starts: Vec<State> = (0..wanted)
+        .into_par_iter()
         .map(|k| {
             let c = k * chunks / wanted;
             let (s, v) = (census.small_before[c], census.deficit_before[c]);
-            let t = census.large_below(v, heavy, masses);
-            let (h, opened) = census.large_at(t, heavy, masses);
+            let (t, h, opened) = census.large_below(v, heavy, masses);
             let m_h = masses[h] & !REACH_FLAG;
             // w = E(t+1) − D(s) + C = E(t) + m_h − D(s) ≥ C (the cut comes before a fill).
             State {
