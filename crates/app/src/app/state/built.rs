@@ -66,9 +66,19 @@ impl Built {
     /// the light tree refitted in `O(N)` ([`SceneSamplers::repowered`]) instead of the tree
     /// being rebuilt in `O(N log N)` (0.2 s at 10^6 lights). The same tables and tree, bit
     /// for bit.
-    pub fn repowered(generation: u64, scene: Scene, previous: &SceneSamplers) -> Self {
+    ///
+    /// `earlier`, an older generation of the same scene's samplers (the one two edits back,
+    /// [`super::AppState`] keeps it a second), is rebuilt into where nothing else holds it
+    /// any more ([`SceneSamplers::repowered_then`]): no copy of the table and the tree, and
+    /// none of the page faults of fresh buffers.
+    pub fn repowered(
+        generation: u64,
+        scene: Scene,
+        previous: &SceneSamplers,
+        earlier: Option<SceneSamplers>,
+    ) -> Self {
         // The pmf needs only the table: it is computed while the tree is refitted.
-        let (samplers, pmf) = previous.repowered_then(Arc::new(scene), pmf_kept);
+        let (samplers, pmf) = previous.repowered_then(Arc::new(scene), earlier, pmf_kept);
         Self::with_parts(generation, samplers, pmf)
     }
 
@@ -116,9 +126,14 @@ impl Built {
     }
 
     /// [`Built::repowered`] when `scene` keeps `previous`'s geometry, else [`Built::new`].
-    pub fn from_edit(generation: u64, scene: Scene, previous: &SceneSamplers) -> Self {
+    pub fn from_edit(
+        generation: u64,
+        scene: Scene,
+        previous: &SceneSamplers,
+        earlier: Option<SceneSamplers>,
+    ) -> Self {
         if previous.scene().same_geometry(&scene) {
-            Self::repowered(generation, scene, previous)
+            Self::repowered(generation, scene, previous, earlier)
         } else {
             Self::new(generation, scene)
         }
