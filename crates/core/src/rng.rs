@@ -119,7 +119,11 @@ impl Rng {
     ///
     /// # Panics
     /// If the slices differ in length.
-    #[inline(always)] // so that callers compiled for wider vectors widen its lanes too
+    #[inline(always)]
+    #[allow(
+        clippy::inline_always,
+        reason = "callers compiled for wider vectors (AVX2) widen its lanes too"
+    )]
     pub fn fill_pairs(&mut self, even: &mut [u32], odd: &mut [u32]) {
         assert_eq!(even.len(), odd.len(), "one odd draw per even draw");
         let (mul16, add16) = lcg_power(16);

@@ -203,8 +203,7 @@ mod tests {
         assert_eq!(copied.spatial_if_built(), fresh.spatial_if_built());
         // Unshared: rebuilt in place, the same result again.
         let table_words = holder.table().packed().as_ptr();
-        let (reused, pmf_len) =
-            second.repowered_then(third_scene, Some(holder), |table| table.len());
+        let (reused, pmf_len) = second.repowered_then(third_scene, Some(holder), AliasTable::len);
         assert_eq!(pmf_len, fresh.table().len());
         assert_eq!(
             reused.table().packed().as_ptr(),

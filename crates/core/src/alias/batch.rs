@@ -88,6 +88,10 @@ impl AliasTable {
     /// rejected, drawing from `ahead`; returns how many picks were made (`out.len()` if no
     /// draw was rejected, and then `ahead` is after the block's draws).
     #[inline(always)]
+    #[allow(
+        clippy::inline_always,
+        reason = "compiled into the AVX2 instance too, where its loops widen"
+    )]
     fn pick_block(&self, block: &mut Block, out: &mut [u32], ahead: &mut Rng) -> usize {
         let len = out.len();
         let n = self.words.len() as u64;

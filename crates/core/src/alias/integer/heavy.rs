@@ -235,7 +235,7 @@ impl<'a> Walk<'a> {
         let last = self.heavy.len() - 1;
         BitCursor {
             base: 64 * last,
-            bits: 1 << (63 - (self.tail.leading_zeros())),
+            bits: 1 << self.tail.ilog2(),
         }
     }
 

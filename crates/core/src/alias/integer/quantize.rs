@@ -180,6 +180,10 @@ fn settle(
 
 /// Mass `m` of a light of power `p`, with [`REACH_FLAG`] when it is 0 and `p` is not.
 #[inline]
+#[allow(
+    clippy::needless_bitwise_bool,
+    reason = "no branch on a zero mass (half the lights of some scenes, in any order)"
+)]
 fn flagged(m: u64, p: f64) -> u64 {
     m | (u64::from((m == 0) & (p > 0.0)) << 63)
 }
