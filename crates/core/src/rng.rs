@@ -110,6 +110,55 @@ impl Rng {
         }
     }
 
+    /// Fills `even` and `odd` (of equal length `m`) with the next `2m` draws, alternately:
+    /// draw `2k` into `even[k]`, draw `2k + 1` into `odd[k]`, exactly those of as many
+    /// [`Rng::next_u32`] calls, and leaves the stream after them. Sixteen lanes (eight per
+    /// parity) each step the LCG by `a^16`, so the hashes are independent and both outputs
+    /// are written in order, without shuffles (what a batch of two-draw picks wants: its
+    /// column draws in one array, its keep draws in another).
+    ///
+    /// # Panics
+    /// If the slices differ in length.
+    #[inline(always)]
+    #[allow(
+        clippy::inline_always,
+        reason = "callers compiled for wider vectors (AVX2) widen its lanes too"
+    )]
+    pub fn fill_pairs(&mut self, even: &mut [u32], odd: &mut [u32]) {
+        assert_eq!(even.len(), odd.len(), "one odd draw per even draw");
+        let (mul16, add16) = lcg_power(16);
+        let (mut even_lanes, mut odd_lanes) = ([0u32; 8], [0u32; 8]);
+        let mut state = self.state;
+        for (e, o) in even_lanes.iter_mut().zip(&mut odd_lanes) {
+            *e = state;
+            state = lcg_step(state);
+            *o = state;
+            state = lcg_step(state);
+        }
+        let done = even.len() - even.len() % 8;
+        for (e8, o8) in even[..done]
+            .chunks_exact_mut(8)
+            .zip(odd[..done].chunks_exact_mut(8))
+        {
+            for (((e, o), el), ol) in e8
+                .iter_mut()
+                .zip(o8.iter_mut())
+                .zip(&mut even_lanes)
+                .zip(&mut odd_lanes)
+            {
+                *e = pcg_hash(*el);
+                *o = pcg_hash(*ol);
+                *el = el.wrapping_mul(mul16).wrapping_add(add16);
+                *ol = ol.wrapping_mul(mul16).wrapping_add(add16);
+            }
+        }
+        self.advance(2 * done as u64);
+        for (e, o) in even[done..].iter_mut().zip(&mut odd[done..]) {
+            *e = self.next_u32();
+            *o = self.next_u32();
+        }
+    }
+
     /// Skips `k` draws in `O(log k)` (the LCG's jump-ahead), as if [`Rng::next_u32`] had
     /// been called `k` times.
     pub fn advance(&mut self, k: u64) {
@@ -165,6 +214,20 @@ mod tests {
             let mut skipped = Rng::new(9, len as u64);
             skipped.advance(len as u64);
             assert_eq!(skipped, one, "advance({len})");
+        }
+    }
+
+    #[test]
+    fn fill_pairs_splits_the_stream_by_parity() {
+        for len in [0usize, 1, 7, 8, 9, 17, 1000] {
+            let mut one = Rng::new(5, len as u64);
+            let expected: Vec<u32> = (0..2 * len).map(|_| one.next_u32()).collect();
+            let mut pairs = Rng::new(5, len as u64);
+            let (mut even, mut odd) = (vec![0u32; len], vec![0u32; len]);
+            pairs.fill_pairs(&mut even, &mut odd);
+            let interleaved: Vec<u32> = even.iter().zip(&odd).flat_map(|(&e, &o)| [e, o]).collect();
+            assert_eq!(interleaved, expected, "len {len}");
+            assert_eq!(pairs, one, "state after {len} pairs");
         }
     }
 

@@ -38,6 +38,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::bandwidth::{BUILD_BYTES_PER_LIGHT, Bandwidth};
+use super::machine::{faults_per_call, random_read_ns};
 use anyhow::{Context as _, bail};
 use clap::Args;
 use lightpick_core::draw::{self, ConvergenceAxis, ConvergencePoint, ConvergenceSeries};
@@ -150,6 +151,12 @@ pub struct Case {
     /// the sequential constructions and peers (`app-repower`: the pool, for its table and
     /// tree). Picks always run on one thread.
     pub threads: usize,
+    /// Minor page faults per build (`alias`, `alias-1t` and the peer alias table; Linux).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub build_faults: Option<f64>,
+    /// Minor page faults per in-place rebuild (`alias`, `alias-1t`; Linux).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rebuild_faults: Option<f64>,
 }
 
 /// Timing plan: repetitions and batch sizes.
@@ -190,8 +197,11 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         }
     };
     let mut cases = Vec::new();
+    let mut read_floors = Vec::new();
     for &n in &sizes {
-        cases.extend(time_tables(n, args.seed, plan)?);
+        let (timed, floor) = time_tables(n, args.seed, plan)?;
+        cases.extend(timed);
+        read_floors.push((n, floor));
     }
     let gpu = if args.no_gpu {
         json!({ "adapter": null, "note": "skipped (--no-gpu)" })
@@ -220,6 +230,16 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         .iter()
         .map(|&n| json!({ "n": n, "build_floor_ns": bandwidth.build_floor_ns(n) }))
         .collect();
+    let read_floors_json: Vec<serde_json::Value> = read_floors
+        .iter()
+        .map(|&(n, ns)| {
+            let batch = cases
+                .iter()
+                .find(|c| c.n == n && c.method == "alias-batch")
+                .map(|c| c.sample_ns / ns);
+            json!({ "n": n, "random_read_ns": ns, "batch_over_random_read": batch })
+        })
+        .collect();
     if args.json {
         super::print_json(&json!({
             "quick": args.quick,
@@ -229,6 +249,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
                 "buffer_bytes": bandwidth.buffer_bytes,
                 "build_bytes_per_light": BUILD_BYTES_PER_LIGHT,
                 "build_floors": floors,
+                "random_read_floors": read_floors_json,
             },
             "cases": cases,
             "ratios": ratios,
@@ -248,6 +269,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         for &n in &sizes {
             println!("{n:>9}  {:.3} ms", bandwidth.build_floor_ns(n) / 1e6);
         }
+        print!("{}", read_floor_text(&cases, &read_floors));
         print!("{}", app_renders_text(&app_renders));
         print!("{}", gpu_renders_text(&gpu_renders));
         print!("{}", plot_text(plot.as_ref()));
@@ -353,8 +375,9 @@ fn median_with_inputs<I, T>(
     times[times.len() / 2]
 }
 
-/// Times every method at `N` lights (exponential powers).
-fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
+/// Times every method at `N` lights (exponential powers); also returns the random-read
+/// floor of the table's own entries ([`random_read_ns`], one thread).
+fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<(Vec<Case>, f64)> {
     let raw = Distribution::Exponential.powers(n, seed);
     let powers = LightPowers::new(raw.clone()).context("bench powers")?;
     let build_batch = (plan.build_budget / n).max(1);
@@ -378,6 +401,8 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
             rebuild_ns,
             sample_ns,
             threads,
+            build_faults: None,
+            rebuild_faults: None,
         });
     };
 
@@ -417,6 +442,7 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
         Some(one_thread.rebuild),
         one_thread.sample,
     );
+    let one_thread_faults = (one_thread.build_faults, one_thread.rebuild_faults);
     drop(one_thread);
     let exact = timed(Construction::Exact);
     push(
@@ -428,7 +454,12 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
     );
     drop(exact);
     let (alias_build, alias_rebuild) = (integer.build, integer.rebuild);
+    let faults = [
+        ("alias", integer.build_faults, integer.rebuild_faults),
+        ("alias-1t", one_thread_faults.0, one_thread_faults.1),
+    ];
     let table = integer.table;
+    let read_floor = random_read_ns(table.packed(), samples.min(1 << 20) as u32, reps);
     // Batched picks into a buffer (the same picks as one at a time on the same stream).
     let mut batch = vec![0u32; samples.min(1 << 16)];
     let batch_sample = median_ns(reps, samples / batch.len(), |rep| {
@@ -490,6 +521,15 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
         || raw.clone(),
         rand_distr::weighted::WeightedAliasIndex::new,
     );
+    let wai_faults = {
+        let inputs: Vec<Vec<f64>> = (0..3).map(|_| raw.clone()).collect();
+        let mut inputs = inputs.into_iter();
+        faults_per_call(3, || {
+            inputs
+                .next()
+                .map(rand_distr::weighted::WeightedAliasIndex::new)
+        })
+    };
     let wai = rand_distr::weighted::WeightedAliasIndex::new(raw.clone())
         .map_err(|e| anyhow::anyhow!("WeightedAliasIndex: {e}"))?;
     let mut small = SmallRng::seed_from_u64(seed);
@@ -511,8 +551,48 @@ fn time_tables(n: usize, seed: u64, plan: Plan) -> anyhow::Result<Vec<Case>> {
     let mut small = SmallRng::seed_from_u64(seed);
     let wi_sample = median_ns(reps, samples, |_| wi.sample(&mut small));
     push("rand::WeightedIndex", "SmallRng", wi_build, None, wi_sample);
+    for case in &mut cases {
+        if let Some(&(_, build, rebuild)) = faults.iter().find(|f| f.0 == case.method) {
+            (case.build_faults, case.rebuild_faults) = (build, rebuild);
+        } else if case.method == "rand_distr::WeightedAliasIndex" {
+            case.build_faults = wai_faults;
+        }
+    }
     cases.extend(time_tree(n, &powers, &other, seed, reps));
-    Ok(cases)
+    Ok((cases, read_floor))
+}
+
+/// The random-read floor beside the batched pick, and the page faults of the builds.
+fn read_floor_text(cases: &[Case], floors: &[(usize, f64)]) -> String {
+    let mut out = String::from(
+        "\nrandom reads of the table's entries (8 bytes at hashed positions, one thread), \
+         beside alias-batch's pick:\n",
+    );
+    for &(n, ns) in floors {
+        let batch = cases
+            .iter()
+            .find(|c| c.n == n && c.method == "alias-batch")
+            .map_or(f64::NAN, |c| c.sample_ns);
+        let _ = writeln!(
+            out,
+            "{n:>9}  {ns:.2} ns per read; alias-batch {batch:.2} ns per pick ({:.2}× the floor)",
+            batch / ns
+        );
+    }
+    out.push_str("minor page faults per build / rebuild:\n");
+    for c in cases.iter().filter(|c| c.build_faults.is_some()) {
+        let rebuild = c
+            .rebuild_faults
+            .map_or_else(|| "-".to_owned(), |f| format!("{f:.0}"));
+        let _ = writeln!(
+            out,
+            "{:>9}  {:<31} {:>9.0} / {rebuild}",
+            c.n,
+            c.method,
+            c.build_faults.unwrap_or(f64::NAN)
+        );
+    }
+    out
 }
 
 /// The light tree at `N` lights spread over a unit square at heights `0.1 … 1`: `tree-build`
@@ -560,6 +640,8 @@ fn time_tree(
             rebuild_ns: None,
             sample_ns,
             threads,
+            build_faults: None,
+            rebuild_faults: None,
         })
         .collect()
 }
@@ -597,6 +679,9 @@ struct ConstructionTimes {
     build: f64,
     rebuild: f64,
     sample: f64,
+    /// Minor page faults per build and per rebuild (Linux).
+    build_faults: Option<f64>,
+    rebuild_faults: Option<f64>,
     table: std::sync::Arc<AliasTable>,
 }
 
@@ -614,11 +699,17 @@ fn time_construction(
     let build = median_ns(reps, build_batch, |_| {
         AliasTable::build_with(powers, construction)
     });
+    let build_faults = faults_per_call(3, || AliasTable::build_with(powers, construction));
     let mut table = AliasTable::build_with(powers, construction);
     let inputs = [other, powers];
     let rebuild = median_ns(reps, build_batch, |i| {
         table.rebuild(inputs[i & 1]);
         table.len()
+    });
+    let mut k = 0;
+    let rebuild_faults = faults_per_call(4, || {
+        k += 1;
+        table.rebuild(inputs[k & 1]);
     });
     table.rebuild(powers);
     let table = std::sync::Arc::new(table);
@@ -628,6 +719,8 @@ fn time_construction(
         build,
         rebuild,
         sample,
+        build_faults,
+        rebuild_faults,
         table,
     }
 }

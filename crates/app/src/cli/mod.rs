@@ -7,6 +7,7 @@ mod bench;
 mod device;
 mod estimate;
 mod input;
+mod machine;
 mod plot;
 mod precision;
 mod render;

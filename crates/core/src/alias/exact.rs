@@ -158,6 +158,32 @@ pub(crate) fn double_double_sum_of(values: &[f64], f: impl Fn(f64) -> f64) -> (f
     combine_lanes(&hi, &lo)
 }
 
+/// [`double_double_sum_of`] without a function, and the largest value too, in one pass
+/// (the same eight lanes, the same bits).
+pub(crate) fn double_double_sum_and_max(values: &[f64]) -> (f64, f64, f64) {
+    let mut hi = [0.0f64; 8];
+    let mut lo = [0.0f64; 8];
+    let mut max = [0.0f64; 8];
+    let chunks = values.chunks_exact(8);
+    let rest = chunks.remainder();
+    for chunk in chunks {
+        for (((h, l), m), &x) in hi.iter_mut().zip(&mut lo).zip(&mut max).zip(chunk) {
+            *m = if x > *m { x } else { *m };
+            let (s, e) = two_sum(*h, x);
+            *h = s;
+            *l += e;
+        }
+    }
+    for (((h, l), m), &x) in hi.iter_mut().zip(&mut lo).zip(&mut max).zip(rest) {
+        *m = if x > *m { x } else { *m };
+        let (s, e) = two_sum(*h, x);
+        *h = s;
+        *l += e;
+    }
+    let (total, comp) = combine_lanes(&hi, &lo);
+    (total, comp, max.iter().copied().fold(0.0, f64::max))
+}
+
 /// The lanes' `hi` then `lo` words added into one double-double.
 fn combine_lanes(hi: &[f64; 8], lo: &[f64; 8]) -> (f64, f64) {
     let (mut total, mut comp) = (0.0, 0.0);

@@ -10,7 +10,7 @@
 //! # Two constructions: the speed/accuracy trade, made explicit ([`Construction`])
 //! * [`Construction::Integer`] (the default, [`AliasTable::build`]): the powers are
 //!   quantized to integer masses `m_i` that sum to exactly `N·2^32`, then an exact integer
-//!   sweep builds the packed table (`integer.rs`). The table realizes **exactly** the pmf
+//!   sweep builds the packed table (`integer/`). The table realizes **exactly** the pmf
 //!   `m_i/(N·2^32)`, with `|m_i/(N·2^32) − p_i| ≤ (1 + a_i)·2^-32/N` (`a_i` columns alias to
 //!   `i`) and `< 2^-32/N` for every light unless some `p_i < 2^-32/N` (whose columns take
 //!   one unit from their alias to stay reachable). 8 bytes per light; no `f64` table is
@@ -20,8 +20,8 @@
 //!   double-double carries (`exact.rs`). Its `f64` table implies `p_i` within `10^-12`
 //!   relative (a few ulps in practice) — the seed powers `2, 5, 20` give thresholds
 //!   `6/27, 15/27, 1` and aliases `2, 2, 2` exactly, which the classroom views show — and
-//!   its packed form is that table quantized (within `(1 + a_i)·2^-32/N`). About 4× slower
-//!   to build and 28 bytes per light.
+//!   its packed form is that table quantized (within `(1 + a_i)·2^-32/N`). Several times
+//!   slower to build (README § Numbers) and 28 bytes per light.
 //!
 //! Both sample through the same packed form, on the CPU and in WGSL.
 //!
@@ -49,6 +49,7 @@
 mod batch;
 mod exact;
 mod integer;
+mod pages;
 
 use std::sync::OnceLock;
 
@@ -142,9 +143,9 @@ pub struct AliasTable {
     exact: exact::ExactParts,
     /// The integer construction's `f64` views, computed when first asked for.
     derived: OnceLock<DerivedViews>,
-    /// The integer sweep's index lists, kept after a rebuild so the next one allocates
-    /// nothing (empty after a fresh build).
-    scratch: Vec<u32>,
+    /// The integer sweep's bitmap of large lights (one bit per light), kept after a
+    /// rebuild so the next one allocates nothing (empty after a fresh build).
+    heavy: Vec<u64>,
 }
 
 impl PartialEq for AliasTable {
@@ -181,26 +182,26 @@ impl AliasTable {
             construction,
             exact: exact::ExactParts::default(),
             derived: OnceLock::new(),
-            scratch: Vec::new(),
+            heavy: Vec::new(),
         };
         table.rebuild(powers);
         // A one-off table keeps only what it samples with (8 bytes per light); the sweep's
-        // index lists come back on the first rebuild and stay for the next.
-        table.scratch = Vec::new();
+        // bitmap comes back on the first rebuild and stays for the next.
+        table.heavy = Vec::new();
         table
     }
 
     /// Rebuilds the table in place for new `powers`, with the same construction, reusing
     /// every buffer: when `N` is unchanged nothing is allocated (what the app does while a
-    /// power is dragged), except the integer sweep's 4-byte index list on the first rebuild
-    /// of a freshly built table.
+    /// power is dragged), except the integer sweep's bitmap (one bit per light) on the first
+    /// rebuild of a freshly built table.
     pub fn rebuild(&mut self, powers: &LightPowers) {
         let n = powers.len();
         self.columns = Uniform::new(n as u32);
         self.derived = OnceLock::new();
         if self.construction == Construction::Integer && n <= integer::MAX_LEN {
             self.exact = exact::ExactParts::default();
-            integer::build(powers.as_slice(), &mut self.words, &mut self.scratch);
+            integer::build(powers.as_slice(), &mut self.words, &mut self.heavy);
         } else {
             exact::build(powers, &mut self.exact, &mut self.words);
         }
@@ -435,7 +436,7 @@ impl AliasTable {
     }
 
     /// Heap bytes the table holds, by capacity: the packed words (8 bytes per light), the
-    /// integer sweep's index lists kept for the next rebuild, the exact construction's `f64`
+    /// integer sweep's bitmap kept for the next rebuild, the exact construction's `f64`
     /// table, and the `f64` views of an integer-built table once something derived them
     /// ([`AliasTable::thresholds`], [`AliasTable::aliases`], [`AliasTable::pmf_slice`]: 20
     /// bytes per light).
@@ -447,7 +448,7 @@ impl AliasTable {
                 + d.alias.capacity() * size_of::<u32>()
         });
         self.words.capacity() * size_of::<u64>()
-            + self.scratch.capacity() * size_of::<u32>()
+            + self.heavy.capacity() * size_of::<u64>()
             + (exact.threshold.capacity() + exact.pmf.capacity()) * size_of::<f64>()
             + exact.alias.capacity() * size_of::<u32>()
             + derived

@@ -189,14 +189,14 @@ fn rebuild_equals_build_and_reuses_the_buffers() {
     );
     for construction in Construction::ALL {
         let mut table = AliasTable::build_with(&a, construction);
-        table.rebuild(&a); // the first rebuild brings the sweep's index list back
+        table.rebuild(&a); // the first rebuild brings the sweep's bitmap back
         let words = table.words.as_ptr();
-        let scratch = table.scratch.as_ptr();
+        let heavy = table.heavy.as_ptr();
         table.rebuild(&b);
         assert_eq!(
-            table.scratch.as_ptr(),
-            scratch,
-            "{construction}: scratch reallocated"
+            table.heavy.as_ptr(),
+            heavy,
+            "{construction}: bitmap reallocated"
         );
         assert_eq!(
             table,

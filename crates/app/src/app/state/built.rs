@@ -41,6 +41,12 @@ pub fn construction_for(n: usize) -> Construction {
     }
 }
 
+/// The pmf the app keeps beside an integer-built table ([`Built::pmf`]); `None` for the
+/// exact construction, which stores its own.
+fn pmf_kept(table: &AliasTable) -> Option<Vec<f64>> {
+    (table.construction() == Construction::Integer).then(|| table.implied_pmf_packed())
+}
+
 impl Built {
     /// Builds the table (`O(N)`) and the spatial sampler (`O(N log N)`) of a validated
     /// scene: on the UI thread up to `SYNC_BUILD_LIMIT` lights, on a worker beyond.
@@ -60,20 +66,36 @@ impl Built {
     /// the light tree refitted in `O(N)` ([`SceneSamplers::repowered`]) instead of the tree
     /// being rebuilt in `O(N log N)` (0.2 s at 10^6 lights). The same tables and tree, bit
     /// for bit.
-    pub fn repowered(generation: u64, scene: Scene, previous: &SceneSamplers) -> Self {
-        Self::with_samplers(generation, previous.repowered(Arc::new(scene)))
+    ///
+    /// `earlier`, an older generation of the same scene's samplers (the one two edits back,
+    /// [`super::AppState`] keeps it a second), is rebuilt into where nothing else holds it
+    /// any more ([`SceneSamplers::repowered_then`]): no copy of the table and the tree, and
+    /// none of the page faults of fresh buffers.
+    pub fn repowered(
+        generation: u64,
+        scene: Scene,
+        previous: &SceneSamplers,
+        earlier: Option<SceneSamplers>,
+    ) -> Self {
+        // The pmf needs only the table: it is computed while the tree is refitted.
+        let (samplers, pmf) = previous.repowered_then(Arc::new(scene), earlier, pmf_kept);
+        Self::with_parts(generation, samplers, pmf)
     }
 
     /// The state around samplers whose table is built: the spatial sampler built now (off
     /// the UI thread for large scenes), the display helpers derived from the scene.
     fn with_samplers(generation: u64, samplers: SceneSamplers) -> Self {
         samplers.spatial();
+        let pmf = pmf_kept(samplers.table());
+        Self::with_parts(generation, samplers, pmf)
+    }
+
+    /// The state around built samplers and the pmf kept for them ([`pmf_kept`]).
+    fn with_parts(generation: u64, samplers: SceneSamplers, pmf: Option<Vec<f64>>) -> Self {
         let scene = Arc::clone(samplers.scene());
         let table = Arc::clone(samplers.table());
         let denominator = lightpick_core::draw::fraction_denominator(&scene.powers);
         let total_power = scene.powers.as_slice().iter().sum();
-        let pmf =
-            (table.construction() == Construction::Integer).then(|| table.implied_pmf_packed());
         Self {
             generation,
             scene,
@@ -104,9 +126,14 @@ impl Built {
     }
 
     /// [`Built::repowered`] when `scene` keeps `previous`'s geometry, else [`Built::new`].
-    pub fn from_edit(generation: u64, scene: Scene, previous: &SceneSamplers) -> Self {
+    pub fn from_edit(
+        generation: u64,
+        scene: Scene,
+        previous: &SceneSamplers,
+        earlier: Option<SceneSamplers>,
+    ) -> Self {
         if previous.scene().same_geometry(&scene) {
-            Self::repowered(generation, scene, previous)
+            Self::repowered(generation, scene, previous, earlier)
         } else {
             Self::new(generation, scene)
         }

@@ -23,7 +23,8 @@ fn unshared_bytes<T>(edit: &std::sync::Arc<[T]>, scene: &std::sync::Arc<[T]>) ->
 impl AppState {
     /// The heap bytes each part of the state holds, by capacity, in a fixed order: the scene
     /// (positions, powers, spot/range profiles, names), the scene as edited, the alias table
-    /// (with whatever views of it were derived), the spatial sampler, the histograms, the
+    /// (with whatever views of it were derived), the spatial sampler, the samplers a power
+    /// edit replaced (kept a second, for the next edit to rebuild into), the histograms, the
     /// inspector, the estimator, the stepper and the walkthrough. What is shared (`Arc`) is
     /// counted once, under its first owner here; the renderers' parts are
     /// [`crate::app::LightpickApp::memory_by_part`]'s.
@@ -47,6 +48,14 @@ impl AppState {
             .samplers
             .spatial_if_built()
             .map_or(0, |s| s.heap_bytes());
+        let earlier = self.earlier.as_ref().map_or(0, |(_, samplers)| {
+            samplers.table().heap_bytes()
+                + samplers.spatial_if_built().map_or(0, |s| s.heap_bytes())
+                + unshared_bytes(
+                    samplers.scene().powers.shared(),
+                    built.scene.powers.shared(),
+                )
+        });
         vec![
             ("scene: positions", positions.1),
             ("scene: powers", powers.1),
@@ -65,6 +74,10 @@ impl AppState {
             ("alias table", built.table.heap_bytes()),
             ("alias table pmf (kept by the app)", built.pmf_heap_bytes()),
             ("spatial sampler (light tree)", spatial),
+            (
+                "earlier table, tree and powers (kept a second for the next power edit)",
+                earlier,
+            ),
             ("histograms", histograms),
             ("inspector", self.inspector.heap_bytes()),
             ("estimator", self.estimator.heap_bytes()),

@@ -457,7 +457,15 @@ pub struct AppState {
     next_generation: u64,
     pending: Option<PendingBuild>,
     rebuild_queued: bool,
+    /// The samplers a large scene's last install replaced, and when: the next power edit
+    /// rebuilds into their table and tree ([`Built::repowered`]) instead of copying the
+    /// current ones. Dropped [`EARLIER_KEPT_S`] after the install (a drag's edits come
+    /// faster), so an idle app holds one generation.
+    earlier: Option<(std::time::Instant, SceneSamplers)>,
 }
+
+/// Seconds the replaced samplers of a large scene are kept for the next power edit.
+const EARLIER_KEPT_S: f64 = 1.0;
 
 impl AppState {
     /// A state showing `scene` with `settings`.
@@ -490,6 +498,7 @@ impl AppState {
             next_generation: 2,
             pending: None,
             rebuild_queued: false,
+            earlier: None,
         };
         state.restart_sampling();
         state
@@ -577,13 +586,15 @@ impl AppState {
                     self.pending = None;
                     self.rebuild_queued = false;
                     let generation = self.take_generation();
-                    let built = Built::from_edit(generation, scene, &self.built.samplers);
+                    let built = Built::from_edit(generation, scene, &self.built.samplers, None);
                     self.install(built);
                 } else if self.pending.is_some() {
                     self.rebuild_queued = true;
                 } else {
-                    // A power edit keeps the geometry: the worker refits the tree.
-                    self.spawn_build_from(scene, Some(self.built.samplers.clone()));
+                    // A power edit keeps the geometry: the worker refits the tree, into the
+                    // one two edits back if nothing holds it any more.
+                    let earlier = self.earlier.take().map(|(_, samplers)| samplers);
+                    self.spawn_build_from(scene, Some((self.built.samplers.clone(), earlier)));
                 }
             }
         }
@@ -744,7 +755,12 @@ impl AppState {
     }
 
     fn install(&mut self, built: Built) {
-        self.built = Arc::new(built);
+        let replaced = std::mem::replace(&mut self.built, Arc::new(built));
+        self.earlier = (self.built.len() > SYNC_BUILD_LIMIT
+            && replaced.scene.same_geometry(&self.built.scene))
+        .then(|| Arc::try_unwrap(replaced).ok())
+        .flatten()
+        .map(|replaced| (std::time::Instant::now(), replaced.samplers));
         if self.diagram_offset >= self.built.len() {
             self.diagram_offset = 0;
         }
@@ -756,15 +772,22 @@ impl AppState {
     }
 
     /// Builds on a worker thread: [`Built::from_edit`] when the previous samplers are given
-    /// (a refit when the geometry is kept), else [`Built::new`].
-    fn spawn_build_from(&mut self, scene: Scene, previous: Option<SceneSamplers>) {
+    /// (a refit when the geometry is kept; into the earlier ones where given and unshared),
+    /// else [`Built::new`].
+    fn spawn_build_from(
+        &mut self,
+        scene: Scene,
+        previous: Option<(SceneSamplers, Option<SceneSamplers>)>,
+    ) {
         let generation = self.take_generation();
         let (sender, receiver) = mpsc::channel();
         let spawned = std::thread::Builder::new()
             .name("lightpick-table".to_owned())
             .spawn(move || {
                 let built = match previous {
-                    Some(previous) => Built::from_edit(generation, scene, &previous),
+                    Some((previous, earlier)) => {
+                        Built::from_edit(generation, scene, &previous, earlier)
+                    }
                     None => Built::new(generation, scene),
                 };
                 let _ = sender.send(built);
@@ -785,6 +808,13 @@ impl AppState {
 
     /// Installs a table finished in the background; call once per frame.
     pub fn poll_build(&mut self) {
+        if self
+            .earlier
+            .as_ref()
+            .is_some_and(|(at, _)| at.elapsed().as_secs_f64() > EARLIER_KEPT_S)
+        {
+            self.earlier = None;
+        }
         let Some(pending) = &self.pending else {
             return;
         };

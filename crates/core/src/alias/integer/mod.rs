@@ -2,28 +2,36 @@
 //! `N·2^32`, then an exact integer sweep. No rounding happens after the quantization, so
 //! the packed table realizes exactly the quantized pmf `m_i / (N·2^32)`.
 //!
-//! # Quantization (one pass, cumulative rounding)
+//! # Quantization (cumulative rounding, anchored per chunk)
 //! With `C = 2^32` (one column's capacity) and `k = N·C / S` (`S = Σ w_i`, a double-double
 //! sum of the powers scaled by a power of two), the ideal mass of light `i` is
-//! `x_i = w_i·k`. The masses are the increments of the rounded prefix sums,
-//! `m_i = round(X_i) − round(X_{i−1})` with `X_i = Σ_{j≤i} x_j`, accumulated in 32.32 fixed
-//! point (integer part and fraction in `u64`s, so the prefix never rounds). Hence
-//! `|m_i − x_i| < 1` for every light and `Σ m_i = round(X_N)`. `k` is carried as
-//! `k_hi + k_lo` so that `X_N = N·C` up to the products' own roundings; whatever integer
-//! remainder `D = N·C − Σ m_i` these leave (0 for all but huge `N`, a few units at most) is
-//! given one unit each to lights whose `x_i − m_i` has the sign of `D`, which keeps them
-//! within one unit too.
+//! `x_i = w_i·k`. It is computed in `f64` (`k` carried as `k_hi + k_lo`) in fixed point,
+//! `X_i = x_i·2^f` rounded to the nearest integer (one `cvtsd2si`), with
+//! `f = 30 − ⌊log2 N⌋` fractional bits so that every running sum fits a `u64`. The masses
+//! are the increments of the rounded running sums, `m_i = round(P_i) − round(P_{i−1})`
+//! with `P_i = Z_c + Σ X_j` over chunk `c`'s lights up to `i`: each chunk of [`CHUNK`]
+//! lights starts from its *anchor* `Z_c = round(k·S_{<c}·2^f)`, the ideal running sum at its
+//! start from the chunks' double-double sums, so no chunk waits for another and rounding
+//! errors do not carry from chunk to chunk. `m_i` is `⌊x_i⌋` or `⌈x_i⌉` (the increment of a
+//! rounded running sum by an `X_i` whose integer part is `⌊x_i⌋`, or which is an integer),
+//! so `|m_i − x_i| < 1`. A chunk's masses add up to
+//! `round(Z_{c+1}) − round(Z_c)` unless the products' roundings moved its sum across a
+//! rounding boundary (rare); then the difference is given one unit each to its lights
+//! whose `x_i − m_i` has its sign, which keeps them within one unit too. The last anchor is
+//! `N·C·2^f`, so `Σ m_i = N·C` exactly.
 //!
 //! # The sweep (Hübschle-Schneider & Sanders, "Parallel Weighted Random Sampling", 2019)
-//! A light is *small* if `m < C`, else *large*. The quantization lists the small indices
-//! and the large ones in ascending order (per chunk, see below; branch-free). Then the
-//! current large column `h`, holding the unassigned rest `w` of its mass, either fills the
-//! next small column `l` (threshold `m_l`, alias `h`, `w −= C − m_l`) while `w ≥ C`, or
-//! becomes a column itself (threshold `w`, alias the next large `h'`, which continues with
-//! `w' = m_{h'} − (C − w)`, and may itself turn at once). Both cursors only move forward.
-//! Integer arithmetic conserves the total exactly, so once the small columns have run out
-//! and the current large one holds `w ≥ C`, it and every remaining large one hold exactly
-//! `C`: threshold "full" (`2^32 − 1` with alias itself, the same light either way).
+//! A light is *small* if `m < C`, else *large*; the quantization marks the large ones in a
+//! bitmap (`heavy.rs`). Then the current large column `h`, holding the unassigned rest `w`
+//! of its mass, either fills the next small column `l` (threshold `m_l`, alias `h`,
+//! `w −= C − m_l`) while `w ≥ C`, or becomes a column itself (threshold `w`, alias the next
+//! large `h'`, which continues with `w' = m_{h'} − (C − w)`, and may itself turn at once).
+//! Both cursors only move forward, each finding its next light with a trailing-zero count
+//! in the bitmap: no index lists, two streams over the bitmap and the masses, and no
+//! data-dependent branch. Integer arithmetic conserves the total exactly, so once the
+//! small columns have run out and the current large one holds `w ≥ C`, it and every
+//! remaining large one hold exactly `C`: threshold "full" (`2^32 − 1` with alias itself,
+//! the same light either way).
 //!
 //! # Reachability
 //! A positive power whose mass rounds to 0 is flagged (bit 63 of its mass word) and its
@@ -34,22 +42,19 @@
 //! aliases to (all of them unless some `p_i < 2^-32/N`).
 //!
 //! The masses live in the output array itself (each `u64` slot is later overwritten by its
-//! packed entry), so a build writes 8 bytes per light plus a 4-byte index scratch, and a
-//! rebuild into an existing table allocates only its per-chunk bookkeeping (48 bytes per
-//! 16384 lights).
+//! packed entry), so a build writes 8 bytes per light plus one bit, and a rebuild into an
+//! existing table allocates only its per-chunk bookkeeping (about 60 bytes per 16384
+//! lights).
 //!
 //! # On every core, the same bits for any thread count
 //! Every pass works on fixed chunks of [`CHUNK`] lights, whatever the thread count:
 //! 1. **Total** (`quantize.rs`): per chunk its largest power and the double-double sum of
 //!    its powers scaled by that chunk's power of two; the chunks' sums are rescaled (exactly,
-//!    by powers of two) and added in chunk order.
-//! 2. **Fractions**: per chunk `Σ frac(x_i)` in units of `2^-32`. These are integers, so
-//!    their exclusive prefix over the chunks is exact: each chunk knows the fixed-point
-//!    prefix `X` it starts from, and
-//! 3. **masses** computes its `m_i` exactly as a single pass would, listing its small
-//!    indices from the chunk's front and its large ones from its back, with its counts,
-//!    its deficit `Σ (C − m)` over small lights and its excess `Σ (m − C)` over large ones.
-//! 4. **Sweep** (`sweep.rs`): the sequential sweep fills the next small column while the
+//!    by powers of two) and added in chunk order, which gives every chunk's anchor.
+//! 2. **Masses**: each chunk computes its `m_i` from its anchor, its bitmap words, and its
+//!    census: how many small lights, its deficit `Σ (C − m)` over small lights and its
+//!    excess `Σ (m − C)` over large ones.
+//! 3. **Sweep** (`sweep.rs`): the sequential sweep fills the next small column while the
 //!    excess opened so far, `E(t+1) = Σ_{j≤t} (m_{h_j} − C)`, covers the deficits filled so
 //!    far plus the next, `D(s+1)`; otherwise the current large column turns. That is the
 //!    *merge* of the two nondecreasing sequences `D(s)` and `E(t+1)` (ties to the small
@@ -64,7 +69,7 @@
 //! Nothing above depends on how many threads run, so the packed table is bit for bit the
 //! same on one thread or sixteen (tested with `rayon::ThreadPoolBuilder`).
 
-mod lists;
+mod heavy;
 mod quantize;
 #[cfg(test)]
 mod reference;
@@ -97,19 +102,23 @@ fn full(i: usize) -> u64 {
 }
 
 /// Builds the packed table of `powers` (finite, `≥ 0`, not all zero, `1 ≤ N ≤ MAX_LEN`)
-/// into `table` (one word per light, see [`PackedAliasEntry`]) using `scratch` for the
-/// small/large index lists. Both are resized to `N`; at equal `N` only the per-chunk
-/// bookkeeping is allocated. Runs on the current rayon pool; the result does not depend on
-/// its size.
-pub(crate) fn build(powers: &[f64], table: &mut Vec<u64>, scratch: &mut Vec<u32>) {
+/// into `table` (one word per light, see [`PackedAliasEntry`]) using `heavy` for the
+/// bitmap of large lights (`⌈N/64⌉` words). Both are resized; at equal `N` only the
+/// per-chunk bookkeeping is allocated. Runs on the current rayon pool; the result does not
+/// depend on its size.
+pub(crate) fn build(powers: &[f64], table: &mut Vec<u64>, heavy: &mut Vec<u64>) {
     let n = powers.len();
     debug_assert!((1..=MAX_LEN).contains(&n));
+    if table.capacity() < n {
+        // A fresh table: untouched pages, faulted in by the parallel passes that write them.
+        *table = super::pages::fresh_words(n);
+    }
     table.resize(n, 0);
-    scratch.resize(n, 0);
+    heavy.resize(n.div_ceil(64), 0);
     if n == 1 {
         table[0] = full(0);
         return;
     }
-    let lists = quantize::quantize(powers, table, scratch);
-    sweep::sweep(table, scratch, &lists, sweep::Order::Parallel);
+    let census = quantize::quantize(powers, table, heavy);
+    sweep::sweep(table, heavy, &census, sweep::Order::Parallel);
 }

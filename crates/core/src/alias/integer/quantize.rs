@@ -1,109 +1,230 @@
-//! The quantization in three chunked passes (module docs of `integer`): the total, the
-//! fractions' prefix, then the masses with their small/large lists.
+//! The quantization in two chunked passes (module docs of `integer`): the total with every
+//! chunk's running sum, then each chunk's masses from its anchor, with the bitmap of large
+//! lights and the chunk's census.
 
 use rayon::prelude::*;
 
-use super::lists::{ChunkLists, IndexLists, Lists};
+use super::heavy::{Census, ChunkCensus, WORDS_PER_CHUNK};
 use super::{CAPACITY, CHUNK, REACH_FLAG};
-use crate::alias::exact::{double_double_sum_of, two_product, two_sum};
+use crate::alias::exact::{double_double_sum_and_max, double_double_sum_of, two_product, two_sum};
 use crate::powers::{Pow2Scale, pow2_scale_to_unit, unit_exponent};
 
-/// Writes the masses `m_i` (with [`REACH_FLAG`] where due) into `table`, lists the small
-/// and large indices of each chunk in `scratch`, and returns the lists' bookkeeping.
-pub(super) fn quantize(powers: &[f64], table: &mut [u64], scratch: &mut [u32]) -> Lists {
+/// Writes the masses `m_i` (with [`REACH_FLAG`] where due) into `table`, marks the large
+/// lights in `heavy` (one bit per light) and returns the chunks' census.
+pub(super) fn quantize(powers: &[f64], table: &mut [u64], heavy: &mut [u64]) -> Census {
     let n = powers.len();
-    let ideal = IdealMass::of_powers(powers);
-
-    // The fixed-point prefix at each chunk's start: Σ of the earlier chunks' fractions.
-    let fraction_sums: Vec<u64> = powers
-        .par_chunks(CHUNK)
-        .map(|chunk| {
-            if ideal.folded {
-                fraction_sum(chunk, |p| ideal.folded_of(p))
-            } else {
-                fraction_sum(chunk, |p| ideal.scaled_of(p))
-            }
-        })
-        .collect();
-    let fraction_before = exclusive_prefix(&fraction_sums);
-
-    let chunks: Vec<ChunkLists> = powers
+    let (ideal, anchors) = IdealMass::with_anchors(powers);
+    let chunks: Vec<ChunkCensus> = powers
         .par_chunks(CHUNK)
         .zip(table.par_chunks_mut(CHUNK))
-        .zip(scratch.par_chunks_mut(CHUNK))
-        .zip(fraction_before.par_iter())
-        .enumerate()
-        .map(|(c, (((chunk, masses), list), &before))| {
-            // Two instances rather than a test per light of which formula applies.
-            if ideal.folded {
-                masses_of(
-                    chunk,
-                    c * CHUNK,
-                    before,
-                    |p| ideal.folded_of(p),
-                    masses,
-                    list,
-                )
-            } else {
-                masses_of(
-                    chunk,
-                    c * CHUNK,
-                    before,
-                    |p| ideal.scaled_of(p),
-                    masses,
-                    list,
-                )
-            }
+        .zip(heavy.par_chunks_mut(WORDS_PER_CHUNK))
+        .zip(anchors.par_windows(2))
+        .map(|(((chunk, masses), words), anchor)| {
+            chunk_masses(chunk, ideal, anchor[0], anchor[1], masses, words)
         })
         .collect();
-    let mass_sum: u64 = chunks.iter().map(|c| c.mass).sum();
-    let wanted = n as u64 * CAPACITY;
-    if mass_sum == wanted {
-        return Lists::new(&chunks, n);
-    }
-    settle_remainder(powers, ideal, table, wanted as i64 - mass_sum as i64);
-    let chunks: Vec<ChunkLists> = table
-        .par_chunks(CHUNK)
-        .zip(scratch.par_chunks_mut(CHUNK))
-        .enumerate()
-        .map(|(c, (masses, list))| list_chunk(c * CHUNK, masses, list))
-        .collect();
-    Lists::new(&chunks, n)
+    Census::new(&chunks, n)
 }
 
-/// The scale `2^-e` mapping the largest power into `[1, 2)` and the double-double sum
-/// `S = s_hi + s_lo` of the scaled powers. Each chunk sums its powers scaled by its own
-/// largest power's scale; rescaling a chunk's sum to the common scale is exact (a power of
-/// two) unless it underflows, where it is below `2^-1022` of `S ≥ 1` anyway. One chunk
-/// gives exactly the sequential double-double sum.
-fn scaled_total(powers: &[f64]) -> (Pow2Scale, f64, f64) {
-    let parts: Vec<(f64, f64, f64)> = powers
+/// One chunk's masses (module docs of `integer`): the cumulative rounding of its lights'
+/// fixed-point ideal masses from the chunk's anchor `start`, settled to end on `end`'s
+/// rounding, with the chunk's bitmap words and census.
+pub(super) fn chunk_masses(
+    chunk: &[f64],
+    ideal: IdealMass,
+    start: u64,
+    end: u64,
+    masses: &mut [u64],
+    heavy: &mut [u64],
+) -> ChunkCensus {
+    // Two instances rather than a test per light of which formula applies.
+    let (census, reached) = if ideal.folded {
+        rounded_masses(
+            chunk,
+            start,
+            ideal.shift,
+            |p| ideal.folded_of(p),
+            masses,
+            heavy,
+        )
+    } else {
+        rounded_masses(
+            chunk,
+            start,
+            ideal.shift,
+            |p| ideal.scaled_of(p),
+            masses,
+            heavy,
+        )
+    };
+    let wanted = ideal.rounded(end);
+    if reached == wanted {
+        return census;
+    }
+    let mut census = census;
+    let moved = settle(chunk, ideal, masses, wanted as i64 - reached as i64);
+    for (i, before, after) in moved {
+        let large = census.replace(before, after);
+        let bit = 1u64 << (i % 64);
+        heavy[i / 64] = (heavy[i / 64] & !bit) | if large { bit } else { 0 };
+    }
+    census
+}
+
+/// The masses `m_i = round(P_i) − round(P_{i−1})` of the running fixed-point sum
+/// `P_i = start + Σ_{j≤i} X_j` (`X_j` the ideal mass in units of `2^-shift`, rounded to the
+/// nearest unit), with reach flags, bitmap words and census. Returns the census and
+/// `round(P_last)`.
+#[inline]
+fn rounded_masses(
+    chunk: &[f64],
+    start: u64,
+    shift: u32,
+    fixed_of: impl Fn(f64) -> f64,
+    masses: &mut [u64],
+    heavy: &mut [u64],
+) -> (ChunkCensus, u64) {
+    // The running sum is kept half a unit ahead, so that its whole units are round(P).
+    let mut sum = start + ((1u64 << shift) >> 1);
+    let first = sum >> shift;
+    let mut rounded_before = first;
+    // Σ min(m, C) and the large lights' count give the census without a test per light.
+    let mut capped = 0u64;
+    let mut large = 0u64;
+    for ((word, slots), group) in heavy
+        .iter_mut()
+        .zip(masses.chunks_mut(64))
+        .zip(chunk.chunks(64))
+    {
+        let mut bits = 0u64;
+        for (b, (slot, &p)) in slots.iter_mut().zip(group).enumerate() {
+            sum += nearest_integer(fixed_of(p));
+            let rounded = sum >> shift;
+            let m = rounded - rounded_before;
+            rounded_before = rounded;
+            *slot = flagged(m, p);
+            capped += m.min(CAPACITY);
+            bits |= u64::from(m >= CAPACITY) << b;
+        }
+        *word = bits;
+        large += u64::from(bits.count_ones());
+    }
+    let census = ChunkCensus {
+        small: chunk.len() as u64 - large,
+        small_mass: capped - large * CAPACITY,
+        mass: rounded_before - first,
+    };
+    (census, rounded_before)
+}
+
+/// `v` rounded to the nearest integer, ties to even (`0 ≤ v < 2^63`): one instruction on
+/// x86-64 (`cvtsd2si` in the default rounding mode), exact for every such `v`.
+#[inline]
+#[allow(unsafe_code)]
+pub(super) fn nearest_integer(v: f64) -> u64 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_cvtsd_si64, _mm_set_sd};
+        // SAFETY: SSE2, which these intrinsics need, is part of every x86-64 processor
+        // (the target's baseline); they only move and convert a register.
+        unsafe { _mm_cvtsd_si64(_mm_set_sd(v)) as u64 }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        v.round_ties_even() as u64
+    }
+}
+
+/// Moves `d` units of a chunk's masses so that they add up to the chunk's target: one unit
+/// each to lights whose ideal mass lies above theirs (`d > 0`) or below (`d < 0`), from the
+/// chunk's first light on, so every light stays within one unit of its ideal mass. Whatever
+/// no such light takes (never seen) goes to the chunk's largest mass. Needed where the
+/// fixed-point roundings moved the chunk's sum across a rounding boundary (at `N = 10^6`
+/// one chunk in a few hundred, at `1.6·10^7` one in three); `|d|` is 1 then. Returns the
+/// lights moved with their masses before and after.
+fn settle(
+    chunk: &[f64],
+    ideal: IdealMass,
+    masses: &mut [u64],
+    mut d: i64,
+) -> Vec<(usize, u64, u64)> {
+    let mut moved = Vec::new();
+    for (i, (slot, &p)) in masses.iter_mut().zip(chunk).enumerate() {
+        if d == 0 {
+            return moved;
+        }
+        let m = *slot & !REACH_FLAG;
+        let fixed = nearest_integer(ideal.fixed_of(p));
+        let own = m << ideal.shift;
+        let after = if d > 0 && fixed > own {
+            m + 1
+        } else if d < 0 && fixed < own {
+            m - 1
+        } else {
+            continue;
+        };
+        d -= after as i64 - m as i64;
+        *slot = flagged(after, p);
+        moved.push((i, m, after));
+    }
+    if d != 0
+        && let Some(largest) = (0..masses.len()).max_by_key(|&i| masses[i] & !REACH_FLAG)
+    {
+        let m = masses[largest] & !REACH_FLAG;
+        let after = m.saturating_add_signed(d);
+        masses[largest] = flagged(after, chunk[largest]);
+        moved.push((largest, m, after));
+    }
+    moved
+}
+
+/// Mass `m` of a light of power `p`, with [`REACH_FLAG`] when it is 0 and `p` is not.
+#[inline]
+#[allow(
+    clippy::needless_bitwise_bool,
+    reason = "no branch on a zero mass (half the lights of some scenes, in any order)"
+)]
+fn flagged(m: u64, p: f64) -> u64 {
+    m | (u64::from((m == 0) & (p > 0.0)) << 63)
+}
+
+/// One chunk's part of the total: its largest power and the double-double sum of its
+/// powers scaled by that power's power of two (0 for an all-zero chunk).
+#[derive(Clone, Copy, Debug)]
+struct ChunkTotal {
+    max: f64,
+    hi: f64,
+    lo: f64,
+}
+
+/// Every chunk's [`ChunkTotal`]. Each chunk's sum is taken in its own largest power's
+/// scale; rescaling it to the common scale is exact (a power of two) unless it underflows,
+/// where it is below `2^-1022` of the total `≥ 1` anyway. One pass sums and finds the
+/// largest power at once, unscaled; where that largest power lies outside `2^±960` (a sum
+/// could overflow, or its compensation lose bits below `2^-1074`) a second pass sums the
+/// scaled powers.
+fn chunk_totals(powers: &[f64]) -> Vec<ChunkTotal> {
+    const SAFE: std::ops::RangeInclusive<f64> = 1.0e-289..=1.0e289; // within 2^±960
+    powers
         .par_chunks(CHUNK)
         .map(|chunk| {
-            let max = chunk.iter().copied().fold(0.0, f64::max);
+            let (hi, lo, max) = double_double_sum_and_max(chunk);
             if max == 0.0 {
-                return (0.0, 0.0, 0.0);
+                return ChunkTotal {
+                    max,
+                    hi: 0.0,
+                    lo: 0.0,
+                };
             }
             let scale = pow2_scale_to_unit(max);
-            let (hi, lo) = double_double_sum_of(chunk, |p| scale.apply(p));
-            (max, hi, lo)
+            let (hi, lo) = if SAFE.contains(&max) {
+                (scale.apply(hi), scale.apply(lo))
+            } else {
+                double_double_sum_of(chunk, |p| scale.apply(p))
+            };
+            ChunkTotal { max, hi, lo }
         })
-        .collect();
-    let max = parts.iter().map(|p| p.0).fold(0.0, f64::max);
-    let exponent = unit_exponent(max);
-    let (mut sum, mut carry) = (0.0, 0.0);
-    for &(chunk_max, hi, lo) in &parts {
-        if chunk_max == 0.0 {
-            continue;
-        }
-        let shift = unit_exponent(chunk_max) - exponent; // ≤ 0
-        let (hi, lo) = (times_pow2(hi, shift), times_pow2(lo, shift));
-        let (s, e) = two_sum(sum, hi);
-        sum = s;
-        carry += e + lo;
-    }
-    let (s_hi, s_lo) = two_sum(sum, carry);
-    (pow2_scale_to_unit(max), s_hi, s_lo)
+        .collect()
 }
 
 /// `x·2^k` for `k ≤ 0` (down to any `k`), exact unless the result is subnormal.
@@ -128,119 +249,72 @@ pub(super) fn exclusive_prefix(values: &[u64]) -> Vec<u64> {
     prefix
 }
 
-/// `⌊x⌋` and the fraction `frac(x)` in units of `2^-32` (`0 ≤ x < N·C < 2^63`).
-#[inline]
-pub(super) fn split_ideal(x: f64) -> (u64, u64) {
-    let whole = x as i64;
-    let fraction = ((x - whole as f64) * CAPACITY as f64) as i64 as u64; // < 2^32
-    (whole as u64, fraction)
-}
-
-/// `Σ frac(x_i)` over one chunk, in units of `2^-32` (below `CHUNK·2^32`).
-#[inline]
-fn fraction_sum(chunk: &[f64], x_of: impl Fn(f64) -> f64) -> u64 {
-    chunk.iter().map(|&p| split_ideal(x_of(p)).1).sum()
-}
-
-/// One chunk's masses, from the fixed-point prefix `fraction_before` of the chunks before
-/// it (so `m_i = round(X_i) − round(X_{i−1})` exactly as one pass over all lights), listed
-/// into `list` as they are made.
-#[inline]
-fn masses_of(
-    chunk: &[f64],
-    first: usize,
-    fraction_before: u64,
-    x_of: impl Fn(f64) -> f64,
-    masses: &mut [u64],
-    list: &mut [u32],
-) -> ChunkLists {
-    // Only the fractions' rounding carries from chunk to chunk: round(X_i) is the sum of
-    // the whole parts (chunk-local) plus round(Σ fractions).
-    let mut fraction_sum = fraction_before;
-    let mut rounded_before = (fraction_sum + (CAPACITY >> 1)) >> 32;
-    let mut lists = IndexLists::new(list);
-    let mut stats = ChunkLists::default();
-    for (i, (slot, &p)) in masses.iter_mut().zip(chunk).enumerate() {
-        let (whole, fraction) = split_ideal(x_of(p));
-        fraction_sum += fraction;
-        let rounded = (fraction_sum + (CAPACITY >> 1)) >> 32;
-        let m = whole + rounded - rounded_before;
-        rounded_before = rounded;
-        *slot = m | if m == 0 && p > 0.0 { REACH_FLAG } else { 0 };
-        stats.add(m);
-        lists.push(first + i, m < CAPACITY);
-    }
-    stats.small = lists.small;
-    stats
-}
-
-/// Lists one chunk's indices again (after [`settle_remainder`] moved masses).
-fn list_chunk(first: usize, masses: &[u64], list: &mut [u32]) -> ChunkLists {
-    let mut lists = IndexLists::new(list);
-    let mut stats = ChunkLists::default();
-    for (i, &word) in masses.iter().enumerate() {
-        let m = word & !REACH_FLAG;
-        stats.add(m);
-        lists.push(first + i, m < CAPACITY);
-    }
-    stats.small = lists.small;
-    stats
-}
-
-/// Gives the remainder `d = N·C − Σ m_i` one unit at a time to lights whose rounding
-/// `x_i − m_i` has the sign of `d` (each stays within one unit of `x_i`); whatever no such
-/// light takes (never seen) goes to the largest mass. Sequential: it runs only when the
-/// products' roundings leave a remainder (never seen below `N = 10^8`).
-pub(super) fn settle_remainder(powers: &[f64], ideal: IdealMass, table: &mut [u64], mut d: i64) {
-    for (slot, &p) in table.iter_mut().zip(powers) {
-        if d == 0 {
-            return;
-        }
-        let m = *slot & !REACH_FLAG;
-        let error = ideal.of(p) - m as f64;
-        if d > 0 && error > 0.0 && p > 0.0 {
-            *slot = m + 1;
-            d -= 1;
-        } else if d < 0 && error < 0.0 && m > 0 {
-            let m = m - 1;
-            *slot = m | if m == 0 { REACH_FLAG } else { 0 };
-            d += 1;
-        }
-    }
-    if d != 0
-        && let Some(largest) = table.iter_mut().max_by_key(|m| **m & !REACH_FLAG)
-    {
-        *largest = (*largest & !REACH_FLAG).saturating_add_signed(d);
-    }
-}
-
-/// The ideal mass `x = w·k` of a power, `k = N·2^32/S` carried as `k_hi + k_lo`.
-#[derive(Clone, Copy)]
+/// The ideal mass `x = w·k` of a power in fixed point: `k = N·2^32/S` carried as
+/// `k_hi + k_lo`, and `x` counted in units of `2^-shift` (`shift = 30 − ⌊log2 N⌋`, so that
+/// `N·2^32·2^shift < 2^63` and every running sum fits a `u64`).
+#[derive(Clone, Copy, Debug)]
 pub(super) struct IdealMass {
     scale: Pow2Scale,
+    /// `2^shift·k_hi`, `2^shift·k_lo`.
     k_hi: f64,
     k_lo: f64,
-    /// `2^s·k_hi`, `2^s·k_lo`: the power-of-two scale folded into `k`.
+    /// `2^s·2^shift·k_hi`, `2^s·2^shift·k_lo`: the power-of-two scale folded in as well.
     fold_hi: f64,
     fold_lo: f64,
     /// Whether the folded factors are exact (normal): `p·(2^s·k)` then rounds exactly
     /// like `(p·2^s)·k`, one multiply instead of three.
     folded: bool,
+    /// Fractional bits of the fixed point.
+    pub(super) shift: u32,
 }
 
 impl IdealMass {
-    /// The ideal masses of `powers`: `k = N·C/S` from their [`scaled_total`].
-    pub(super) fn of_powers(powers: &[f64]) -> Self {
-        let (scale, s_hi, s_lo) = scaled_total(powers);
-        let total = powers.len() as f64 * CAPACITY as f64; // N·2^32, exact in f64
+    /// The ideal masses of `powers` and every chunk's anchor: the fixed-point ideal running
+    /// sum `Z_c = round(k·S_{<c}·2^shift)` at the start of chunk `c` (`S_{<c}` the
+    /// double-double sum of the chunks before it), nondecreasing, from `Z_0 = 0` to
+    /// `Z_last = N·2^32·2^shift` exactly (`chunks + 1` values).
+    pub(super) fn with_anchors(powers: &[f64]) -> (Self, Vec<u64>) {
+        let n = powers.len();
+        let parts = chunk_totals(powers);
+        let max = parts.iter().map(|p| p.max).fold(0.0, f64::max);
+        let exponent = unit_exponent(max);
+        // The running sum before each chunk, in the common scale 2^-exponent.
+        let mut before = Vec::with_capacity(parts.len() + 1);
+        let (mut sum, mut carry) = (0.0, 0.0);
+        before.push((0.0, 0.0));
+        for part in &parts {
+            if part.max > 0.0 {
+                let shift = unit_exponent(part.max) - exponent; // ≤ 0
+                let (hi, lo) = (times_pow2(part.hi, shift), times_pow2(part.lo, shift));
+                let (s, e) = two_sum(sum, hi);
+                sum = s;
+                carry += e + lo;
+            }
+            before.push(two_sum(sum, carry));
+        }
+        let (s_hi, s_lo) = before[parts.len()];
+        let shift = 30 - n.ilog2();
+        let target = (n as u64) << 32; // N·2^32
+        let total = target as f64 * f64::from(1u32 << shift); // N·2^32·2^shift, exact
         // k = total / S to about 2^-100: k_hi rounded, k_lo the correction of its residual.
         let k_hi = total / s_hi;
         let (prod, prod_err) = two_product(k_hi, s_hi);
         let k_lo = (((total - prod) - prod_err) - k_hi * s_lo) / s_hi;
-        Self::new(scale, k_hi, k_lo)
+        let ideal = Self::new(pow2_scale_to_unit(max), k_hi, k_lo, shift);
+        let end = target << shift;
+        let mut anchors: Vec<u64> = before
+            .iter()
+            .map(|&(hi, lo)| ideal.fixed_sum(hi, lo).min(end))
+            .collect();
+        for c in 1..anchors.len() {
+            anchors[c] = anchors[c].max(anchors[c - 1]);
+        }
+        anchors[0] = 0;
+        anchors[parts.len()] = end;
+        (ideal, anchors)
     }
 
-    fn new(scale: Pow2Scale, k_hi: f64, k_lo: f64) -> Self {
+    fn new(scale: Pow2Scale, k_hi: f64, k_lo: f64, shift: u32) -> Self {
         let (fold_hi, fold_lo) = (scale.apply(k_hi), scale.apply(k_lo));
         Self {
             scale,
@@ -249,28 +323,46 @@ impl IdealMass {
             fold_hi,
             fold_lo,
             folded: fold_hi.is_normal() && (fold_lo.is_normal() || fold_lo == 0.0),
+            shift,
         }
     }
 
-    /// `x` with the folded factors (only when [`IdealMass::folded`]).
+    /// `round(k·(hi + lo))` in fixed point for a double-double sum of scaled powers
+    /// (`≥ 0`, at most the total).
+    fn fixed_sum(self, hi: f64, lo: f64) -> u64 {
+        let (p, e) = two_product(hi, self.k_hi);
+        let rest = e + (hi * self.k_lo + lo * self.k_hi);
+        let whole = p.floor();
+        let fraction = ((p - whole) + rest + 0.5).floor();
+        (whole as u64).saturating_add_signed(fraction as i64)
+    }
+
+    /// The fixed-point `x` with the folded factors (only when [`IdealMass::folded`]).
     #[inline]
     fn folded_of(self, p: f64) -> f64 {
         p * self.fold_hi + p * self.fold_lo
     }
 
-    /// `x` scaling the power first.
+    /// The fixed-point `x`, scaling the power first.
     #[inline]
     fn scaled_of(self, p: f64) -> f64 {
         let w = self.scale.apply(p);
         w * self.k_hi + w * self.k_lo
     }
 
-    /// `x` the way the quantization computes it.
-    pub(super) fn of(self, p: f64) -> f64 {
+    /// The fixed-point `x` the way the quantization computes it (`< 2^63`).
+    pub(super) fn fixed_of(self, p: f64) -> f64 {
         if self.folded {
             self.folded_of(p)
         } else {
             self.scaled_of(p)
         }
+    }
+
+    /// `round(z)` of a fixed-point running sum: the whole units of its nearest integer
+    /// (halves up).
+    #[inline]
+    pub(super) fn rounded(self, z: u64) -> u64 {
+        (z + ((1u64 << self.shift) >> 1)) >> self.shift
     }
 }

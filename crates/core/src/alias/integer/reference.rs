@@ -1,31 +1,50 @@
-//! The one-pass, one-thread construction the chunked one must equal bit for bit: the
-//! masses of a single cumulative rounding over all lights, one pair of global index lists,
-//! and one sweep. Tests only.
+//! The one-thread construction the chunked, parallel one must equal bit for bit: the
+//! masses by the quantization's rule written plainly, one pair of global index lists, and
+//! one sweep. Tests only.
 
-use super::quantize::{IdealMass, settle_remainder, split_ideal};
-use super::{CAPACITY, REACH_FLAG, full, word};
+use super::quantize::{IdealMass, nearest_integer};
+use super::{CAPACITY, CHUNK, REACH_FLAG, full, word};
 
-/// The masses (with [`REACH_FLAG`]) of one sequential pass with the same `k`.
+/// The masses (with [`REACH_FLAG`]) by the quantization's rule, written plainly: per chunk,
+/// the cumulative rounding of the fixed-point ideal masses from the chunk's anchor, then
+/// the difference to the next anchor's rounding settled one unit per light from the
+/// chunk's first light on (the largest mass takes what is left).
 pub(super) fn masses(powers: &[f64]) -> Vec<u64> {
-    let ideal = IdealMass::of_powers(powers);
-    let mut fraction_sum = 0u64;
-    let mut rounded_before = 0u64;
-    let mut mass_sum = 0u64;
-    let mut masses: Vec<u64> = powers
-        .iter()
-        .map(|&p| {
-            let (whole, fraction) = split_ideal(ideal.of(p));
-            fraction_sum += fraction;
-            let rounded = (fraction_sum + (CAPACITY >> 1)) >> 32;
-            let m = whole + rounded - rounded_before;
-            rounded_before = rounded;
-            mass_sum += m;
-            m | if m == 0 && p > 0.0 { REACH_FLAG } else { 0 }
-        })
-        .collect();
-    let wanted = powers.len() as u64 * CAPACITY;
-    if mass_sum != wanted {
-        settle_remainder(powers, ideal, &mut masses, wanted as i64 - mass_sum as i64);
+    let (ideal, anchors) = IdealMass::with_anchors(powers);
+    let mut masses = Vec::with_capacity(powers.len());
+    for (c, chunk) in powers.chunks(CHUNK).enumerate() {
+        let fixed: Vec<u64> = chunk
+            .iter()
+            .map(|&p| nearest_integer(ideal.fixed_of(p)))
+            .collect();
+        let mut sum = anchors[c];
+        let mut own: Vec<u64> = fixed
+            .iter()
+            .map(|&x| {
+                let before = ideal.rounded(sum);
+                sum += x;
+                ideal.rounded(sum) - before
+            })
+            .collect();
+        let mut d = ideal.rounded(anchors[c + 1]) as i64 - ideal.rounded(sum) as i64;
+        for (m, &x) in own.iter_mut().zip(&fixed) {
+            if d > 0 && x > *m << ideal.shift {
+                *m += 1;
+                d -= 1;
+            } else if d < 0 && x < *m << ideal.shift {
+                *m -= 1;
+                d += 1;
+            }
+        }
+        if d != 0 {
+            let largest = (0..own.len()).max_by_key(|&i| own[i]).expect("a light");
+            own[largest] = own[largest].saturating_add_signed(d);
+        }
+        masses.extend(
+            own.iter()
+                .zip(chunk)
+                .map(|(&m, &p)| m | if m == 0 && p > 0.0 { REACH_FLAG } else { 0 }),
+        );
     }
     masses
 }

@@ -1,16 +1,19 @@
 //! The exact integer sweep, cut into pieces that run in parallel (module docs of
 //! `integer`): each piece starts from a state `(s, t, h, w)` of the sequential sweep,
-//! computed from the chunks' prefix sums, and stops where the next piece starts.
+//! computed from the chunks' prefix sums, and stops where the next piece starts. Its two
+//! cursors walk the bitmap of large lights (`heavy`).
 
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 use rayon::prelude::*;
 
-use super::lists::Lists;
+use super::heavy::Census;
 use super::{CAPACITY, REACH_FLAG, full, word};
 
-/// Pieces per thread: enough that uneven pieces balance out.
-const PIECES_PER_THREAD: usize = 4;
+/// Pieces per thread: enough that uneven pieces balance out, and that a thread the system
+/// takes off its core in the middle of a piece (a machine shared with other work) holds
+/// up the others for a small part of the sweep only.
+const PIECES_PER_THREAD: usize = 8;
 
 /// A state of the sequential sweep: `s` small columns filled, `t` large ones turned, the
 /// current large light `h` (ordinal `t`) holding the rest `w` of its mass.
@@ -44,9 +47,9 @@ pub(super) enum Order {
     Reversed,
 }
 
-/// Sweeps the masses in `table` into packed entries (lists in `scratch`, see `lists`).
-pub(super) fn sweep(table: &mut [u64], scratch: &[u32], lists: &Lists, order: Order) {
-    let (small, large) = (lists.small(), lists.large());
+/// Sweeps the masses in `table` into packed entries (large lights marked in `heavy`).
+pub(super) fn sweep(table: &mut [u64], heavy: &[u64], census: &Census, order: Order) {
+    let (small, large) = (census.small(), census.large());
     if large == 0 {
         // Impossible when Σ m = N·C; keep the table valid regardless.
         for (i, slot) in table.iter_mut().enumerate() {
@@ -54,11 +57,11 @@ pub(super) fn sweep(table: &mut [u64], scratch: &[u32], lists: &Lists, order: Or
         }
         return;
     }
-    let pieces = pieces(table, scratch, lists);
+    let pieces = pieces(table, heavy, census);
     let table = atomic_view(table);
     let last = pieces.len() - 1;
     let run_piece = |(k, piece): (usize, &Piece)| {
-        let end = run(table, scratch, lists, piece);
+        let end = run(table, heavy, census, piece);
         (k == last).then_some(end)
     };
     let tail = match order {
@@ -85,25 +88,25 @@ pub(super) fn sweep(table: &mut [u64], scratch: &[u32], lists: &Lists, order: Or
         "integer sweep ran short"
     );
     table[end.h].store(full(end.h), Relaxed);
-    let mut cursor = lists.large_cursor(end.t + 1);
+    let (walk, mut cursor) = census.large_cursor(end.t + 1, heavy);
     for _ in end.t + 1..large {
-        let j = scratch[cursor.pos] as usize;
+        let j = cursor.pos();
         table[j].store(full(j), Relaxed);
-        cursor.advance(1);
+        cursor = walk.advance(cursor, 1);
     }
 }
 
 /// The pieces: cut where the merge reaches `V = D(s)` at the first small ordinal `s` of
 /// evenly spaced chunks (the same table for any cuts; their number follows the pool).
-fn pieces(masses: &[u64], scratch: &[u32], lists: &Lists) -> Vec<Piece> {
-    let chunks = lists.chunks();
+fn pieces(masses: &[u64], heavy: &[u64], census: &Census) -> Vec<Piece> {
+    let chunks = census.chunks();
     let wanted = (rayon::current_num_threads() * PIECES_PER_THREAD).clamp(1, chunks);
     let mut starts: Vec<State> = (0..wanted)
+        .into_par_iter()
         .map(|k| {
             let c = k * chunks / wanted;
-            let (s, v) = (lists.small_before[c], lists.deficit_before[c]);
-            let t = lists.large_below(v, scratch, masses);
-            let (h, opened) = lists.large_at(t, scratch, masses);
+            let (s, v) = (census.small_before[c], census.deficit_before[c]);
+            let (t, h, opened) = census.large_below(v, heavy, masses);
             let m_h = masses[h] & !REACH_FLAG;
             // w = E(t+1) − D(s) + C = E(t) + m_h − D(s) ≥ C (the cut comes before a fill).
             State {
@@ -126,11 +129,11 @@ fn pieces(masses: &[u64], scratch: &[u32], lists: &Lists) -> Vec<Piece> {
         .collect();
     let last = *starts.last().expect("at least one cut");
     // No other piece touches the last large light; its mass goes through the same hand-over.
-    let (h_last, _) = lists.large_at(lists.large() - 1, scratch, masses);
+    let (h_last, _) = census.large_at(census.large() - 1, heavy, masses);
     pieces.push(Piece {
         start: last,
-        end_s: lists.small(),
-        end_t: lists.large() - 1,
+        end_s: census.small(),
+        end_t: census.large() - 1,
         end_mass: masses[h_last] & !REACH_FLAG,
     });
     pieces
@@ -139,58 +142,70 @@ fn pieces(masses: &[u64], scratch: &[u32], lists: &Lists) -> Vec<Piece> {
 /// Runs one piece of the sweep and returns the state it stopped in.
 ///
 /// Each step finishes one column, either the next small one (filled by `h`) or `h` itself,
-/// and both candidates are computed and one selected, so the step has no data-dependent
-/// branch to mispredict (about half the steps would, with powers in random order). The
-/// piece stops before a fill when its small columns are done, and before a turn when its
-/// large ones are.
-fn run(table: &[AtomicU64], scratch: &[u32], lists: &Lists, piece: &Piece) -> State {
-    let State {
-        mut s,
-        mut t,
-        mut h,
-        mut w,
-    } = piece.start;
-    let mut small = lists.small_cursor(s);
-    let mut large = lists.large_cursor(t + 1);
+/// and both candidates are computed and one selected (`cmov`), so the step has no
+/// data-dependent branch to mispredict (about half the steps would, with powers in random
+/// order). Steps run in blocks that cannot reach either end of the piece, with no test of
+/// the ends inside (the block's length is the distance to the nearer one); at the ends a
+/// step checks them. The piece stops before a fill when its small columns are done, and
+/// before a turn when its large ones are.
+fn run(table: &[AtomicU64], heavy: &[u64], census: &Census, piece: &Piece) -> State {
+    let mut state = piece.start;
+    let (small_walk, mut small) = census.small_cursor(state.s, heavy);
+    let (large_walk, mut large) = census.large_cursor(state.t + 1, heavy);
     loop {
-        // All ones when `h` fills the next small column, zero when `h` itself turns. The
-        // step selects with this mask (bit operations, no branch on `fill`, which the
-        // compiler otherwise turns back into a mispredicted jump).
-        let fill = u64::from(w >= CAPACITY).wrapping_neg();
-        let filling = fill & 1;
-        let done = (u64::from(s == piece.end_s) & fill) | (u64::from(t == piece.end_t) & !fill);
-        if done != 0 {
-            return State { s, t, h, w };
+        // Neither `s` nor the next large ordinal `t + 1` reaches its end in `k` steps.
+        let k = (piece.end_s - state.s).min((piece.end_t - state.t).saturating_sub(1));
+        if k == 0 {
+            // One step at an end: stop, or open the next piece's first large light, whose
+            // word may be gone already (its mass was handed over).
+            let fill = state.w >= CAPACITY;
+            if (fill && state.s == piece.end_s) || (!fill && state.t == piece.end_t) {
+                return state;
+            }
+            let m_next = if state.t + 1 == piece.end_t {
+                piece.end_mass
+            } else {
+                table[large.pos()].load(Relaxed)
+            };
+            step(table, &mut state, small.pos(), large.pos(), m_next);
+            let filling = u64::from(fill);
+            state.t += filling ^ 1;
+            small = small_walk.advance(small, filling);
+            large = large_walk.advance(large, filling ^ 1);
+            continue;
         }
-        // The next small column and the next large one (past either list's end a valid
-        // index whose values go unused).
-        let l = u64::from(scratch[small.pos]);
-        let h_next = u64::from(scratch[large.pos]);
-        let raw = table[l as usize].load(Relaxed);
-        let m_l = raw & !REACH_FLAG;
-        let loaded_next = table[h_next as usize].load(Relaxed) & !REACH_FLAG;
-        // The piece's last turn opens the next piece's first large light: its word may be
-        // gone already, its mass was handed over.
-        let m_next = if t + 1 == piece.end_t {
-            piece.end_mass
-        } else {
-            loaded_next
-        };
-        let h64 = h as u64;
-        let column = (l & fill) | (h64 & !fill);
-        let threshold = ((m_l | raw >> 63) & fill) | (w & !fill);
-        let alias = (h64 & fill) | (h_next & !fill);
-        table[column as usize].store(word(threshold as u32, alias as u32), Relaxed);
-        // Filled: h gives C − m_l. Turned: h_next gives C − w to h's column.
-        let w_fill = w.wrapping_add(m_l).wrapping_sub(CAPACITY);
-        let w_turn = m_next.wrapping_add(w).wrapping_sub(CAPACITY);
-        w = (w_fill & fill) | (w_turn & !fill);
-        h = ((h64 & fill) | (h_next & !fill)) as usize;
-        s += filling;
-        t += filling ^ 1;
-        small.advance(filling as usize);
-        large.advance((filling ^ 1) as usize);
+        let s_before = state.s;
+        for _ in 0..k {
+            let (l, h_next) = (small.pos(), large.pos());
+            let filling = step(table, &mut state, l, h_next, table[h_next].load(Relaxed));
+            small = small_walk.advance(small, filling);
+            large = large_walk.advance(large, filling ^ 1);
+        }
+        state.t += k - (state.s - s_before);
     }
+}
+
+/// One step of the sweep from `state` with the next small light `l` and the next large
+/// light `h_next` of mass `m_next`: fills `l` from `h` (if `w ≥ C`) or turns `h` (threshold
+/// `w`, alias `h_next`), selecting between the two without a branch. Counts a fill in
+/// `state.s` (a turn's `t` is counted by the caller) and returns 1 for a fill, 0 for a turn.
+#[inline]
+fn step(table: &[AtomicU64], state: &mut State, l: usize, h_next: usize, m_next: u64) -> u64 {
+    use std::hint::select_unpredictable as select;
+    let State { s, t: _, h, w } = *state;
+    let fill = w >= CAPACITY;
+    let raw = table[l].load(Relaxed);
+    let m_l = raw & !REACH_FLAG;
+    let column = select(fill, l, h);
+    let threshold = select(fill, m_l | raw >> 63, w);
+    let alias = select(fill, h, h_next);
+    table[column].store(word(threshold as u32, alias as u32), Relaxed);
+    // Filled: h gives C − m_l. Turned: h_next gives C − w to h's column.
+    state.w = (select(fill, m_l, m_next) + w) - CAPACITY;
+    state.h = select(fill, h, h_next);
+    let filling = u64::from(fill);
+    state.s = s + filling;
+    filling
 }
 
 /// The table's words as atomics, so that pieces running at once can write their (disjoint)
