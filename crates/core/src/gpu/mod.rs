@@ -54,6 +54,7 @@ mod histogram;
 mod measure;
 mod pass_timer;
 mod probe;
+mod render_kernel;
 mod renderer;
 mod spatial;
 mod split;
@@ -359,7 +360,7 @@ mod tests {
         };
         let mut kernels: Vec<(&str, String)> = vec![
             ("probe", shader_source(&[probe::PROBE_WGSL])),
-            ("tonemap", shader_source(&[renderer::TONEMAP_WGSL])),
+            ("tonemap", shader_source(&[render_kernel::TONEMAP_WGSL])),
             ("rng alone", shader_source(&[])),
         ];
         for (label, shape) in [("one binding", one), ("three bindings", three)] {
@@ -371,8 +372,8 @@ mod tests {
             };
             kernels.push((label, spatial::spatial_source(shape, shape, Some(shaped))));
             kernels.push((label, histogram::histogram_source(shape, shape)));
-            kernels.push((label, renderer::render_source(shape, None)));
-            kernels.push((label, renderer::render_source(shape, Some(shape))));
+            kernels.push((label, render_kernel::render_source(shape, None)));
+            kernels.push((label, render_kernel::render_source(shape, Some(shape))));
         }
         for (name, source) in kernels {
             let module = wgpu::naga::front::wgsl::parse_str(&source)

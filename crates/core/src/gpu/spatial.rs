@@ -158,7 +158,7 @@ pub(crate) fn spatial_source(
         ),
     };
     super::shader_source(&[
-        super::renderer::RENDER_COMMON_WGSL,
+        super::render_kernel::RENDER_COMMON_WGSL,
         &lights_wgsl,
         &nodes_wgsl,
         &emission_wgsl,

@@ -237,18 +237,6 @@ fn times_pow2(mut x: f64, mut k: i32) -> f64 {
     x * f64::from_bits(((k + 1023) as u64) << 52)
 }
 
-/// The exclusive prefix sums of `values` (length `values.len() + 1`).
-pub(super) fn exclusive_prefix(values: &[u64]) -> Vec<u64> {
-    let mut prefix = Vec::with_capacity(values.len() + 1);
-    let mut sum = 0u64;
-    prefix.push(0);
-    for &v in values {
-        sum += v;
-        prefix.push(sum);
-    }
-    prefix
-}
-
 /// The ideal mass `x = w·k` of a power in fixed point: `k = N·2^32/S` carried as
 /// `k_hi + k_lo`, and `x` counted in units of `2^-shift` (`shift = 30 − ⌊log2 N⌋`, so that
 /// `N·2^32·2^shift < 2^63` and every running sum fits a `u64`).
