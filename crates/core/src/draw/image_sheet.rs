@@ -250,7 +250,8 @@ struct Grid {
     scale: f32,
     dw: f32,
     dh: f32,
-    grid_top: f32,
+    /// Top of the first row's captions.
+    top: f32,
 }
 
 impl Grid {
@@ -274,7 +275,7 @@ impl Grid {
             scale,
             dw,
             dh,
-            grid_top,
+            top: grid_top,
         }
     }
 
@@ -282,7 +283,7 @@ impl Grid {
     fn cell(&self, col: usize, row: usize) -> (f32, f32) {
         (
             self.margin + col as f32 * (self.cell_w + self.gap),
-            self.grid_top + row as f32 * (self.caption + self.dh + self.row_gap) + self.caption,
+            self.top + row as f32 * (self.caption + self.dh + self.row_gap) + self.caption,
         )
     }
 }

@@ -8,7 +8,8 @@ use lightpick_core::scene::{Emission, ReceiverPlane, Scene, Spot};
 use lightpick_core::spatial::{Child, LightTree, SpatialSampler, TREE_WIDTH};
 use lightpick_core::{Rng, Sampler, Scheme};
 
-use crate::gpu_common::SplitMix;
+use crate::common::SplitMix;
+use crate::common::scenes::tilted_spot;
 
 /// `n` lights over `[-2, 2]²` at heights 0.2–1.5: 60 % spots (cones 0.1–1.3 rad, most aimed
 /// down, every 8th grazing or upwards), every third with a range of 0.5–3, every 9th at
@@ -42,22 +43,13 @@ fn shaped_with(n: usize, seed: u64, spots: usize, range_every: usize) -> Scene {
             } else {
                 d.range(0.0, 0.9)
             };
-            let turn = d.range(0.0, std::f64::consts::TAU);
-            Spot {
-                direction: dvec3(
-                    tilt.sin() * turn.cos(),
-                    tilt.sin() * turn.sin(),
-                    -tilt.cos(),
-                ),
-                inner_cone: outer * d.range(0.0, 0.9),
-                outer_cone: outer,
-            }
+            tilted_spot(&mut d, outer, tilt, 0.0..0.9)
         });
         let range = (i % range_every == range_every / 2).then(|| d.range(0.5, 3.0));
         emission.push(Emission::new(spot, range).expect("valid"));
     }
     powers[0] = 1.0;
-    let mut scene = Scene::from_parts(
+    Scene::from_parts(
         "shaped",
         ReceiverPlane {
             min: dvec2(-2.0, -2.0),
@@ -68,9 +60,8 @@ fn shaped_with(n: usize, seed: u64, spots: usize, range_every: usize) -> Scene {
         positions,
         powers,
     )
-    .expect("valid");
-    scene.emission = Some(emission);
-    scene
+    .expect("valid")
+    .with_emission(emission)
 }
 
 const POINTS: [DVec2; 5] = [
@@ -383,8 +374,9 @@ fn where_no_spot_reaches_the_sampler_says_so() {
         width: 16,
         height: 16,
     };
-    let mut scene = Scene::from_parts("spots", plane, positions, powers).expect("valid");
-    scene.emission = Some(emission);
+    let scene = Scene::from_parts("spots", plane, positions, powers)
+        .expect("valid")
+        .with_emission(emission);
     let pmf = scene.powers.pmf();
     let (mut dark, mut lit) = (0, 0);
     for tree in trees(&scene) {

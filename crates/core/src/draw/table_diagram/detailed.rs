@@ -113,7 +113,7 @@ fn draw_mass_bar(
             tick,
         )?;
     }
-    if i % layout.index_every == 0 {
+    if i.is_multiple_of(layout.index_every) {
         text::draw_text(
             pixmap,
             &i.to_string(),
@@ -166,7 +166,7 @@ fn draw_unit_column(
             foreground,
         );
     }
-    if i % layout.index_every == 0 {
+    if i.is_multiple_of(layout.index_every) {
         text::draw_text(
             pixmap,
             &i.to_string(),
