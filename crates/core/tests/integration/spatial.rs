@@ -8,6 +8,7 @@ use lightpick_core::spatial::{EXACT_MAX_LIGHTS, ExactSampler, LightTree, Spatial
 use lightpick_core::{LightPowers, Rng, Scheme};
 
 use crate::common::SplitMix;
+use crate::common::fit::assert_picks_fit;
 use crate::common::scenes::{preset_at, random_powers, scattered_positions, square_plane};
 
 /// `n` lights in `[-2, 2]² × [0.1, 1]` (every 7th below the plane, every 5th at power 0),
@@ -83,20 +84,7 @@ fn tree_picks_follow_their_pdf_and_report_it() {
         assert!((pick.pdf - expected).abs() <= 1e-12 * expected);
         counts[pick.light as usize] += 1;
     }
-    let (mut chi2, mut dof) = (0.0f64, -1.0f64);
-    for (i, &c) in counts.iter().enumerate() {
-        let e = tree.pdf(x, i) * draws as f64;
-        if e > 0.0 {
-            chi2 += (c as f64 - e).powi(2) / e;
-            dof += 1.0;
-        } else {
-            assert_eq!(c, 0, "light {i} has pdf 0 but was picked");
-        }
-    }
-    assert!(
-        chi2 < dof + 5.0 * (2.0 * dof).sqrt(),
-        "χ² = {chi2}, dof = {dof}"
-    );
+    assert_picks_fit(&counts, draws, |i| tree.pdf(x, i));
 }
 
 /// The tree estimate is unbiased: at several points, the mean of 100 000 estimates is within
@@ -163,18 +151,7 @@ fn exact_picks_follow_the_contributions() {
     for s in 0..draws {
         counts[exact.sample(x, &mut Rng::new(9, s)).expect("some").light as usize] += 1;
     }
-    let mut chi2 = 0.0;
-    let mut dof = -1.0f64;
-    for (i, &c) in counts.iter().enumerate() {
-        let e = exact.pdf(x, i) * draws as f64;
-        if e > 0.0 {
-            chi2 += (c as f64 - e).powi(2) / e;
-            dof += 1.0;
-        } else {
-            assert_eq!(c, 0);
-        }
-    }
-    assert!(chi2 < dof + 5.0 * (2.0 * dof).sqrt(), "χ² = {chi2}");
+    assert_picks_fit(&counts, draws, |i| exact.pdf(x, i));
 }
 
 /// A 32 × 32 grid of equal lights at height 0.25 spread over a 16 × 16 plane: power

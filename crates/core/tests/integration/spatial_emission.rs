@@ -9,6 +9,7 @@ use lightpick_core::spatial::{Child, LightTree, SpatialSampler, TREE_WIDTH};
 use lightpick_core::{Rng, Sampler, Scheme};
 
 use crate::common::SplitMix;
+use crate::common::fit::assert_picks_fit;
 use crate::common::scenes::tilted_spot;
 
 /// `n` lights over `[-2, 2]²` at heights 0.2–1.5: 60 % spots (cones 0.1–1.3 rad, most aimed
@@ -162,21 +163,7 @@ fn picks_follow_their_pdf() {
         assert!((pick.pdf - pdfs[pick.light as usize]).abs() <= 1e-12 * pick.pdf);
         counts[pick.light as usize] += 1;
     }
-    let (mut chi2, mut dof) = (0.0f64, -1.0f64);
-    for (i, &c) in counts.iter().enumerate() {
-        let e = pdfs[i] * draws as f64;
-        if e > 0.0 {
-            chi2 += (c as f64 - e).powi(2) / e;
-            dof += 1.0;
-        } else {
-            assert_eq!(c, 0, "light {i} has pdf 0 but was picked");
-        }
-    }
-    // A χ² beyond dof + 5·√(2·dof) is a > 5σ event.
-    assert!(
-        chi2 < dof + 5.0 * (2.0 * dof).sqrt(),
-        "χ² = {chi2}, dof = {dof}"
-    );
+    assert_picks_fit(&counts, draws, |i| pdfs[i]);
 }
 
 /// Every scheme's mean of 60 000 estimates at each point is within 5 standard errors of

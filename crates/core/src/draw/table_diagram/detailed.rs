@@ -4,7 +4,7 @@
 use tiny_skia::Pixmap;
 
 use super::columns::{ColumnRects, split_column};
-use super::fraction_label;
+use super::labels::fraction_label;
 use crate::alias::AliasTable;
 use crate::draw::DrawError;
 use crate::draw::axes::Frame;

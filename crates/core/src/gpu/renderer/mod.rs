@@ -5,6 +5,7 @@
 mod output;
 mod passes;
 mod targets;
+mod tile_pass;
 
 use std::sync::Arc;
 
@@ -63,20 +64,13 @@ pub struct GpuRenderer {
     /// [`GpuRenderer::accumulate_rows`]); 0 when none is.
     band_row: u32,
     plane: [f32; 4],
-    params: wgpu::Buffer,
     /// The lights, shared with the scene's other renderers when built by
     /// [`GpuRenderer::from_samplers_sharing`].
     lights: Arc<SplitArray>,
     /// The lights' emission profiles, for a scene with spots or ranges (shared likewise).
     shapes: Option<Arc<SplitArray>>,
-    sums: wgpu::Buffer,
-    accumulate_pipeline: wgpu::ComputePipeline,
-    accumulate_bind_group: wgpu::BindGroup,
-    tonemap_params: wgpu::Buffer,
-    tonemap_pipeline: wgpu::ComputePipeline,
-    tonemap_bind_group: wgpu::BindGroup,
-    output: wgpu::Texture,
-    output_view: wgpu::TextureView,
+    /// The per-pixel sums, the output texture, the kernels and their bindings.
+    targets: Targets,
     timer: PassTimer,
 }
 
@@ -177,17 +171,7 @@ impl GpuRenderer {
             Some(shared) => shared,
             None => light_buffers(ctx, scene)?,
         };
-        let Targets {
-            params,
-            sums,
-            accumulate_pipeline,
-            accumulate_bind_group,
-            tonemap_params,
-            tonemap_pipeline,
-            tonemap_bind_group,
-            output,
-            output_view,
-        } = Targets::new(ctx, width, height, &lights, shapes.as_deref())?;
+        let targets = Targets::new(ctx, width, height, &lights, shapes.as_deref())?;
 
         let mut renderer = Self {
             ctx: ctx.clone(),
@@ -203,17 +187,9 @@ impl GpuRenderer {
             samples_per_pixel: 0,
             band_row: 0,
             plane,
-            params,
             lights,
             shapes,
-            sums,
-            accumulate_pipeline,
-            accumulate_bind_group,
-            tonemap_params,
-            tonemap_pipeline,
-            tonemap_bind_group,
-            output,
-            output_view,
+            targets,
             timer: PassTimer::new(ctx),
         };
         if is_shared {
@@ -327,7 +303,7 @@ impl GpuRenderer {
             self.spatial = Some(SpatialGpu::new(
                 &self.ctx,
                 self.samplers.spatial(),
-                [&self.params, &self.sums],
+                [&self.targets.params, &self.targets.sums],
             )?);
         }
         Ok(())
@@ -362,7 +338,7 @@ impl GpuRenderer {
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("render reset"),
                 });
-        encoder.clear_buffer(&self.sums, 0, None);
+        encoder.clear_buffer(&self.targets.sums, 0, None);
         self.ctx.queue().submit([encoder.finish()]);
     }
 

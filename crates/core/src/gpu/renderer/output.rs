@@ -4,7 +4,8 @@
 use std::ops::Range;
 
 use super::GpuRenderer;
-use crate::gpu::render_kernel::{TILE, TonemapParams};
+use super::tile_pass::TilePass;
+use crate::gpu::render_kernel::TonemapParams;
 use crate::gpu::{self, GpuError};
 use crate::render::Accumulator;
 
@@ -25,7 +26,7 @@ impl GpuRenderer {
             });
         }
         let pixels = u64::from(self.width) * u64::from(self.height);
-        let bytes = gpu::read_buffer(&self.ctx, "pixel sums", &self.sums, pixels * 8)?;
+        let bytes = gpu::read_buffer(&self.ctx, "pixel sums", &self.targets.sums, pixels * 8)?;
         let words = gpu::words(&bytes);
         let mut acc = Accumulator::new(self.width, self.height, self.total_scaled, self.shift);
         acc.samples_per_pixel = self.samples_per_pixel;
@@ -81,32 +82,19 @@ impl GpuRenderer {
             row_begin: rows.start,
             pad: [0; 2],
         };
-        gpu::scoped(&self.ctx, "dispatching the tonemap", || {
-            self.ctx
-                .queue()
-                .write_buffer(&self.tonemap_params, 0, bytemuck::bytes_of(&params));
-            let mut encoder =
-                self.ctx
-                    .device()
-                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                        label: Some("render tonemap"),
-                    });
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("render tonemap"),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(&self.tonemap_pipeline);
-                pass.set_bind_group(0, &self.tonemap_bind_group, &[]);
-                pass.dispatch_workgroups(
-                    self.width.div_ceil(TILE),
-                    (rows.end - rows.start).div_ceil(TILE),
-                    1,
-                );
-            }
-            self.ctx.queue().submit([encoder.finish()]);
-            Ok(())
-        })
+        let pass = TilePass {
+            label: "render tonemap",
+            pipeline: &self.targets.tonemap_pipeline,
+            bind_group: &self.targets.tonemap_bind_group,
+            params_buffer: &self.targets.tonemap_params,
+        };
+        pass.submit(
+            &self.ctx,
+            "dispatching the tonemap",
+            bytemuck::bytes_of(&params),
+            (self.width, rows),
+            None,
+        )
     }
 
     /// Copies the output texture to the CPU as row-major `RGBA8` (4 bytes per pixel),
@@ -129,7 +117,7 @@ impl GpuRenderer {
                         label: Some("render output readback"),
                     });
             encoder.copy_texture_to_buffer(
-                self.output.as_image_copy(),
+                self.targets.output.as_image_copy(),
                 wgpu::TexelCopyBufferInfo {
                     buffer: &staging,
                     layout: wgpu::TexelCopyBufferLayout {
@@ -158,11 +146,11 @@ impl GpuRenderer {
     /// The tonemapped `Rgba8Unorm` output (usage `TEXTURE_BINDING | STORAGE_BINDING |
     /// COPY_SRC`), for the app to register with egui.
     pub fn output_view(&self) -> &wgpu::TextureView {
-        &self.output_view
+        &self.targets.output_view
     }
 
     /// The output texture itself.
     pub fn output_texture(&self) -> &wgpu::Texture {
-        &self.output
+        &self.targets.output
     }
 }

@@ -4,9 +4,10 @@
 use std::ops::Range;
 
 use super::GpuRenderer;
+use super::tile_pass::TilePass;
 use crate::Scheme;
 use crate::gpu::pass_timer::PassClock;
-use crate::gpu::render_kernel::{RenderParams, SAMPLES_PER_DISPATCH, TILE};
+use crate::gpu::render_kernel::{RenderParams, SAMPLES_PER_DISPATCH};
 use crate::gpu::{self, GpuError};
 
 impl GpuRenderer {
@@ -114,8 +115,8 @@ impl GpuRenderer {
                 (&s.pipeline, &s.bind_group, s.root, s.code)
             }
             _ => (
-                &self.accumulate_pipeline,
-                &self.accumulate_bind_group,
+                &self.targets.accumulate_pipeline,
+                &self.targets.accumulate_bind_group,
                 0,
                 gpu::scheme_code(self.scheme)?,
             ),
@@ -139,32 +140,19 @@ impl GpuRenderer {
             row_end: rows.end,
         };
         let timestamp_writes = self.timer.begin_pass(&self.ctx)?;
-        gpu::scoped(&self.ctx, "dispatching render samples", || {
-            self.ctx
-                .queue()
-                .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-            let mut encoder =
-                self.ctx
-                    .device()
-                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                        label: Some("render accumulate"),
-                    });
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("render accumulate"),
-                    timestamp_writes,
-                });
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, bind_group, &[]);
-                pass.dispatch_workgroups(
-                    self.width.div_ceil(TILE),
-                    (rows.end - rows.start).div_ceil(TILE),
-                    1,
-                );
-            }
-            self.ctx.queue().submit([encoder.finish()]);
-            Ok(())
-        })?;
+        let pass = TilePass {
+            label: "render accumulate",
+            pipeline,
+            bind_group,
+            params_buffer: &self.targets.params,
+        };
+        pass.submit(
+            &self.ctx,
+            "dispatching render samples",
+            bytemuck::bytes_of(&params),
+            (self.width, rows),
+            timestamp_writes,
+        )?;
         self.timer.end_pass(&self.ctx)
     }
 }

@@ -59,14 +59,19 @@ pub(super) fn light_buffers(
 }
 
 /// A renderer's per-pixel buffers, output texture, pipelines and bind groups.
+#[derive(Debug)]
 pub(super) struct Targets {
+    /// The accumulate kernels' parameters ([`RenderParams`]).
     pub(super) params: wgpu::Buffer,
+    /// `(Σê, Σê²)` per pixel as two `f32`.
     pub(super) sums: wgpu::Buffer,
     pub(super) accumulate_pipeline: wgpu::ComputePipeline,
     pub(super) accumulate_bind_group: wgpu::BindGroup,
+    /// The tonemap kernel's parameters ([`TonemapParams`]).
     pub(super) tonemap_params: wgpu::Buffer,
     pub(super) tonemap_pipeline: wgpu::ComputePipeline,
     pub(super) tonemap_bind_group: wgpu::BindGroup,
+    /// The tonemapped image (`Rgba8Unorm`).
     pub(super) output: wgpu::Texture,
     pub(super) output_view: wgpu::TextureView,
 }
