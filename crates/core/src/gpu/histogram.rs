@@ -1,5 +1,6 @@
 //! The histogram of light picks, computed on the GPU.
 
+use super::scheme::scheme_code;
 use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
 use super::{GpuContext, GpuError, PICK_WGSL, WORKGROUP_SIZE};
 use crate::{LightSampler as _, PackedAliasEntry, Sampler};
@@ -97,7 +98,7 @@ pub fn histogram_range_split(
     max_per_dispatch: u64,
 ) -> Result<Vec<u64>, GpuError> {
     let max_per_dispatch = max_per_dispatch.clamp(1, MAX_SAMPLES_PER_DISPATCH);
-    let scheme = super::scheme_code(sampler.scheme())?;
+    let scheme = scheme_code(sampler.scheme())?;
     let n = sampler.light_count();
     let table: &[PackedAliasEntry] = match sampler {
         Sampler::Alias(t) | Sampler::AliasOneRandom(t) => t.packed(),

@@ -4,6 +4,7 @@
 use glam::{UVec4, Vec4};
 
 use super::emission::{GpuShape, emission_source, shapes_layout};
+use super::scheme::{SCHEME_SPATIAL_EXACT, SCHEME_SPATIAL_TREE};
 use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
 use super::{GpuContext, GpuError};
 use crate::spatial::{LaneBounds, MappedLanes, SpatialLight, SpatialSampler, TREE_WIDTH};
@@ -89,10 +90,6 @@ pub(crate) struct ShapedSplit {
     pub(crate) codes: SplitShape,
 }
 
-/// Scheme word of the exact contribution pick (`N ≤` [`crate::spatial::EXACT_MAX_LIGHTS`]).
-pub(crate) const SCHEME_SPATIAL_EXACT: u32 = 3;
-/// Scheme word of the light-tree descent.
-pub(crate) const SCHEME_SPATIAL_TREE: u32 = 4;
 /// GPU bytes per contributing light: `(x, y, z, p_i)` as `f32`, in leaf order.
 pub(crate) const BYTES_PER_LIGHT: u64 = 16;
 /// GPU bytes per tree node: four `(c.xyz, Φ)` as `f32` and four child words.

@@ -9,7 +9,7 @@
 //! counts the small lights and sums the masses; prefix sums over the chunks locate any
 //! ordinal of either sequence and its running deficit or excess.
 
-use super::{CAPACITY, CHUNK, REACH_FLAG};
+use super::units::{CAPACITY, CHUNK, REACH_FLAG};
 
 /// Bitmap words per chunk.
 pub(super) const WORDS_PER_CHUNK: usize = CHUNK / 64;

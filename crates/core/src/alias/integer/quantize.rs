@@ -5,7 +5,7 @@
 use rayon::prelude::*;
 
 use super::heavy::{Census, ChunkCensus, WORDS_PER_CHUNK};
-use super::{CAPACITY, CHUNK, REACH_FLAG};
+use super::units::{CAPACITY, CHUNK, REACH_FLAG};
 use crate::alias::exact::{double_double_sum_and_max, double_double_sum_of, two_product, two_sum};
 use crate::powers::{Pow2Scale, pow2_scale_to_unit, unit_exponent};
 

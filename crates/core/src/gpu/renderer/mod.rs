@@ -13,9 +13,10 @@ use glam::UVec2;
 
 use super::pass_timer::PassTimer;
 use super::render_kernel::{BYTES_PER_LIGHT, GpuLight};
+use super::scheme::scheme_code;
 use super::spatial::SpatialGpu;
 use super::split::SplitArray;
-use super::{self as gpu, GpuContext, GpuError};
+use super::{GpuContext, GpuError};
 use crate::scene::Scene;
 use crate::{Construction, LightPowers, SceneSamplers, Scheme};
 use targets::{Targets, check_image_size, light_buffers};
@@ -149,7 +150,7 @@ impl GpuRenderer {
         shared: Option<(Arc<SplitArray>, Option<Arc<SplitArray>>)>,
     ) -> Result<Self, GpuError> {
         let scene: &Scene = samplers.scene();
-        gpu::scheme_code(scheme)?;
+        scheme_code(scheme)?;
         let (width, height) = (scene.plane.width, scene.plane.height);
         check_image_size(ctx, width, height)?;
         if scene.positions.len() != scene.powers.len() {
@@ -313,7 +314,7 @@ impl GpuRenderer {
     /// refused ([`GpuError::UnsupportedScheme`]) and leaves the renderer unchanged.
     /// [`Scheme::Spatial`] builds and uploads its light tree the first time.
     pub fn set_scheme(&mut self, scheme: Scheme) -> Result<(), GpuError> {
-        gpu::scheme_code(scheme)?;
+        scheme_code(scheme)?;
         if scheme == Scheme::Spatial {
             self.ensure_spatial()?;
         }

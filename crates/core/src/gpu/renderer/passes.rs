@@ -6,9 +6,10 @@ use std::ops::Range;
 use super::GpuRenderer;
 use super::tile_pass::TilePass;
 use crate::Scheme;
+use crate::gpu::GpuError;
 use crate::gpu::pass_timer::PassClock;
 use crate::gpu::render_kernel::{RenderParams, SAMPLES_PER_DISPATCH};
-use crate::gpu::{self, GpuError};
+use crate::gpu::scheme::scheme_code;
 
 impl GpuRenderer {
     /// Adds `samples_per_pixel` samples to every pixel: sample indices
@@ -118,7 +119,7 @@ impl GpuRenderer {
                 &self.targets.accumulate_pipeline,
                 &self.targets.accumulate_bind_group,
                 0,
-                gpu::scheme_code(self.scheme)?,
+                scheme_code(self.scheme)?,
             ),
         };
         let params = RenderParams {

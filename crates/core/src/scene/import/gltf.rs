@@ -22,9 +22,10 @@
 
 use glam::{DMat4, DQuat, DVec3};
 
-use super::{
-    IMPORT_PLANE_PIXELS, ImportReport, SceneFormat, SkippedLight, check_count, footprint_plane,
-};
+use super::count::check_count;
+use super::format::SceneFormat;
+use super::plane::{IMPORT_PLANE_PIXELS, footprint_plane};
+use super::report::{ImportReport, SkippedLight};
 use crate::scene::{Emission, Scene, SceneError, Spot};
 
 /// glTF's `(x, y, z)` (+Y up) as lightpick's (+Z up): `(x, −z, y)`.
