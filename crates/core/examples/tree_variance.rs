@@ -20,22 +20,11 @@ use glam::{DVec2, DVec3, dvec2, dvec3};
 use lightpick_core::scene::{Emission, ReceiverPlane, Scene, Spot, pixel_center};
 use lightpick_core::spatial::SpatialSampler;
 
-/// `SplitMix64`: a fixed stream for the generated spot sets.
-struct Mix(u64);
-
-impl Mix {
-    fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.unit()
-    }
-}
+// `SplitMix64`, the integration tests' generator of test inputs: a fixed stream for the
+// generated spot sets.
+#[path = "../tests/integration/common/mix.rs"]
+mod mix;
+use mix::SplitMix;
 
 /// A spot at `from` aimed at `mark` on the plane.
 fn aimed(from: DVec3, mark: DVec3, inner: f64, outer: f64) -> Spot {
@@ -57,24 +46,22 @@ fn spot_scene(
         width: 128,
         height: 128,
     };
-    let mut scene = Scene::from_parts(
+    let scene = Scene::from_parts(
         name,
         plane,
         lights.iter().map(|l| l.0).collect(),
         lights.iter().map(|l| l.1).collect(),
     )?;
-    scene.emission = Some(
-        lights
-            .iter()
-            .map(|l| Emission::new(Some(l.2), l.3))
-            .collect::<Result<_, _>>()?,
-    );
-    Ok(scene)
+    let emission = lights
+        .iter()
+        .map(|l| Emission::new(Some(l.2), l.3))
+        .collect::<Result<_, _>>()?;
+    Ok(scene.with_emission(emission))
 }
 
 /// 2000 spots over a 20 m square, 2–8 m up, aimed at random marks, a third with ranges.
 fn random_spots() -> Result<Scene, Box<dyn std::error::Error>> {
-    let mut d = Mix(11);
+    let mut d = SplitMix(11);
     let lights: Vec<_> = (0..2000)
         .map(|_| {
             let from = dvec3(
@@ -84,7 +71,7 @@ fn random_spots() -> Result<Scene, Box<dyn std::error::Error>> {
             );
             let mark = dvec3(d.range(-10.0, 10.0), d.range(-10.0, 10.0), 0.0);
             let outer = d.range(0.05, 0.8);
-            let range = (d.unit() < 0.3).then(|| d.range(6.0, 20.0));
+            let range = (d.next_f64() < 0.3).then(|| d.range(6.0, 20.0));
             let power = 10f64.powf(d.range(0.0, 2.0));
             let inner = outer * d.range(0.0, 0.9);
             (from, power, aimed(from, mark, inner, outer), range)
@@ -96,12 +83,12 @@ fn random_spots() -> Result<Scene, Box<dyn std::error::Error>> {
 /// 1500 spots on a ring of radius 20 m, 12–15 m up, aimed at marks within 14 m of its
 /// centre; every fifth is wide.
 fn arena() -> Result<Scene, Box<dyn std::error::Error>> {
-    let mut d = Mix(12);
+    let mut d = SplitMix(12);
     let lights: Vec<_> = (0..1500)
         .map(|i| {
             let a = std::f64::consts::TAU * f64::from(i) / 1500.0;
             let from = dvec3(20.0 * a.cos(), 20.0 * a.sin(), 12.0 + d.range(0.0, 3.0));
-            let r = 14.0 * d.unit().sqrt();
+            let r = 14.0 * d.next_f64().sqrt();
             let b = d.range(0.0, std::f64::consts::TAU);
             let mark = dvec3(r * b.cos(), r * b.sin(), 0.0);
             let outer = if i % 5 == 0 {

@@ -248,19 +248,17 @@ mod tests {
     use glam::{DVec3, dvec2};
 
     fn scene(positions: Vec<[f64; 3]>, powers: &[f64]) -> Scene {
-        Scene {
-            name: "test".into(),
-            plane: ReceiverPlane {
+        Scene::new(
+            "test",
+            ReceiverPlane {
                 min: dvec2(-1.0, -1.0),
                 max: dvec2(1.0, 1.0),
                 width: 8,
                 height: 8,
             },
-            positions: positions.into_iter().map(DVec3::from).collect(),
-            powers: LightPowers::new(powers.to_vec()).unwrap(),
-            emission: None,
-            names: None,
-        }
+            positions.into_iter().map(DVec3::from).collect::<Vec<_>>(),
+            LightPowers::new(powers.to_vec()).unwrap(),
+        )
     }
 
     #[test]

@@ -107,6 +107,7 @@ mod alias;
 mod cdf;
 mod chi_square;
 pub mod construction;
+mod cpu_lights;
 #[cfg(feature = "draw")]
 pub mod draw;
 pub mod fraction;

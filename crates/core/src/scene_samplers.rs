@@ -11,7 +11,7 @@
 use std::sync::{Arc, OnceLock};
 
 use crate::alias::{AliasTable, Construction};
-use crate::render::CpuLights;
+use crate::cpu_lights::CpuLights;
 use crate::scene::Scene;
 use crate::spatial::SpatialSampler;
 

@@ -20,7 +20,8 @@
 //! time, and the next block starts from there, so the picks and the generator's final
 //! position are exactly those of repeated [`AliasTable::sample`].
 
-use super::{AliasTable, PackedAliasEntry};
+use super::AliasTable;
+use super::packed::PackedAliasEntry;
 use crate::rng::Rng;
 
 /// Picks per block: its draws, columns and entries (16 bytes per pick) stay in L1.

@@ -33,7 +33,7 @@
 //! least 1 for a positive threshold, so the packed pmf is within `(1 + a_i)·2^-32/N` of
 //! `p_i` (`a_i` columns alias to `i`; each moves its split by at most `2^-32`).
 
-use super::PackedAliasEntry;
+use super::packed::packed_word;
 use crate::powers::{LightPowers, pow2_scale_to_unit};
 
 /// The `f64` parts of an exact table: normalized powers, thresholds and aliases.
@@ -72,12 +72,13 @@ pub(crate) fn build(powers: &LightPowers, parts: &mut ExactParts, words: &mut Ve
     parts.alias.extend(0..n as u32);
     pair_columns(&mut parts.threshold, &mut parts.alias);
     words.clear();
-    words.extend(parts.threshold.iter().zip(&parts.alias).map(|(&t, &a)| {
-        bytemuck::cast::<PackedAliasEntry, u64>(PackedAliasEntry {
-            threshold: quantize_threshold(t),
-            alias: a,
-        })
-    }));
+    words.extend(
+        parts
+            .threshold
+            .iter()
+            .zip(&parts.alias)
+            .map(|(&t, &a)| packed_word(quantize_threshold(t), a)),
+    );
 }
 
 /// Makes `Σ q_i = N` to a few ulps before pairing.

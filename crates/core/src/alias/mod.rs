@@ -49,6 +49,7 @@
 mod batch;
 mod exact;
 mod integer;
+mod packed;
 mod pages;
 
 use std::sync::OnceLock;
@@ -58,18 +59,7 @@ use crate::rng::Rng;
 use crate::uniform::Uniform;
 
 pub(crate) use exact::{double_double_sum, next_large, next_small, spread_residue, two_sum};
-
-/// One column of the packed alias table, as the GPU stores it (8 bytes).
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, bytemuck::Pod, bytemuck::Zeroable,
-)]
-#[repr(C)]
-pub struct PackedAliasEntry {
-    /// Keep probability of the column's own light, times `2^32` (saturating).
-    pub threshold: u32,
-    /// The light taken when the column is not kept.
-    pub alias: u32,
-}
+pub use packed::PackedAliasEntry;
 
 /// How an [`AliasTable`] is built: the trade between build speed and how closely the table
 /// realizes `p_i` (module docs).

@@ -27,7 +27,7 @@ use tiny_skia::{FilterQuality, Pixmap, PixmapPaint, Transform};
 use super::axes;
 use super::canvas::{self, LABEL_SIZE, TITLE_SIZE};
 use super::image_sheet::pixmap_from_rgba;
-use super::palette::Rgba8;
+use super::palette::{Rgba8, ThemeColors};
 use super::text::{self, HAlign, TextStyle, VAlign};
 use super::{DrawError, Theme};
 use crate::render::tonemap_rgba8;
@@ -148,28 +148,8 @@ pub fn rmse_caption(rmse: f64) -> String {
 
 /// Draws one frame of a convergence animation (see the module docs).
 pub fn animation_frame(frame: &AnimationFrame<'_>, theme: Theme) -> Result<Pixmap, DrawError> {
+    check_frame(frame)?;
     let (iw, ih) = (frame.width, frame.height);
-    if iw == 0 || ih == 0 {
-        return Err(DrawError::Empty("the images have no pixels"));
-    }
-    if frame.panels.is_empty() {
-        return Err(DrawError::Empty("no panels"));
-    }
-    if !(1..=MAX_ZOOM).contains(&frame.zoom) {
-        return Err(DrawError::Size {
-            width: iw as u32 * frame.zoom,
-            height: ih as u32 * frame.zoom,
-        });
-    }
-    for panel in frame.panels {
-        if panel.image.len() != iw * ih {
-            return Err(DrawError::Length {
-                what: "panel image",
-                expected: iw * ih,
-                got: panel.image.len(),
-            });
-        }
-    }
     let (width, height) = animation_frame_size(iw, ih, frame.zoom, frame.panels.len());
     let style = super::Style {
         width,
@@ -192,7 +172,51 @@ pub fn animation_frame(frame: &AnimationFrame<'_>, theme: Theme) -> Result<Pixma
         (HAlign::Center, VAlign::Top),
         &TextStyle::new(LABEL_SIZE, colors.muted),
     )?;
+    for (k, panel) in frame.panels.iter().enumerate() {
+        draw_panel(&mut pixmap, frame, k, panel, &colors)?;
+    }
+    draw_progress(&mut pixmap, frame.progress, (width, height), &colors);
+    Ok(pixmap)
+}
 
+/// Refuses an empty image, no panels, a zoom beyond `1..=`[`MAX_ZOOM`] and a panel image
+/// whose length is not `width · height`.
+fn check_frame(frame: &AnimationFrame<'_>) -> Result<(), DrawError> {
+    let (iw, ih) = (frame.width, frame.height);
+    if iw == 0 || ih == 0 {
+        return Err(DrawError::Empty("the images have no pixels"));
+    }
+    if frame.panels.is_empty() {
+        return Err(DrawError::Empty("no panels"));
+    }
+    if !(1..=MAX_ZOOM).contains(&frame.zoom) {
+        return Err(DrawError::Size {
+            width: iw as u32 * frame.zoom,
+            height: ih as u32 * frame.zoom,
+        });
+    }
+    for panel in frame.panels {
+        if panel.image.len() != iw * ih {
+            return Err(DrawError::Length {
+                what: "panel image",
+                expected: iw * ih,
+                got: panel.image.len(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Panel `k`: its image tonemapped and enlarged in its cell, outlined, and its captions
+/// (swatch and label, detail, spp, RMSE) below it.
+fn draw_panel(
+    pixmap: &mut Pixmap,
+    frame: &AnimationFrame<'_>,
+    k: usize,
+    panel: &AnimationPanel<'_>,
+    colors: &ThemeColors,
+) -> Result<(), DrawError> {
+    let (iw, ih) = (frame.width, frame.height);
     let zoom = frame.zoom as f32;
     let (cell_w, image_h) = cell_size(iw, ih, frame.zoom);
     let image_w = iw as u32 * frame.zoom;
@@ -201,73 +225,72 @@ pub fn animation_frame(frame: &AnimationFrame<'_>, theme: Theme) -> Result<Pixma
         ..PixmapPaint::default()
     };
     let caption = TextStyle::new(CAPTION_SIZE, colors.foreground);
-    for (k, panel) in frame.panels.iter().enumerate() {
-        let cell_x = MARGIN + k as u32 * (cell_w + MARGIN);
-        let x = (cell_x + (cell_w - image_w) / 2) as f32;
-        let y = TOP as f32;
-        let image = pixmap_from_rgba(iw, ih, tonemap_rgba8(panel.image, frame.exposure))?;
-        pixmap.draw_pixmap(
-            0,
-            0,
-            image.as_ref(),
-            &paint,
-            Transform::from_row(zoom, 0.0, 0.0, zoom, x, y),
-            None,
-        );
-        canvas::stroke_rect(
-            &mut pixmap,
-            (x - 0.5, y - 0.5, image_w as f32 + 1.0, image_h as f32 + 1.0),
-            1.0,
-            colors.grid,
-        );
-        // Captions: left-aligned with the image (or the cell, for narrow images).
-        let left = cell_x.max(x as u32) as f32;
-        let line = |n: u32| (TOP + image_h + CAPTION_GAP + n * CAPTION_LINE) as f32;
-        let swatch = 11.0;
-        canvas::fill_rect(
-            &mut pixmap,
-            left,
-            line(0) + 4.0,
-            swatch,
-            swatch,
-            panel.color,
-        );
-        text::draw_text(
-            &mut pixmap,
-            panel.label,
-            (left + swatch + 6.0, line(0)),
-            (HAlign::Left, VAlign::Top),
-            &caption.bold(),
-        )?;
-        text::draw_text(
-            &mut pixmap,
-            panel.detail,
-            (left, line(1)),
-            (HAlign::Left, VAlign::Top),
-            &TextStyle::new(CAPTION_SIZE, colors.muted),
-        )?;
-        text::draw_text(
-            &mut pixmap,
-            &format!("{} spp", panel.spp),
-            (left, line(2)),
-            (HAlign::Left, VAlign::Top),
-            &caption,
-        )?;
-        text::draw_text(
-            &mut pixmap,
-            &rmse_caption(panel.rmse),
-            (left, line(3)),
-            (HAlign::Left, VAlign::Top),
-            &caption,
-        )?;
-    }
+    let cell_x = MARGIN + k as u32 * (cell_w + MARGIN);
+    let x = (cell_x + (cell_w - image_w) / 2) as f32;
+    let y = TOP as f32;
+    let image = pixmap_from_rgba(iw, ih, tonemap_rgba8(panel.image, frame.exposure))?;
+    pixmap.draw_pixmap(
+        0,
+        0,
+        image.as_ref(),
+        &paint,
+        Transform::from_row(zoom, 0.0, 0.0, zoom, x, y),
+        None,
+    );
+    canvas::stroke_rect(
+        pixmap,
+        (x - 0.5, y - 0.5, image_w as f32 + 1.0, image_h as f32 + 1.0),
+        1.0,
+        colors.grid,
+    );
+    // Captions: left-aligned with the image (or the cell, for narrow images).
+    let left = cell_x.max(x as u32) as f32;
+    let line = |n: u32| (TOP + image_h + CAPTION_GAP + n * CAPTION_LINE) as f32;
+    let swatch = 11.0;
+    canvas::fill_rect(pixmap, left, line(0) + 4.0, swatch, swatch, panel.color);
+    text::draw_text(
+        pixmap,
+        panel.label,
+        (left + swatch + 6.0, line(0)),
+        (HAlign::Left, VAlign::Top),
+        &caption.bold(),
+    )?;
+    text::draw_text(
+        pixmap,
+        panel.detail,
+        (left, line(1)),
+        (HAlign::Left, VAlign::Top),
+        &TextStyle::new(CAPTION_SIZE, colors.muted),
+    )?;
+    text::draw_text(
+        pixmap,
+        &format!("{} spp", panel.spp),
+        (left, line(2)),
+        (HAlign::Left, VAlign::Top),
+        &caption,
+    )?;
+    text::draw_text(
+        pixmap,
+        &rmse_caption(panel.rmse),
+        (left, line(3)),
+        (HAlign::Left, VAlign::Top),
+        &caption,
+    )?;
+    Ok(())
+}
 
-    // How far through the animation: a track and its filled part along the bottom.
-    let (index, count) = frame.progress;
+/// How far through the animation (`(index, count)`): a track and its filled part along the
+/// bottom of a `width × height` frame.
+fn draw_progress(
+    pixmap: &mut Pixmap,
+    (index, count): (usize, usize),
+    (width, height): (u32, u32),
+    colors: &ThemeColors,
+) {
     let track_w = (width - 2 * MARGIN) as f32;
     let bar_y = (height - MARGIN / 2 - PROGRESS_BAR) as f32;
     canvas::fill_rect(
-        &mut pixmap,
+        pixmap,
         MARGIN as f32,
         bar_y,
         track_w,
@@ -280,14 +303,13 @@ pub fn animation_frame(frame: &AnimationFrame<'_>, theme: Theme) -> Result<Pixma
         ((index + 1).min(count) as f32 / count as f32).clamp(0.0, 1.0)
     };
     canvas::fill_rect(
-        &mut pixmap,
+        pixmap,
         MARGIN as f32,
         bar_y,
         (track_w * done).round(),
         PROGRESS_BAR as f32,
         colors.muted,
     );
-    Ok(pixmap)
 }
 
 #[cfg(test)]

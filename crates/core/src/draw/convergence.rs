@@ -146,14 +146,7 @@ pub fn convergence(
         .zip(&zero)
         .map(|(s, &z)| if z { Vec::new() } else { plottable(s, axis) })
         .collect();
-    let all = data.iter().flatten();
-    let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) = (f64::MAX, 0.0_f64, f64::MAX, 0.0_f64);
-    for &(x, y) in all {
-        x_lo = x_lo.min(x);
-        x_hi = x_hi.max(x);
-        y_lo = y_lo.min(y);
-        y_hi = y_hi.max(y);
-    }
+    let (x_lo, x_hi, y_lo, y_hi) = bounds(&data);
     if x_hi == 0.0 {
         return Err(DrawError::Empty("no point with positive x and RMSE"));
     }
@@ -186,50 +179,104 @@ pub fn convergence(
     let ys = Scale::log_around(y_lo, y_hi);
     axes::y_axis(&mut pixmap, &frame, &ys, "RMSE", &colors)?;
     axes::x_axis(&mut pixmap, &frame, &xs, x_title, &colors)?;
-    let to_px = |u: f64, v: f64| {
-        (
-            frame.left + u as f32 * frame.width,
-            frame.bottom() - v as f32 * frame.height,
-        )
-    };
 
-    // Reference slope −1/2 through the geometric mean of the series' first points, so it
-    // runs between (and parallel to) the lines rather than on top of one.
     let reference = colors.muted;
-    let firsts: Vec<(f64, f64)> = data.iter().filter_map(|d| d.first().copied()).collect();
-    if !firsts.is_empty() {
-        let count = firsts.len() as f64;
-        let x0 = 10f64.powf(firsts.iter().map(|p| p.0.log10()).sum::<f64>() / count);
-        let y0 = 10f64.powf(firsts.iter().map(|p| p.1.log10()).sum::<f64>() / count);
-        // One decade right, a factor √10 down: the slope in unit coordinates.
-        let k = (ys.unit(y0 / 10f64.sqrt()) - ys.unit(y0)) / (xs.unit(x0 * 10.0) - xs.unit(x0));
-        if let Some((a, b)) = clip_line(xs.unit(x0), ys.unit(y0), k) {
-            canvas::polyline(
-                &mut pixmap,
-                &[to_px(a.0, a.1), to_px(b.0, b.1)],
-                1.5,
-                reference,
-                Some([7.0, 5.0]),
-            );
-        }
-    }
+    draw_reference_slope(&mut pixmap, &data, &frame, (&xs, &ys), reference);
+    let lines = draw_series(&mut pixmap, series, &data, &frame, (&xs, &ys));
+    let entries = legend_entries(series, &zero, reference, per);
+    let size = canvas::legend_size(&entries)?;
+    canvas::legend(
+        &mut pixmap,
+        legend_corner(&frame, size, &lines),
+        &entries,
+        &colors,
+    )?;
+    Ok(pixmap)
+}
 
+/// `(x_lo, x_hi, y_lo, y_hi)` over every point of `data`; `x_hi = 0` when there is none.
+fn bounds(data: &[Vec<(f64, f64)>]) -> (f64, f64, f64, f64) {
+    let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) = (f64::MAX, 0.0_f64, f64::MAX, 0.0_f64);
+    for &(x, y) in data.iter().flatten() {
+        x_lo = x_lo.min(x);
+        x_hi = x_hi.max(x);
+        y_lo = y_lo.min(y);
+        y_hi = y_hi.max(y);
+    }
+    (x_lo, x_hi, y_lo, y_hi)
+}
+
+/// The pixel of the unit-square point `(u, v)` of `frame` (`v` upwards).
+fn to_px(frame: &Frame, u: f64, v: f64) -> (f32, f32) {
+    (
+        frame.left + u as f32 * frame.width,
+        frame.bottom() - v as f32 * frame.height,
+    )
+}
+
+/// The dashed reference slope −1/2 through the geometric mean of the series' first
+/// points, so it runs between (and parallel to) the lines rather than on top of one.
+fn draw_reference_slope(
+    pixmap: &mut Pixmap,
+    data: &[Vec<(f64, f64)>],
+    frame: &Frame,
+    (xs, ys): (&Scale, &Scale),
+    color: Rgba8,
+) {
+    let firsts: Vec<(f64, f64)> = data.iter().filter_map(|d| d.first().copied()).collect();
+    if firsts.is_empty() {
+        return;
+    }
+    let count = firsts.len() as f64;
+    let x0 = 10f64.powf(firsts.iter().map(|p| p.0.log10()).sum::<f64>() / count);
+    let y0 = 10f64.powf(firsts.iter().map(|p| p.1.log10()).sum::<f64>() / count);
+    // One decade right, a factor √10 down: the slope in unit coordinates.
+    let k = (ys.unit(y0 / 10f64.sqrt()) - ys.unit(y0)) / (xs.unit(x0 * 10.0) - xs.unit(x0));
+    if let Some((a, b)) = clip_line(xs.unit(x0), ys.unit(y0), k) {
+        canvas::polyline(
+            pixmap,
+            &[to_px(frame, a.0, a.1), to_px(frame, b.0, b.1)],
+            1.5,
+            color,
+            Some([7.0, 5.0]),
+        );
+    }
+}
+
+/// Each series as a line with a dot per point; returns the lines in pixels.
+fn draw_series(
+    pixmap: &mut Pixmap,
+    series: &[ConvergenceSeries],
+    data: &[Vec<(f64, f64)>],
+    frame: &Frame,
+    (xs, ys): (&Scale, &Scale),
+) -> Vec<Vec<(f32, f32)>> {
     let mut lines: Vec<Vec<(f32, f32)>> = Vec::new();
-    for (s, points) in series.iter().zip(&data) {
+    for (s, points) in series.iter().zip(data) {
         let px: Vec<(f32, f32)> = points
             .iter()
-            .map(|&(x, y)| to_px(xs.unit(x), ys.unit(y)))
+            .map(|&(x, y)| to_px(frame, xs.unit(x), ys.unit(y)))
             .collect();
-        canvas::polyline(&mut pixmap, &px, 2.0, s.color, None);
+        canvas::polyline(pixmap, &px, 2.0, s.color, None);
         for &p in &px {
-            canvas::disc(&mut pixmap, p, 3.5, s.color);
+            canvas::disc(pixmap, p, 3.5, s.color);
         }
         lines.push(px);
     }
+    lines
+}
 
+/// The legend: each series (a zero-variance one named as off the plot, with its largest
+/// RMSE) and the reference slope.
+fn legend_entries(
+    series: &[ConvergenceSeries],
+    zero: &[bool],
+    reference: Rgba8,
+    per: &str,
+) -> Vec<LegendEntry> {
     let mut entries: Vec<LegendEntry> = series
         .iter()
-        .zip(&zero)
+        .zip(zero)
         .map(|(s, &z)| {
             if z {
                 LegendEntry {
@@ -254,14 +301,7 @@ pub fn convergence(
         label: format!("slope −1/2 (∝ 1/√{per})"),
         detail: None,
     });
-    let size = canvas::legend_size(&entries)?;
-    canvas::legend(
-        &mut pixmap,
-        legend_corner(&frame, size, &lines),
-        &entries,
-        &colors,
-    )?;
-    Ok(pixmap)
+    entries
 }
 
 /// Where the legend box of `size` goes: the first of the frame's top-right, bottom-left,

@@ -11,7 +11,7 @@ use tiny_skia::Pixmap;
 
 use super::axes::{self, Frame, Scale};
 use super::canvas::{self, LegendEntry, Mark, TICK_SIZE};
-use super::palette;
+use super::palette::{self, ThemeColors};
 use super::text::{self, HAlign, TextStyle, VAlign};
 use super::{DrawError, Style};
 use crate::chi_square::{ChiSquare, chi_square};
@@ -110,67 +110,22 @@ pub fn histogram(data: &HistogramData, style: &Style) -> Result<Pixmap, DrawErro
     if n == 0 {
         return Err(DrawError::Empty("no lights"));
     }
-    for s in &data.schemes {
-        for (what, len) in [("counts", s.counts.len()), ("expected", s.expected.len())] {
-            if len != n {
-                return Err(DrawError::Length {
-                    what,
-                    expected: n,
-                    got: len,
-                });
-            }
-        }
-    }
+    check_lengths(data)?;
     let colors = style.theme.colors();
     let mut pixmap = canvas::blank(style)?;
     let (w, h) = (style.width as f32, style.height as f32);
 
     let shown = shown_lights(&data.pmf, HISTOGRAM_TOP_K);
     let totals: Vec<u64> = data.schemes.iter().map(SchemeCounts::total).collect();
-    let picks = match totals.first() {
-        Some(&t) if totals.iter().all(|&x| x == t) => {
-            format!(" · {} picks per scheme", group_digits(t))
-        }
-        _ => String::new(),
-    };
-    let which = if shown.len() < n {
-        format!(" · showing the {} largest pᵢ", shown.len())
-    } else {
-        String::new()
-    };
     canvas::title(
         &mut pixmap,
         "Expected pmf vs observed frequencies",
-        Some(&format!("N = {n} lights{picks}{which}")),
+        Some(&subtitle(n, shown.len(), &totals)),
         &colors,
     )?;
 
     // Legend on the right.
-    let mut entries = vec![LegendEntry {
-        mark: Mark::Swatch(palette::REFERENCE),
-        label: "power pmf pᵢ".to_owned(),
-        detail: None,
-    }];
-    for (s, &total) in data.schemes.iter().zip(&totals) {
-        entries.push(LegendEntry {
-            mark: Mark::Swatch(palette::scheme_color(s.scheme)),
-            label: format!("{}: observed", s.scheme),
-            detail: Some(format!(
-                "n = {} · χ² = {:.2}, {} dof · {}",
-                group_digits(total),
-                s.fit.chi2,
-                s.fit.dof,
-                format_p(s.fit.p_value)
-            )),
-        });
-    }
-    if !data.schemes.is_empty() {
-        entries.push(LegendEntry {
-            mark: Mark::Tick(colors.foreground),
-            label: "expected by the scheme".to_owned(),
-            detail: None,
-        });
-    }
+    let entries = legend_entries(data, &totals, &colors);
     let (legend_w, _) = canvas::legend_size(&entries)?;
     let frame = Frame {
         left: 76.0,
@@ -186,67 +141,20 @@ pub fn histogram(data: &HistogramData, style: &Style) -> Result<Pixmap, DrawErro
     )?;
 
     // Scale over everything drawn.
-    let mut top = 0.0_f64;
-    for &i in &shown {
-        top = top.max(data.pmf[i]);
-        for (s, &total) in data.schemes.iter().zip(&totals) {
-            top = top.max(s.expected[i]);
-            if total > 0 {
-                top = top.max(s.counts[i] as f64 / total as f64);
-            }
-        }
-    }
+    let top = highest_drawn(data, &shown, &totals);
     let scale = Scale::Linear {
         min: 0.0,
         max: if top > 0.0 { top * 1.12 } else { 1.0 },
     };
     axes::y_axis(&mut pixmap, &frame, &scale, "probability", &colors)?;
-
-    let to_y = |v: f64| frame.bottom() - scale.unit(v) as f32 * frame.height;
-    let slot = frame.width / shown.len() as f32;
-    let bars = 1 + data.schemes.len();
-    let bar_w = (slot * 0.8 / bars as f32).min(36.0);
-    let tick = TextStyle::new(TICK_SIZE, colors.foreground);
-    for (g, &i) in shown.iter().enumerate() {
-        let cx = frame.left + slot * (g as f32 + 0.5);
-        let x0 = cx - bar_w * bars as f32 / 2.0;
-        let y = to_y(data.pmf[i]);
-        canvas::fill_rect(
-            &mut pixmap,
-            x0,
-            y,
-            bar_w,
-            frame.bottom() - y,
-            palette::REFERENCE,
-        );
-        for (k, (s, &total)) in data.schemes.iter().zip(&totals).enumerate() {
-            let x = x0 + bar_w * (k + 1) as f32;
-            let freq = if total > 0 {
-                s.counts[i] as f64 / total as f64
-            } else {
-                0.0
-            };
-            let y = to_y(freq);
-            let color = palette::scheme_color(s.scheme);
-            canvas::fill_rect(&mut pixmap, x, y, bar_w, frame.bottom() - y, color);
-            let ey = to_y(s.expected[i]);
-            canvas::fill_rect(
-                &mut pixmap,
-                x - 1.0,
-                ey - 1.5,
-                bar_w + 2.0,
-                3.0,
-                colors.foreground,
-            );
-        }
-        text::draw_text(
-            &mut pixmap,
-            &i.to_string(),
-            (cx, frame.bottom() + 8.0),
-            (HAlign::Center, VAlign::Top),
-            &tick,
-        )?;
-    }
+    draw_bars(
+        &mut pixmap,
+        data,
+        (&shown, &totals),
+        &frame,
+        &scale,
+        &colors,
+    )?;
     let y = canvas::crisp(frame.bottom());
     canvas::line(
         &mut pixmap,
@@ -267,6 +175,137 @@ pub fn histogram(data: &HistogramData, style: &Style) -> Result<Pixmap, DrawErro
         &TextStyle::new(canvas::LABEL_SIZE, colors.foreground),
     )?;
     Ok(pixmap)
+}
+
+/// Refuses a scheme whose counts or expected probabilities are not one per light.
+fn check_lengths(data: &HistogramData) -> Result<(), DrawError> {
+    let n = data.pmf.len();
+    for s in &data.schemes {
+        for (what, len) in [("counts", s.counts.len()), ("expected", s.expected.len())] {
+            if len != n {
+                return Err(DrawError::Length {
+                    what,
+                    expected: n,
+                    got: len,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `N = n lights`, the picks per scheme when all schemes made as many, and how many lights
+/// are shown when not all are.
+fn subtitle(n: usize, shown: usize, totals: &[u64]) -> String {
+    let picks = match totals.first() {
+        Some(&t) if totals.iter().all(|&x| x == t) => {
+            format!(" · {} picks per scheme", group_digits(t))
+        }
+        _ => String::new(),
+    };
+    let which = if shown < n {
+        format!(" · showing the {shown} largest pᵢ")
+    } else {
+        String::new()
+    };
+    format!("N = {n} lights{picks}{which}")
+}
+
+/// The legend: the power pmf, each scheme's observed frequencies with its χ² fit, and the
+/// tick marking what each scheme expects.
+fn legend_entries(data: &HistogramData, totals: &[u64], colors: &ThemeColors) -> Vec<LegendEntry> {
+    let mut entries = vec![LegendEntry {
+        mark: Mark::Swatch(palette::REFERENCE),
+        label: "power pmf pᵢ".to_owned(),
+        detail: None,
+    }];
+    for (s, &total) in data.schemes.iter().zip(totals) {
+        entries.push(LegendEntry {
+            mark: Mark::Swatch(palette::scheme_color(s.scheme)),
+            label: format!("{}: observed", s.scheme),
+            detail: Some(format!(
+                "n = {} · χ² = {:.2}, {} dof · {}",
+                group_digits(total),
+                s.fit.chi2,
+                s.fit.dof,
+                format_p(s.fit.p_value)
+            )),
+        });
+    }
+    if !data.schemes.is_empty() {
+        entries.push(LegendEntry {
+            mark: Mark::Tick(colors.foreground),
+            label: "expected by the scheme".to_owned(),
+            detail: None,
+        });
+    }
+    entries
+}
+
+/// The highest value drawn for the `shown` lights: pmf, expected and observed frequencies.
+fn highest_drawn(data: &HistogramData, shown: &[usize], totals: &[u64]) -> f64 {
+    let mut top = 0.0_f64;
+    for &i in shown {
+        top = top.max(data.pmf[i]);
+        for (s, &total) in data.schemes.iter().zip(totals) {
+            top = top.max(s.expected[i]);
+            if total > 0 {
+                top = top.max(s.counts[i] as f64 / total as f64);
+            }
+        }
+    }
+    top
+}
+
+/// One group of bars per shown light: its pmf, then each scheme's observed frequency with
+/// a tick at what the scheme expects, and the light's index below.
+fn draw_bars(
+    pixmap: &mut Pixmap,
+    data: &HistogramData,
+    (shown, totals): (&[usize], &[u64]),
+    frame: &Frame,
+    scale: &Scale,
+    colors: &ThemeColors,
+) -> Result<(), DrawError> {
+    let to_y = |v: f64| frame.bottom() - scale.unit(v) as f32 * frame.height;
+    let slot = frame.width / shown.len() as f32;
+    let bars = 1 + data.schemes.len();
+    let bar_w = (slot * 0.8 / bars as f32).min(36.0);
+    let tick = TextStyle::new(TICK_SIZE, colors.foreground);
+    for (g, &i) in shown.iter().enumerate() {
+        let cx = frame.left + slot * (g as f32 + 0.5);
+        let x0 = cx - bar_w * bars as f32 / 2.0;
+        let y = to_y(data.pmf[i]);
+        canvas::fill_rect(pixmap, x0, y, bar_w, frame.bottom() - y, palette::REFERENCE);
+        for (k, (s, &total)) in data.schemes.iter().zip(totals).enumerate() {
+            let x = x0 + bar_w * (k + 1) as f32;
+            let freq = if total > 0 {
+                s.counts[i] as f64 / total as f64
+            } else {
+                0.0
+            };
+            let y = to_y(freq);
+            let color = palette::scheme_color(s.scheme);
+            canvas::fill_rect(pixmap, x, y, bar_w, frame.bottom() - y, color);
+            let ey = to_y(s.expected[i]);
+            canvas::fill_rect(
+                pixmap,
+                x - 1.0,
+                ey - 1.5,
+                bar_w + 2.0,
+                3.0,
+                colors.foreground,
+            );
+        }
+        text::draw_text(
+            pixmap,
+            &i.to_string(),
+            (cx, frame.bottom() + 8.0),
+            (HAlign::Center, VAlign::Top),
+            &tick,
+        )?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -151,21 +151,7 @@ pub fn image_sheet(images: &SheetImages<'_>, style: &Style) -> Result<Pixmap, Dr
     if iw == 0 || ih == 0 {
         return Err(DrawError::Empty("the images have no pixels"));
     }
-    let expected = iw * ih;
-    for (what, img) in [
-        ("uniform image", images.uniform),
-        ("importance image", images.importance),
-        ("spatial image", images.spatial),
-        ("reference image", images.reference),
-    ] {
-        if img.len() != expected {
-            return Err(DrawError::Length {
-                what,
-                expected,
-                got: img.len(),
-            });
-        }
-    }
+    check_lengths(images)?;
     let exposure = images
         .exposure
         .unwrap_or_else(|| auto_exposure(images.reference));
@@ -182,21 +168,130 @@ pub fn image_sheet(images: &SheetImages<'_>, style: &Style) -> Result<Pixmap, Dr
         &colors,
     )?;
 
-    let (margin, gap, top, caption, row_gap) = (20.0, 16.0, 64.0, 20.0, 12.0);
-    let columns = COLUMNS as f32;
-    let cell_w = (w - 2.0 * margin - (columns - 1.0) * gap) / columns;
-    let cell_h = (h - top - 10.0 - row_gap) / 2.0 - caption;
-    let scale = fit_scale(iw, ih, cell_w, cell_h);
-    let (dw, dh) = (iw as f32 * scale, ih as f32 * scale);
-    // Rows as tall as the drawn images, the pair centred in the space below the title.
-    let grid_top = top + ((h - top - 10.0) - (2.0 * (caption + dh) + row_gap)) / 2.0;
-    let cell = |col: usize, row: usize| {
-        (
-            margin + col as f32 * (cell_w + gap),
-            grid_top + row as f32 * (caption + dh + row_gap) + caption,
-        )
+    let grid = Grid::new(iw, ih, w, h);
+    let paint = PixmapPaint {
+        quality: if grid.scale >= 1.0 {
+            FilterQuality::Nearest
+        } else {
+            FilterQuality::Bilinear
+        },
+        ..PixmapPaint::default()
     };
+    for (label, rgba, (col, row)) in panels(images, exposure) {
+        let (cx, cy) = grid.cell(col, row);
+        let x = (cx + (grid.cell_w - grid.dw) / 2.0).round();
+        let y = cy.round();
+        let image = pixmap_from_rgba(iw, ih, rgba)?;
+        pixmap.draw_pixmap(
+            0,
+            0,
+            image.as_ref(),
+            &paint,
+            Transform::from_row(grid.scale, 0.0, 0.0, grid.scale, x, y),
+            None,
+        );
+        canvas::stroke_rect(
+            &mut pixmap,
+            (
+                x - 0.5,
+                y - 0.5,
+                grid.dw.round() + 1.0,
+                grid.dh.round() + 1.0,
+            ),
+            1.0,
+            colors.grid,
+        );
+        text::draw_text(
+            &mut pixmap,
+            &label,
+            (cx + grid.cell_w / 2.0, y - 6.0),
+            (HAlign::Center, VAlign::Baseline),
+            &TextStyle::new(LABEL_SIZE, colors.foreground),
+        )?;
+    }
+    // The colour bar under the reference: as tall as the error maps, less the room its
+    // notes take below it before the bottom margin (the cell reaches `cell_h` below its top).
+    let (cx, cy) = grid.cell(COLUMNS - 1, 1);
+    let notes = BAR_NOTES.len() as f32 * NOTE_LINE + 8.0;
+    let bar_h = grid.dh.min(grid.cell_h - notes).round().max(1.0);
+    color_bar(&mut pixmap, (cx, cy.round()), bar_h, &colors)?;
+    Ok(pixmap)
+}
 
+/// Refuses an image whose length is not `width · height`.
+fn check_lengths(images: &SheetImages<'_>) -> Result<(), DrawError> {
+    let expected = images.width * images.height;
+    for (what, img) in [
+        ("uniform image", images.uniform),
+        ("importance image", images.importance),
+        ("spatial image", images.spatial),
+        ("reference image", images.reference),
+    ] {
+        if img.len() != expected {
+            return Err(DrawError::Length {
+                what,
+                expected,
+                got: img.len(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The sheet's layout: [`COLUMNS`] cells in two rows under the title, each image drawn at
+/// `scale` (`dw × dh` pixels) centred in its cell, with its caption above.
+struct Grid {
+    margin: f32,
+    gap: f32,
+    caption: f32,
+    row_gap: f32,
+    cell_w: f32,
+    cell_h: f32,
+    scale: f32,
+    dw: f32,
+    dh: f32,
+    /// Top of the first row's captions.
+    top: f32,
+}
+
+impl Grid {
+    /// The layout of `iw × ih` images on a `w × h` sheet.
+    fn new(iw: usize, ih: usize, w: f32, h: f32) -> Self {
+        let (margin, gap, top, caption, row_gap) = (20.0, 16.0, 64.0, 20.0, 12.0);
+        let columns = COLUMNS as f32;
+        let cell_w = (w - 2.0 * margin - (columns - 1.0) * gap) / columns;
+        let cell_h = (h - top - 10.0 - row_gap) / 2.0 - caption;
+        let scale = fit_scale(iw, ih, cell_w, cell_h);
+        let (dw, dh) = (iw as f32 * scale, ih as f32 * scale);
+        // Rows as tall as the drawn images, the pair centred in the space below the title.
+        let grid_top = top + ((h - top - 10.0) - (2.0 * (caption + dh) + row_gap)) / 2.0;
+        Grid {
+            margin,
+            gap,
+            caption,
+            row_gap,
+            cell_w,
+            cell_h,
+            scale,
+            dw,
+            dh,
+            top: grid_top,
+        }
+    }
+
+    /// The top-left corner of cell `(col, row)`'s image area (below its caption).
+    fn cell(&self, col: usize, row: usize) -> (f32, f32) {
+        (
+            self.margin + col as f32 * (self.cell_w + self.gap),
+            self.top + row as f32 * (self.caption + self.dh + self.row_gap) + self.caption,
+        )
+    }
+}
+
+/// The sheet's panels, each a caption, its RGBA8 pixels and its cell `(col, row)`: the
+/// three estimates and the reference tonemapped at `exposure`, then the estimates' error
+/// maps.
+fn panels(images: &SheetImages<'_>, exposure: f64) -> [(String, Vec<u8>, (usize, usize)); 7] {
     let error = |est: &[f64]| -> Vec<u8> {
         est.iter()
             .zip(images.reference)
@@ -204,7 +299,7 @@ pub fn image_sheet(images: &SheetImages<'_>, style: &Style) -> Result<Pixmap, Dr
             .collect()
     };
     let spp = images.spp;
-    let panels = [
+    [
         (
             format!("uniform · {spp} spp"),
             tonemap_rgba8(images.uniform, exposure),
@@ -228,49 +323,7 @@ pub fn image_sheet(images: &SheetImages<'_>, style: &Style) -> Result<Pixmap, Dr
         ("error, uniform".to_owned(), error(images.uniform), (0, 1)),
         ("error, power".to_owned(), error(images.importance), (1, 1)),
         ("error, spatial".to_owned(), error(images.spatial), (2, 1)),
-    ];
-    let paint = PixmapPaint {
-        quality: if scale >= 1.0 {
-            FilterQuality::Nearest
-        } else {
-            FilterQuality::Bilinear
-        },
-        ..PixmapPaint::default()
-    };
-    for (label, rgba, (col, row)) in panels {
-        let (cx, cy) = cell(col, row);
-        let x = (cx + (cell_w - dw) / 2.0).round();
-        let y = cy.round();
-        let image = pixmap_from_rgba(iw, ih, rgba)?;
-        pixmap.draw_pixmap(
-            0,
-            0,
-            image.as_ref(),
-            &paint,
-            Transform::from_row(scale, 0.0, 0.0, scale, x, y),
-            None,
-        );
-        canvas::stroke_rect(
-            &mut pixmap,
-            (x - 0.5, y - 0.5, dw.round() + 1.0, dh.round() + 1.0),
-            1.0,
-            colors.grid,
-        );
-        text::draw_text(
-            &mut pixmap,
-            &label,
-            (cx + cell_w / 2.0, y - 6.0),
-            (HAlign::Center, VAlign::Baseline),
-            &TextStyle::new(LABEL_SIZE, colors.foreground),
-        )?;
-    }
-    // The colour bar under the reference: as tall as the error maps, less the room its
-    // notes take below it before the bottom margin (the cell reaches `cell_h` below its top).
-    let (cx, cy) = cell(COLUMNS - 1, 1);
-    let notes = BAR_NOTES.len() as f32 * NOTE_LINE + 8.0;
-    let bar_h = dh.min(cell_h - notes).round().max(1.0);
-    color_bar(&mut pixmap, (cx, cy.round()), bar_h, &colors)?;
-    Ok(pixmap)
+    ]
 }
 
 /// The error map's colour bar with decade labels to its right and its notes below it.

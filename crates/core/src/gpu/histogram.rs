@@ -1,5 +1,6 @@
 //! The histogram of light picks, computed on the GPU.
 
+use super::scheme::scheme_code;
 use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
 use super::{GpuContext, GpuError, PICK_WGSL, WORKGROUP_SIZE};
 use crate::{LightSampler as _, PackedAliasEntry, Sampler};
@@ -97,7 +98,7 @@ pub fn histogram_range_split(
     max_per_dispatch: u64,
 ) -> Result<Vec<u64>, GpuError> {
     let max_per_dispatch = max_per_dispatch.clamp(1, MAX_SAMPLES_PER_DISPATCH);
-    let scheme = super::scheme_code(sampler.scheme())?;
+    let scheme = scheme_code(sampler.scheme())?;
     let n = sampler.light_count();
     let table: &[PackedAliasEntry] = match sampler {
         Sampler::Alias(t) | Sampler::AliasOneRandom(t) => t.packed(),
@@ -111,39 +112,7 @@ pub fn histogram_range_split(
     if count == 0 {
         return Ok(totals);
     }
-    let table_words: Vec<[u32; 2]> = table.iter().map(|e| [e.threshold, e.alias]).collect();
-    let table_buffer = SplitArray::with_contents(
-        ctx,
-        "alias table",
-        TABLE_LAYOUT,
-        bytemuck::cast_slice(&table_words),
-        wgpu::BufferUsages::empty(),
-    )?;
-    drop(table_words);
-    let counts_buffer = SplitArray::zeroed(
-        ctx,
-        "histogram counts",
-        COUNTS_LAYOUT,
-        n as u64,
-        wgpu::BufferUsages::COPY_SRC,
-    )?;
-    let storage = (table_buffer.buffers().len() + counts_buffer.buffers().len()) as u32;
-    check_bindings(ctx, "the histogram kernel", storage)?;
-    let params_buffer = super::uniform_buffer(ctx, "histogram params", 32);
-    let pipeline = super::compute_pipeline_from_source(
-        ctx,
-        "histogram",
-        histogram_source(table_buffer.shape(), counts_buffer.shape()),
-        "histogram",
-    )?;
-    let bind_group = super::scoped(ctx, "binding the histogram buffers", || {
-        let buffers: Vec<&wgpu::Buffer> = std::iter::once(&params_buffer)
-            .chain(table_buffer.buffers())
-            .chain(counts_buffer.buffers())
-            .collect();
-        Ok(super::bind_buffers(ctx, "histogram", &pipeline, &buffers))
-    })?;
-
+    let kernel = HistogramKernel::new(ctx, table, n)?;
     let mut done = 0u64;
     while done < count {
         let chunk = (count - done).min(max_per_dispatch);
@@ -161,33 +130,100 @@ pub fn histogram_range_split(
             scheme,
             stride: workgroups * WORKGROUP_SIZE,
         };
-        super::scoped(ctx, "dispatching the histogram", || {
-            ctx.queue()
-                .write_buffer(&params_buffer, 0, bytemuck::bytes_of(&params));
-            let mut encoder =
-                ctx.device()
-                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                        label: Some("histogram"),
-                    });
-            counts_buffer.clear(&mut encoder);
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("histogram"),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(&pipeline);
-                pass.set_bind_group(0, &bind_group, &[]);
-                pass.dispatch_workgroups(workgroups, 1, 1);
-            }
-            ctx.queue().submit([encoder.finish()]);
-            Ok(())
-        })?;
-        let bytes = counts_buffer.read(ctx, "histogram counts")?;
-        let counts: Vec<u32> = super::words(&bytes);
+        let counts = kernel.run(ctx, &params, workgroups)?;
         for (total, c) in totals.iter_mut().zip(counts) {
             *total += u64::from(c);
         }
         done += chunk;
     }
     Ok(totals)
+}
+
+/// The histogram kernel over one table: its buffers, pipeline and bind group.
+struct HistogramKernel {
+    params_buffer: wgpu::Buffer,
+    /// Read through the bind group only; held as long as the kernel.
+    _table_buffer: SplitArray,
+    counts_buffer: SplitArray,
+    pipeline: wgpu::ComputePipeline,
+    bind_group: wgpu::BindGroup,
+}
+
+impl HistogramKernel {
+    /// Uploads `table` and makes room for the counts of `n` lights; refuses more bindings
+    /// than a shader stage has.
+    fn new(ctx: &GpuContext, table: &[PackedAliasEntry], n: usize) -> Result<Self, GpuError> {
+        let table_words: Vec<[u32; 2]> = table.iter().map(|e| [e.threshold, e.alias]).collect();
+        let table_buffer = SplitArray::with_contents(
+            ctx,
+            "alias table",
+            TABLE_LAYOUT,
+            bytemuck::cast_slice(&table_words),
+            wgpu::BufferUsages::empty(),
+        )?;
+        drop(table_words);
+        let counts_buffer = SplitArray::zeroed(
+            ctx,
+            "histogram counts",
+            COUNTS_LAYOUT,
+            n as u64,
+            wgpu::BufferUsages::COPY_SRC,
+        )?;
+        let storage = (table_buffer.buffers().len() + counts_buffer.buffers().len()) as u32;
+        check_bindings(ctx, "the histogram kernel", storage)?;
+        let params_buffer = super::uniform_buffer(ctx, "histogram params", 32);
+        let pipeline = super::compute_pipeline_from_source(
+            ctx,
+            "histogram",
+            histogram_source(table_buffer.shape(), counts_buffer.shape()),
+            "histogram",
+        )?;
+        let bind_group = super::scoped(ctx, "binding the histogram buffers", || {
+            let buffers: Vec<&wgpu::Buffer> = std::iter::once(&params_buffer)
+                .chain(table_buffer.buffers())
+                .chain(counts_buffer.buffers())
+                .collect();
+            Ok(super::bind_buffers(ctx, "histogram", &pipeline, &buffers))
+        })?;
+        Ok(Self {
+            params_buffer,
+            _table_buffer: table_buffer,
+            counts_buffer,
+            pipeline,
+            bind_group,
+        })
+    }
+
+    /// One dispatch of `workgroups` over `params` from cleared counts; waits and returns
+    /// its counts.
+    fn run(
+        &self,
+        ctx: &GpuContext,
+        params: &HistogramParams,
+        workgroups: u32,
+    ) -> Result<Vec<u32>, GpuError> {
+        super::scoped(ctx, "dispatching the histogram", || {
+            ctx.queue()
+                .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(params));
+            let mut encoder =
+                ctx.device()
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("histogram"),
+                    });
+            self.counts_buffer.clear(&mut encoder);
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("histogram"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &self.bind_group, &[]);
+                pass.dispatch_workgroups(workgroups, 1, 1);
+            }
+            ctx.queue().submit([encoder.finish()]);
+            Ok(())
+        })?;
+        let bytes = self.counts_buffer.read(ctx, "histogram counts")?;
+        Ok(super::words(&bytes))
+    }
 }

@@ -22,8 +22,8 @@
 //! the tests check this bit for bit. Floating-point estimates are `f32` on the GPU and are
 //! compared with the `f64` CPU ones within derived bounds.
 //!
-//! [`Scheme::Uniform`], [`Scheme::Alias`], [`Scheme::AliasOneRandom`] and
-//! [`Scheme::Spatial`] (`spatial.wgsl`, the twin of [`crate::spatial`]) run on the GPU; the
+//! [`crate::Scheme::Uniform`], [`crate::Scheme::Alias`], [`crate::Scheme::AliasOneRandom`] and
+//! [`crate::Scheme::Spatial`] (`spatial.wgsl`, the twin of [`crate::spatial`]) run on the GPU; the
 //! inverse-CDF peer is a CPU-only comparison ([`GpuError::UnsupportedScheme`]).
 //!
 //! # Limits
@@ -54,7 +54,9 @@ mod histogram;
 mod measure;
 mod pass_timer;
 mod probe;
+mod render_kernel;
 mod renderer;
+mod scheme;
 mod spatial;
 mod split;
 
@@ -65,8 +67,6 @@ pub use measure::{GpuPassMeasurement, measure_passes};
 pub use pass_timer::{PassClock, PassTimer};
 pub use probe::{probe_mulhi32, probe_pick_uniform, probe_rng};
 pub use renderer::GpuRenderer;
-
-use crate::Scheme;
 
 /// The WGSL twin of [`crate::Rng`] and of the integer sampling paths; see the module docs.
 pub const RNG_WGSL: &str = include_str!("rng.wgsl");
@@ -87,22 +87,6 @@ pub fn shader_source(parts: &[&str]) -> String {
 
 /// Threads per workgroup of the one-dimensional kernels.
 pub(crate) const WORKGROUP_SIZE: u32 = 256;
-
-/// The scheme word the kernels switch on: 0 uniform, 1 alias, 2 alias with one random,
-/// 3 spatial (the renderer uses 4 instead when its spatial sampler is a light tree).
-pub(crate) fn scheme_code(scheme: Scheme) -> Result<u32, GpuError> {
-    match scheme {
-        Scheme::Uniform => Ok(0),
-        Scheme::Alias => Ok(1),
-        Scheme::AliasOneRandom => Ok(2),
-        Scheme::Spatial => Ok(spatial::SCHEME_SPATIAL_EXACT),
-        Scheme::Cdf => Err(GpuError::UnsupportedScheme {
-            scheme,
-            reason: "the inverse-CDF binary search is a CPU-only peer; \
-                     use alias (power) or uniform on the GPU, or the CPU device",
-        }),
-    }
-}
 
 /// Refuses a storage buffer of `bytes` beyond the device's buffer and binding limits.
 pub(crate) fn check_storage_size(
@@ -343,6 +327,7 @@ pub(crate) fn words(bytes: &[u8]) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Scheme;
 
     /// Every kernel parses and validates with naga, without needing a device, with its
     /// arrays in one binding and split over three.
@@ -359,7 +344,7 @@ mod tests {
         };
         let mut kernels: Vec<(&str, String)> = vec![
             ("probe", shader_source(&[probe::PROBE_WGSL])),
-            ("tonemap", shader_source(&[renderer::TONEMAP_WGSL])),
+            ("tonemap", shader_source(&[render_kernel::TONEMAP_WGSL])),
             ("rng alone", shader_source(&[])),
         ];
         for (label, shape) in [("one binding", one), ("three bindings", three)] {
@@ -371,8 +356,8 @@ mod tests {
             };
             kernels.push((label, spatial::spatial_source(shape, shape, Some(shaped))));
             kernels.push((label, histogram::histogram_source(shape, shape)));
-            kernels.push((label, renderer::render_source(shape, None)));
-            kernels.push((label, renderer::render_source(shape, Some(shape))));
+            kernels.push((label, render_kernel::render_source(shape, None)));
+            kernels.push((label, render_kernel::render_source(shape, Some(shape))));
         }
         for (name, source) in kernels {
             let module = wgpu::naga::front::wgsl::parse_str(&source)
@@ -419,6 +404,8 @@ mod tests {
 
     #[test]
     fn cdf_has_no_scheme_code() {
+        use scheme::scheme_code;
+
         assert_eq!(scheme_code(Scheme::Uniform), Ok(0));
         assert_eq!(scheme_code(Scheme::Alias), Ok(1));
         assert_eq!(scheme_code(Scheme::AliasOneRandom), Ok(2));

@@ -4,6 +4,7 @@
 use glam::{UVec4, Vec4};
 
 use super::emission::{GpuShape, emission_source, shapes_layout};
+use super::scheme::{SCHEME_SPATIAL_EXACT, SCHEME_SPATIAL_TREE};
 use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
 use super::{GpuContext, GpuError};
 use crate::spatial::{LaneBounds, MappedLanes, SpatialLight, SpatialSampler, TREE_WIDTH};
@@ -89,10 +90,6 @@ pub(crate) struct ShapedSplit {
     pub(crate) codes: SplitShape,
 }
 
-/// Scheme word of the exact contribution pick (`N ≤` [`crate::spatial::EXACT_MAX_LIGHTS`]).
-pub(crate) const SCHEME_SPATIAL_EXACT: u32 = 3;
-/// Scheme word of the light-tree descent.
-pub(crate) const SCHEME_SPATIAL_TREE: u32 = 4;
 /// GPU bytes per contributing light: `(x, y, z, p_i)` as `f32`, in leaf order.
 pub(crate) const BYTES_PER_LIGHT: u64 = 16;
 /// GPU bytes per tree node: four `(c.xyz, Φ)` as `f32` and four child words.
@@ -158,7 +155,7 @@ pub(crate) fn spatial_source(
         ),
     };
     super::shader_source(&[
-        super::renderer::RENDER_COMMON_WGSL,
+        super::render_kernel::RENDER_COMMON_WGSL,
         &lights_wgsl,
         &nodes_wgsl,
         &emission_wgsl,
@@ -187,54 +184,10 @@ impl SpatialGpu {
         sampler: &SpatialSampler,
         [params, sums]: [&wgpu::Buffer; 2],
     ) -> Result<Self, GpuError> {
-        let (code, root, lights, nodes): (u32, u32, Vec<Vec4>, Vec<GpuNode>) = match sampler {
-            SpatialSampler::Exact(exact) => {
-                let lights: Vec<Vec4> = exact.lights().iter().map(|(_, l)| light_vec4(l)).collect();
-                (
-                    SCHEME_SPATIAL_EXACT,
-                    lights.len() as u32,
-                    lights,
-                    Vec::new(),
-                )
-            }
-            SpatialSampler::Tree(tree) => (
-                SCHEME_SPATIAL_TREE,
-                tree.root().bits(),
-                tree.lights().iter().map(light_vec4).collect(),
-                tree.nodes()
-                    .iter()
-                    .map(|n| GpuNode {
-                        lane: std::array::from_fn(|k| {
-                            n.centroid(k).as_vec3().extend(n.power(k) as f32)
-                        }),
-                        child: UVec4::from_array(std::array::from_fn(|k| n.child(k).bits())),
-                    })
-                    .collect(),
-            ),
-        };
+        let (code, root, lights, nodes) = sampler_arrays(sampler);
         // Spots or ranges: the profiles in the lights' order, the tree's node bounds and
         // the maps' codes.
-        let shaped: Option<(Vec<GpuShape>, Vec<GpuNodeBounds>, Vec<u8>)> = match sampler {
-            SpatialSampler::Exact(exact) => exact.emission(0).map(|_| {
-                let shapes = (0..exact.lights().len())
-                    .filter_map(|k| exact.emission(k).map(GpuShape::of))
-                    .collect();
-                (shapes, Vec::new(), Vec::new())
-            }),
-            SpatialSampler::Tree(tree) => (!tree.emission().is_empty()).then(|| {
-                let shapes = tree.emission().iter().map(GpuShape::of).collect();
-                let lanes = (0..tree.nodes().len())
-                    .filter_map(|k| Some((tree.bounds(k)?, tree.mapped(k)?)));
-                let bounds = lanes
-                    .clone()
-                    .map(|(b, m)| GpuNodeBounds::of(b, m))
-                    .collect();
-                let codes = lanes
-                    .flat_map(|(_, m)| m.codes.iter().flatten().copied())
-                    .collect();
-                (shapes, bounds, codes)
-            }),
-        };
+        let shaped = shaped_arrays(sampler);
         let bytes = lights.len() as u64 * BYTES_PER_LIGHT
             + nodes.len() as u64 * BYTES_PER_NODE
             + shaped.as_ref().map_or(0, |(s, b, _)| {
@@ -256,32 +209,9 @@ impl SpatialGpu {
             bytemuck::cast_slice(&nodes),
             wgpu::BufferUsages::empty(),
         )?;
-        let shaped = match shaped {
-            Some((shapes, bounds, codes)) => Some((
-                SplitArray::with_contents(
-                    ctx,
-                    "spatial lights' emission profiles (leaf order)",
-                    shapes_layout("spatial_shapes"),
-                    bytemuck::cast_slice(&shapes),
-                    wgpu::BufferUsages::empty(),
-                )?,
-                SplitArray::with_contents(
-                    ctx,
-                    "light tree node bounds",
-                    BOUNDS_LAYOUT,
-                    bytemuck::cast_slice(&bounds),
-                    wgpu::BufferUsages::empty(),
-                )?,
-                SplitArray::with_contents(
-                    ctx,
-                    "light tree lane maps",
-                    CODES_LAYOUT,
-                    &codes,
-                    wgpu::BufferUsages::empty(),
-                )?,
-            )),
-            None => None,
-        };
+        let shaped = shaped
+            .map(|arrays| upload_shaped(ctx, arrays))
+            .transpose()?;
         let shaped_bindings = shaped.as_ref().map_or(0, |(s, b, c)| {
             s.buffers().len() + b.buffers().len() + c.buffers().len()
         });
@@ -326,4 +256,90 @@ impl SpatialGpu {
             bind_group,
         })
     }
+}
+
+/// The spatial kernel's scheme word, its `spatial_root`, and the sampler's lights and
+/// nodes as the kernel reads them (no nodes for the exact pick).
+fn sampler_arrays(sampler: &SpatialSampler) -> (u32, u32, Vec<Vec4>, Vec<GpuNode>) {
+    match sampler {
+        SpatialSampler::Exact(exact) => {
+            let lights: Vec<Vec4> = exact.lights().iter().map(|(_, l)| light_vec4(l)).collect();
+            (
+                SCHEME_SPATIAL_EXACT,
+                lights.len() as u32,
+                lights,
+                Vec::new(),
+            )
+        }
+        SpatialSampler::Tree(tree) => (
+            SCHEME_SPATIAL_TREE,
+            tree.root().bits(),
+            tree.lights().iter().map(light_vec4).collect(),
+            tree.nodes()
+                .iter()
+                .map(|n| GpuNode {
+                    lane: std::array::from_fn(|k| {
+                        n.centroid(k).as_vec3().extend(n.power(k) as f32)
+                    }),
+                    child: UVec4::from_array(std::array::from_fn(|k| n.child(k).bits())),
+                })
+                .collect(),
+        ),
+    }
+}
+
+/// For lights with spots or ranges: their profiles in the lights' order, the tree's node
+/// bounds and its lane maps' codes.
+fn shaped_arrays(sampler: &SpatialSampler) -> Option<(Vec<GpuShape>, Vec<GpuNodeBounds>, Vec<u8>)> {
+    match sampler {
+        SpatialSampler::Exact(exact) => exact.emission(0).map(|_| {
+            let shapes = (0..exact.lights().len())
+                .filter_map(|k| exact.emission(k).map(GpuShape::of))
+                .collect();
+            (shapes, Vec::new(), Vec::new())
+        }),
+        SpatialSampler::Tree(tree) => (!tree.emission().is_empty()).then(|| {
+            let shapes = tree.emission().iter().map(GpuShape::of).collect();
+            let lanes =
+                (0..tree.nodes().len()).filter_map(|k| Some((tree.bounds(k)?, tree.mapped(k)?)));
+            let bounds = lanes
+                .clone()
+                .map(|(b, m)| GpuNodeBounds::of(b, m))
+                .collect();
+            let codes = lanes
+                .flat_map(|(_, m)| m.codes.iter().flatten().copied())
+                .collect();
+            (shapes, bounds, codes)
+        }),
+    }
+}
+
+/// Uploads the profiles, node bounds and map codes of [`shaped_arrays`].
+fn upload_shaped(
+    ctx: &GpuContext,
+    (shapes, bounds, codes): (Vec<GpuShape>, Vec<GpuNodeBounds>, Vec<u8>),
+) -> Result<(SplitArray, SplitArray, SplitArray), GpuError> {
+    Ok((
+        SplitArray::with_contents(
+            ctx,
+            "spatial lights' emission profiles (leaf order)",
+            shapes_layout("spatial_shapes"),
+            bytemuck::cast_slice(&shapes),
+            wgpu::BufferUsages::empty(),
+        )?,
+        SplitArray::with_contents(
+            ctx,
+            "light tree node bounds",
+            BOUNDS_LAYOUT,
+            bytemuck::cast_slice(&bounds),
+            wgpu::BufferUsages::empty(),
+        )?,
+        SplitArray::with_contents(
+            ctx,
+            "light tree lane maps",
+            CODES_LAYOUT,
+            &codes,
+            wgpu::BufferUsages::empty(),
+        )?,
+    ))
 }

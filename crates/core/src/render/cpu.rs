@@ -11,6 +11,9 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::Accumulator;
+use super::convergence::{ProgressiveRenderer, SchemeSeries, convergence_series};
+use super::reference::Reference;
+use crate::cpu_lights::CpuLights;
 use crate::powers::PmfScale;
 use crate::rng::Rng;
 use crate::sampler::{Sampler, Scheme};
@@ -25,54 +28,6 @@ enum Picker {
     Power(Sampler),
     /// [`Scheme::Spatial`]: `ê = p_i·G_i(x) / P(i | x)` ([`SpatialSampler`]).
     Spatial(Arc<SpatialSampler>),
-}
-
-/// What a power-picking pass reads of the lights: the scene's own positions and powers
-/// (shared, not copied: no bytes per light beyond the scene's) and the scale that turns a
-/// power into its normalized share, `p_i =` [`PmfScale::of`]`(Φ_i)` (bit for bit the
-/// entries of [`crate::LightPowers::pmf`]); the estimate in the accumulation unit is then
-/// `ê' = w_i · G_i(x)` with `w_i = N·p_i·2^-s` for uniform picking and `w_i = 2^-s` for
-/// power-proportional picking (`s` the scene's [`Scene::irradiance_shift`]). Built once
-/// per scene ([`SceneSamplers`] keeps it) and shared by its uniform and power renderers.
-///
-/// Before, each scene kept a 32-byte record (position and `p_i`) per light, one cache line
-/// per pick; reading the scene's arrays costs the power lane nothing more (the position
-/// is its only load per pick), and the uniform lane one more load (the power).
-#[derive(Clone, Debug)]
-pub(crate) struct CpuLights {
-    positions: Arc<[DVec3]>,
-    powers: Arc<[f64]>,
-    pmf: PmfScale,
-    emission: Option<Arc<[Emission]>>,
-}
-
-impl CpuLights {
-    /// The lights of `scene`, sharing its arrays (`O(1)` but for the profiles, `O(N)`).
-    pub(crate) fn of(scene: &Scene) -> Self {
-        Self {
-            positions: Arc::clone(&scene.positions),
-            powers: Arc::clone(scene.powers.shared()),
-            pmf: scene.powers.pmf_scale(),
-            emission: scene.emission.as_deref().map(Arc::from),
-        }
-    }
-
-    /// No lights (the spatial scheme reads its sampler instead).
-    fn none() -> Self {
-        Self {
-            positions: Arc::from([]),
-            powers: Arc::from([]),
-            pmf: PmfScale::ONE,
-            emission: None,
-        }
-    }
-
-    /// Heap bytes held beyond the scene's: the emission profiles' copy, if any.
-    fn heap_bytes(&self) -> usize {
-        self.emission
-            .as_ref()
-            .map_or(0, |e| std::mem::size_of_val(&**e))
-    }
 }
 
 /// A progressive CPU renderer of one scene with one scheme and one seed.
@@ -321,13 +276,7 @@ impl CpuRenderer {
     /// through [`CpuRenderer::from_samplers`] from one scene's samplers), so that they are
     /// held once.
     pub fn shares_lights_with(&self, other: &CpuRenderer) -> bool {
-        let (a, b) = (&self.lights, &other.lights);
-        let same_emission = match (&a.emission, &b.emission) {
-            (Some(x), Some(y)) => Arc::ptr_eq(x, y),
-            (None, None) => true,
-            _ => false,
-        };
-        !a.positions.is_empty() && Arc::ptr_eq(&a.positions, &b.positions) && same_emission
+        self.lights.shares_with(&other.lights)
     }
 
     /// Heap bytes of the accumulator's per-pixel sums (16 bytes per pixel).
@@ -531,7 +480,7 @@ fn pick_streams(sampler: &Sampler, seed: u64, stream: impl Fn(usize) -> u64, out
     }
 }
 
-impl super::metrics::ProgressiveRenderer for CpuRenderer {
+impl ProgressiveRenderer for CpuRenderer {
     fn accumulate(&mut self, samples_per_pixel: u32) {
         CpuRenderer::accumulate(self, samples_per_pixel);
     }
@@ -539,4 +488,28 @@ impl super::metrics::ProgressiveRenderer for CpuRenderer {
     fn accumulator(&self) -> &Accumulator {
         CpuRenderer::accumulator(self)
     }
+}
+
+/// A [`convergence_series`] per scheme on the CPU, each from a fresh [`CpuRenderer`] with
+/// the same `seed`.
+///
+/// # Panics
+/// If the reference was computed for another image size than the scene's.
+pub fn cpu_convergence(
+    scene: &Scene,
+    reference: &Reference,
+    schemes: &[Scheme],
+    seed: u64,
+    max_spp: u32,
+) -> Vec<SchemeSeries> {
+    schemes
+        .iter()
+        .map(|&scheme| {
+            let mut renderer = CpuRenderer::new(scene, scheme, seed);
+            SchemeSeries {
+                scheme,
+                series: convergence_series(&mut renderer, reference, max_spp),
+            }
+        })
+        .collect()
 }

@@ -29,6 +29,7 @@
 //! `Φ_total`; the one-random option adds up to `1.5·N·2^-32` in total variation.
 
 mod accumulator;
+mod convergence;
 mod core_clock;
 mod cpu;
 mod measure;
@@ -37,15 +38,16 @@ mod reference;
 mod tonemap;
 
 pub use accumulator::Accumulator;
+pub use convergence::{
+    ProgressiveRenderer, SchemeSeries, SeriesPoint, convergence_series, series_spp,
+};
 pub use core_clock::pool_core_seconds;
-pub(crate) use cpu::CpuLights;
-pub use cpu::CpuRenderer;
+pub use cpu::{CpuRenderer, cpu_convergence};
 pub use measure::{CpuPassMeasurement, measure_cpu_passes};
 pub use metrics::{
-    Efficiency, ErrorMetrics, ProgressiveRenderer, REL_MSE_EPSILON, SchemeSeries, SeriesPoint,
-    ZERO_VARIANCE_RTOL, convergence_series, cpu_convergence, efficiency, efficiency_of,
+    Efficiency, ErrorMetrics, REL_MSE_EPSILON, ZERO_VARIANCE_RTOL, efficiency, efficiency_of,
     error_metrics, is_zero_variance, is_zero_variance_scaled, mean_variance_per_sample,
-    mean_variance_scaled, normalized_variance_per_sample, rmse, series_spp,
+    mean_variance_scaled, normalized_variance_per_sample, rmse,
 };
 pub use reference::{
     DEFAULT_REFERENCE_BUDGET, IrradianceOverflow, LIGHT_CHUNK, MIN_REFERENCE_PIXELS, PIXEL_BLOCK,

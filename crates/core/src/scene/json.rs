@@ -402,14 +402,7 @@ fn build_scene(
         }
     }
     let powers = validate_powers(powers, source)?;
-    Ok(Scene {
-        name,
-        plane,
-        positions: positions.into(),
-        powers,
-        emission: None,
-        names: None,
-    })
+    Ok(Scene::new(name, plane, positions, powers))
 }
 
 /// Validates powers as [`LightPowers`] and checks that their total is finite; errors name

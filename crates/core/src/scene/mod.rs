@@ -106,6 +106,68 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene of point lights: `positions[i]` emits `powers[i]`, no emission profiles
+    /// (spots, ranges) and no light names. The parts are taken as given (`powers` is
+    /// validated already; the positions are not checked): give one position per power.
+    /// [`Scene::from_parts`] validates raw positions and powers with a scene file's checks.
+    ///
+    /// The optional parts are added with [`Scene::with_emission`] and [`Scene::with_names`]:
+    /// ```
+    /// use glam::{dvec2, dvec3};
+    /// use lightpick_core::LightPowers;
+    /// use lightpick_core::scene::{ReceiverPlane, Scene};
+    ///
+    /// let plane = ReceiverPlane {
+    ///     min: dvec2(-1.0, -1.0),
+    ///     max: dvec2(1.0, 1.0),
+    ///     width: 8,
+    ///     height: 8,
+    /// };
+    /// let positions = vec![dvec3(0.0, 0.0, 1.0), dvec3(0.5, 0.0, 1.0)];
+    /// let powers = LightPowers::new(vec![2.0, 5.0])?;
+    /// let scene = Scene::new("two", plane, positions, powers)
+    ///     .with_names(vec!["key".into(), "fill".into()]);
+    /// assert_eq!(scene.light_count(), 2);
+    /// assert_eq!(scene.name_of(1), Some("fill"));
+    /// assert!(scene.emission.is_none());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn new(
+        name: impl Into<String>,
+        plane: ReceiverPlane,
+        positions: impl Into<Arc<[DVec3]>>,
+        powers: LightPowers,
+    ) -> Scene {
+        Scene {
+            name: name.into(),
+            plane,
+            positions: positions.into(),
+            powers,
+            emission: None,
+            names: None,
+        }
+    }
+
+    /// The scene with each light's emission profile (spot cone, range): `emission[i]` is
+    /// light `i`'s, one per light ([`Scene::emission`]).
+    #[must_use]
+    pub fn with_emission(self, emission: Vec<Emission>) -> Scene {
+        Scene {
+            emission: Some(emission),
+            ..self
+        }
+    }
+
+    /// The scene with each light's name: `names[i]` is light `i`'s, one per light (an empty
+    /// name counts as none, [`Scene::name_of`]).
+    #[must_use]
+    pub fn with_names(self, names: Vec<String>) -> Scene {
+        Scene {
+            names: Some(names),
+            ..self
+        }
+    }
+
     /// Number of lights.
     pub fn light_count(&self) -> usize {
         self.positions.len()
@@ -173,9 +235,12 @@ impl Scene {
         }
     }
 
-    /// Whether `other` has this scene's lights in the same places with the same cones and
-    /// ranges (its powers, names and plane may differ): what a power edit keeps, so the
-    /// light tree can be refitted instead of rebuilt. `O(N)`.
+    /// Whether `other` has this scene's lights in the same places with the same emission
+    /// profiles (cones and ranges), and, when the scene has emission profiles, the same
+    /// receiver rectangle (`plane.min`, `plane.max`: a light tree over spots maps its lanes
+    /// over it); its powers, names, name and pixel grid may differ, and so may its plane when
+    /// neither scene has profiles. What a power edit keeps, so the light tree can be refitted
+    /// instead of rebuilt. `O(N)`.
     pub fn same_geometry(&self, other: &Scene) -> bool {
         (Arc::ptr_eq(&self.positions, &other.positions) || self.positions == other.positions)
             && self.emission == other.emission

@@ -4,6 +4,7 @@
 
 use std::sync::Arc;
 
+use crate::common::scenes::preset_at;
 use lightpick_core::point_estimate::sampled_mean;
 use lightpick_core::render::{CpuRenderer, Reference};
 use lightpick_core::scene::Scene;
@@ -36,10 +37,7 @@ fn same_on_every_pool<T: Send + PartialEq + std::fmt::Debug>(
 }
 
 fn heavy_tail() -> Scene {
-    let mut scene = Scene::preset("heavy-tail").expect("preset");
-    scene.plane.width = 24;
-    scene.plane.height = 16;
-    scene
+    preset_at("heavy-tail", 24, 16)
 }
 
 #[test]

@@ -29,12 +29,13 @@
 //! (`the_light_tree_over_spots_and_ranges_matches_the_cpu_per_pixel`), and its image mean
 //! is checked against the exact reference within 5 standard errors.
 
-use crate::gpu_common::{self, SplitMix};
+use crate::common::scenes::tilted_spot;
+use crate::common::{self, SplitMix};
 use glam::{DVec3, dvec2, dvec3};
 use lightpick_core::gpu::GpuRenderer;
 use lightpick_core::render::{CpuRenderer, Reference};
 use lightpick_core::scene::{
-    Emission, ReceiverPlane, Scene, Spot, geometry_term, light_term, pixel_center,
+    Emission, ReceiverPlane, Scene, geometry_term, light_term, pixel_center,
 };
 use lightpick_core::spatial::{Child, LightTree, SpatialSampler, TREE_WIDTH};
 use lightpick_core::{LightPowers, Rng, Sampler, Scheme};
@@ -63,21 +64,12 @@ fn shaped_scene(n: usize, seed: u64) -> Scene {
             } else {
                 d.range(0.0, 0.8)
             };
-            let turn = d.range(0.0, std::f64::consts::TAU);
-            Spot {
-                direction: dvec3(
-                    tilt.sin() * turn.cos(),
-                    tilt.sin() * turn.sin(),
-                    -tilt.cos(),
-                ),
-                inner_cone: outer * d.range(0.0, 0.8),
-                outer_cone: outer,
-            }
+            tilted_spot(&mut d, outer, tilt, 0.0..0.8)
         });
         let range = (i % 3 == 0).then(|| d.range(1.0, 3.0));
         emission.push(Emission::new(spot, range).expect("valid"));
     }
-    let mut scene = Scene::from_parts(
+    Scene::from_parts(
         format!("shaped-{n}"),
         ReceiverPlane {
             min: dvec2(-1.0, -0.75),
@@ -88,9 +80,8 @@ fn shaped_scene(n: usize, seed: u64) -> Scene {
         positions,
         powers,
     )
-    .expect("valid");
-    scene.emission = Some(emission);
-    scene
+    .expect("valid")
+    .with_emission(emission)
 }
 
 /// Largest coordinate `B` of the scene (plane and lights).
@@ -127,7 +118,7 @@ fn sample_bound(scene: &Scene, i: usize, w: f64, x: glam::DVec2, b: f64) -> (f64
 
 #[test]
 fn power_schemes_with_spots_and_ranges_match_the_cpu_sample_by_sample() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let scene = shaped_scene(300, 21);
@@ -190,7 +181,7 @@ fn power_schemes_with_spots_and_ranges_match_the_cpu_sample_by_sample() {
 
 #[test]
 fn the_exact_spatial_pick_with_spots_matches_the_cpu_per_pixel() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let scene = shaped_scene(12, 5);
@@ -225,7 +216,7 @@ fn the_exact_spatial_pick_with_spots_matches_the_cpu_per_pixel() {
 
 #[test]
 fn the_light_tree_over_spots_and_ranges_is_unbiased_on_the_gpu() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let scene = shaped_scene(2000, 8);
@@ -261,7 +252,7 @@ fn the_light_tree_over_spots_and_ranges_is_unbiased_on_the_gpu() {
 
 #[test]
 fn point_scenes_keep_24_bytes_per_light() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let mut scene = shaped_scene(50, 3);
@@ -351,7 +342,7 @@ fn near_an_edge(tree: &LightTree, nodes: &[usize], x: glam::DVec2, eta: f64) -> 
 /// plus 3; the image means agree within 5 standard errors.
 #[test]
 fn the_light_tree_over_spots_and_ranges_matches_the_cpu_per_pixel() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     // Fewer samples on `stage`: its narrow spots' penumbras make each sample's leaf

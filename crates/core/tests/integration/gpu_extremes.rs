@@ -23,7 +23,8 @@
 //! the CPU's bin for bin there. The probe binds thresholds and aliases as two arrays of
 //! 4 bytes per light, so `2^25` lights fit one binding each.
 
-use crate::gpu_common;
+use crate::common;
+use crate::common::scenes::preset_at;
 use glam::{DVec3, dvec2};
 
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -111,93 +112,17 @@ fn check_gpu_columns(ctx: &GpuContext, powers: &LightPowers, table: &AliasTable)
     let device = ctx.device();
     let thresholds: Vec<u32> = table.packed().iter().map(|e| e.threshold).collect();
     let aliases: Vec<u32> = table.packed().iter().map(|e| e.alias).collect();
-    let storage = |label, contents: &[u32]| {
-        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: bytemuck::cast_slice(contents),
-            usage: wgpu::BufferUsages::STORAGE,
-        })
-    };
-    let threshold_buffer = storage("probe thresholds", &thresholds);
-    let alias_buffer = storage("probe aliases", &aliases);
+    let table_buffers = [
+        storage_buffer(device, "probe thresholds", &thresholds),
+        storage_buffer(device, "probe aliases", &aliases),
+    ];
     drop((thresholds, aliases));
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("probe columns"),
-        source: wgpu::ShaderSource::Wgsl(
-            gpu::shader_source(&[gpu::PICK_WGSL, PROBE_KERNEL]).into(),
-        ),
-    });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("probe columns"),
-        layout: None,
-        module: &module,
-        entry_point: Some("probe_columns"),
-        compilation_options: wgpu::PipelineCompilationOptions::default(),
-        cache: None,
-    });
+    let pipeline = probe_pipeline(device);
     let p = powers.as_slice();
     for start in (0..n).step_by(CHUNK) {
         let count = CHUNK.min(n - start);
         let r1s: Vec<u32> = (start..start + count).map(|c| r1_of(c, n)).collect();
-        let r1_buffer = storage("probe r1", &r1s);
-        let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("probe params"),
-            contents: bytemuck::cast_slice(&[n as u32, count as u32, 0, 0]),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let out_bytes = (count * 12) as u64;
-        let outputs = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("probe outputs"),
-            size: out_bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let staging = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("probe staging"),
-            size: out_bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("probe columns"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                (0, params.as_entire_binding()),
-                (1, threshold_buffer.as_entire_binding()),
-                (2, alias_buffer.as_entire_binding()),
-                (3, r1_buffer.as_entire_binding()),
-                (4, outputs.as_entire_binding()),
-            ]
-            .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource }),
-        });
-        let groups = (count as u32).div_ceil(256);
-        let (gx, gy) = if groups > 65_535 {
-            (65_535, groups.div_ceil(65_535))
-        } else {
-            (groups, 1)
-        };
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("probe columns"),
-        });
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("probe columns"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.dispatch_workgroups(gx, gy, 1);
-        }
-        encoder.copy_buffer_to_buffer(&outputs, 0, &staging, 0, out_bytes);
-        ctx.queue().submit([encoder.finish()]);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        staging.map_async(wgpu::MapMode::Read, .., move |r| {
-            sender.send(r).ok();
-        });
-        device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
-        receiver.recv().unwrap().unwrap();
-        let words: Vec<u32> = bytemuck::cast_slice(&staging.get_mapped_range(..).unwrap()).to_vec();
-        staging.unmap();
+        let words = probe_chunk(ctx, &pipeline, &table_buffers, &r1s, n);
         for (j, w) in words.chunks_exact(3).enumerate() {
             let c = start + j;
             let r1 = r1s[j];
@@ -218,6 +143,107 @@ fn check_gpu_columns(ctx: &GpuContext, powers: &LightPowers, table: &AliasTable)
     }
 }
 
+/// A read-only storage buffer holding `contents`.
+fn storage_buffer(device: &wgpu::Device, label: &str, contents: &[u32]) -> wgpu::Buffer {
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytemuck::cast_slice(contents),
+        usage: wgpu::BufferUsages::STORAGE,
+    })
+}
+
+/// The probe kernel's pipeline: [`PROBE_KERNEL`] behind the RNG prelude and `pick.wgsl`.
+fn probe_pipeline(device: &wgpu::Device) -> wgpu::ComputePipeline {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("probe columns"),
+        source: wgpu::ShaderSource::Wgsl(
+            gpu::shader_source(&[gpu::PICK_WGSL, PROBE_KERNEL]).into(),
+        ),
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("probe columns"),
+        layout: None,
+        module: &module,
+        entry_point: Some("probe_columns"),
+        compilation_options: wgpu::PipelineCompilationOptions::default(),
+        cache: None,
+    })
+}
+
+/// One dispatch of the probe kernel over `r1s` against the table's `[thresholds,
+/// aliases]` buffers of `n` columns; waits and returns three words per input (column,
+/// kept outcome, aliased outcome).
+fn probe_chunk(
+    ctx: &GpuContext,
+    pipeline: &wgpu::ComputePipeline,
+    [threshold_buffer, alias_buffer]: &[wgpu::Buffer; 2],
+    r1s: &[u32],
+    n: usize,
+) -> Vec<u32> {
+    let device = ctx.device();
+    let count = r1s.len();
+    let r1_buffer = storage_buffer(device, "probe r1", r1s);
+    let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("probe params"),
+        contents: bytemuck::cast_slice(&[n as u32, count as u32, 0, 0]),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let out_bytes = (count * 12) as u64;
+    let outputs = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe outputs"),
+        size: out_bytes,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("probe staging"),
+        size: out_bytes,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("probe columns"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            (0, params.as_entire_binding()),
+            (1, threshold_buffer.as_entire_binding()),
+            (2, alias_buffer.as_entire_binding()),
+            (3, r1_buffer.as_entire_binding()),
+            (4, outputs.as_entire_binding()),
+        ]
+        .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource }),
+    });
+    let groups = (count as u32).div_ceil(256);
+    let (gx, gy) = if groups > 65_535 {
+        (65_535, groups.div_ceil(65_535))
+    } else {
+        (groups, 1)
+    };
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("probe columns"),
+    });
+    {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("probe columns"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.dispatch_workgroups(gx, gy, 1);
+    }
+    encoder.copy_buffer_to_buffer(&outputs, 0, &staging, 0, out_bytes);
+    ctx.queue().submit([encoder.finish()]);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    staging.map_async(wgpu::MapMode::Read, .., move |r| {
+        sender.send(r).ok();
+    });
+    device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
+    receiver.recv().unwrap().unwrap();
+    let words: Vec<u32> = bytemuck::cast_slice(&staging.get_mapped_range(..).unwrap()).to_vec();
+    staging.unmap();
+    words
+}
+
 /// Both halves plus the exact pmf bounds of the packed and one-random forms.
 fn check_everywhere(powers: &LightPowers, table: &AliasTable) {
     check_cpu_columns(powers, table);
@@ -228,14 +254,14 @@ fn check_everywhere(powers: &LightPowers, table: &AliasTable) {
     assert_eq!(o.one_zero_leak, 0.0);
     assert_eq!(o.two_zero_leak, 0.0);
     assert!(o.one_error_over_bound < 1.0, "{o:?}");
-    if let Some(ctx) = gpu_common::context() {
+    if let Some(ctx) = common::context() {
         check_gpu_columns(ctx, powers, table);
     }
 }
 
 /// GPU histogram bin for bin equal to the CPU picks, zero lights never counted.
 fn check_histogram(powers: &LightPowers, count: u64, seed: u64) {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     for scheme in [Scheme::Alias, Scheme::AliasOneRandom] {
@@ -335,7 +361,7 @@ fn check_large(n: usize) {
     let t = table.packed()[n - 1].threshold;
     assert_eq!(table.sample_u32(u32::MAX, t - 1) as usize, n - 1);
     check_cpu_columns(&powers, &table);
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     check_gpu_columns(ctx, &powers, &table);
@@ -381,7 +407,7 @@ fn two_to_the_25_lights() {
 
 /// 60 lights on a 24 × 16 plane, powers `scale · (1 + i mod 7)`.
 fn scaled_scene(scale: f64) -> Scene {
-    let positions = (0..60)
+    let positions: Vec<DVec3> = (0..60)
         .map(|i| {
             let f = f64::from(i);
             [
@@ -393,28 +419,24 @@ fn scaled_scene(scale: f64) -> Scene {
         .map(DVec3::from)
         .collect();
     let powers = (0..60).map(|i| scale * f64::from(1 + i % 7)).collect();
-    Scene {
-        name: format!("scaled {scale:e}"),
-        plane: ReceiverPlane {
+    Scene::new(
+        format!("scaled {scale:e}"),
+        ReceiverPlane {
             min: dvec2(-2.0, -1.5),
             max: dvec2(2.0, 1.5),
             width: 24,
             height: 16,
         },
         positions,
-        powers: LightPowers::new(powers).unwrap(),
-        emission: None,
-        names: None,
-    }
+        LightPowers::new(powers).unwrap(),
+    )
 }
 
 /// GPU images (read back) of scenes whose exact irradiance spans `10^-30 … 10^30`: finite,
 /// non-negative, and equal to the CPU image of the same picks within `f32` accuracy.
 #[test]
 fn images_spanning_1e_minus_30_to_1e30_stay_finite_on_the_gpu() {
-    let mut extreme = Scene::preset("extreme-range").unwrap();
-    extreme.plane.width = 24;
-    extreme.plane.height = 24;
+    let extreme = preset_at("extreme-range", 24, 24);
     let scenes = [scaled_scene(1e-30), scaled_scene(1e30), extreme];
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
     for scene in &scenes {
@@ -428,7 +450,7 @@ fn images_spanning_1e_minus_30_to_1e30_stay_finite_on_the_gpu() {
         }
     }
     assert!(lo < 1e-29 && hi > 1e29, "exact range {lo:e} … {hi:e}");
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     for scene in &scenes {

@@ -1,8 +1,8 @@
 //! GPU pick histograms equal the CPU loop over `Sampler::pick_light`, bin for bin.
 
-use crate::gpu_common;
+use crate::common;
 
-use crate::gpu_common::SplitMix;
+use crate::common::SplitMix;
 use lightpick_core::gpu::{GpuError, histogram, histogram_range, histogram_range_split};
 use lightpick_core::{LightPowers, Rng, Sampler, Scheme, rejection_threshold};
 
@@ -33,7 +33,7 @@ fn random_powers(n: usize, seed: u64) -> Vec<f64> {
 }
 
 fn check_equal_counts(powers: &[f64], count: u64, seed: u64) {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let powers = LightPowers::new(powers.to_vec()).expect("valid powers");
@@ -99,7 +99,7 @@ fn rejected_column_draws_count_exactly_like_the_cpu() {
 
 #[test]
 fn split_dispatches_and_the_64_bit_carry_match_the_cpu() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let powers = LightPowers::new(random_powers(257, 3)).expect("valid powers");
@@ -120,7 +120,7 @@ fn split_dispatches_and_the_64_bit_carry_match_the_cpu() {
 
 #[test]
 fn zero_samples_give_zero_counts() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let powers = LightPowers::new(vec![1.0, 2.0]).expect("valid powers");
@@ -130,7 +130,7 @@ fn zero_samples_give_zero_counts() {
 
 #[test]
 fn cdf_is_refused_with_a_clear_message() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let powers = LightPowers::new(vec![2.0, 5.0, 20.0]).expect("valid powers");

@@ -1,67 +1,18 @@
 //! The GPU renderer follows the estimator contract of `lightpick_core::render`: the same
 //! picks as the CPU for every (pixel, sample), and `f32` estimates within a derived bound.
 
-use crate::gpu_common;
-use glam::{DVec3, dvec2};
+use crate::common;
 
-use crate::gpu_common::SplitMix;
+use crate::common::SplitMix;
+use crate::common::scenes::{random_powers, scattered};
 use lightpick_core::gpu::{GpuError, GpuRenderer};
 use lightpick_core::render::tonemap_rgba8;
-use lightpick_core::scene::{ReceiverPlane, Scene, geometry_term, pixel_center};
+use lightpick_core::scene::{Scene, geometry_term, pixel_center};
 use lightpick_core::{LightPowers, Rng, Sampler, Scheme, rejection_threshold};
 
 const GPU_SCHEMES: [Scheme; 3] = [Scheme::Uniform, Scheme::Alias, Scheme::AliasOneRandom];
 /// The unit roundoff of f32.
 const U: f64 = 1.0 / (1u64 << 24) as f64;
-
-/// A scene on the plane `[-s, s] × [-0.75 s, 0.75 s]` with lights at `|x|, |y| ≤ 2 s` and
-/// `z ∈ [0.5 s, 2 s]` (a few below the plane), all coordinates scaled by `s`.
-fn scene(n: usize, seed: u64, scale: f64, powers: Vec<f64>) -> Scene {
-    let mut draw = SplitMix(seed);
-    let positions = (0..n)
-        .map(|i| {
-            let z = if i % 17 == 16 {
-                -draw.range(0.5, 2.0) // below the plane: contributes nothing
-            } else {
-                draw.range(0.5, 2.0)
-            };
-            [
-                draw.range(-2.0, 2.0) * scale,
-                draw.range(-2.0, 2.0) * scale,
-                z * scale,
-            ]
-        })
-        .map(DVec3::from)
-        .collect();
-    Scene {
-        name: format!("test-{n}"),
-        plane: ReceiverPlane {
-            min: dvec2(-scale, -0.75 * scale),
-            max: dvec2(scale, 0.75 * scale),
-            width: 40,
-            height: 30,
-        },
-        positions,
-        powers: LightPowers::new(powers).expect("valid powers"),
-        emission: None,
-        names: None,
-    }
-}
-
-fn random_powers(n: usize, seed: u64, decades: f64) -> Vec<f64> {
-    let mut draw = SplitMix(seed);
-    let mut powers: Vec<f64> = (0..n)
-        .map(|i| {
-            if i % 5 == 3 {
-                0.0
-            } else {
-                10f64.powf(draw.range(-decades, decades))
-            }
-        })
-        .collect();
-    powers[0] = 1.0; // never all zero
-    powers
-}
 
 /// The CPU reference, written from the contract: sample `k` of pixel `p` picks from
 /// `Rng::new(seed, (k << 32) | p)`; the normalized estimate is `N·p_i·G_i` (uniform) or
@@ -144,7 +95,7 @@ fn assert_images_close(gpu: &[f64], cpu: &[f64], rel: f64, what: &str) {
 
 /// Renders `7 + 9` samples per pixel (two calls, so `k` continues) and compares.
 fn check_against_cpu(scene: &Scene, seed: u64, what: &str) {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     for scheme in GPU_SCHEMES {
@@ -168,13 +119,13 @@ fn check_against_cpu(scene: &Scene, seed: u64, what: &str) {
 
 #[test]
 fn seed_scene_matches_the_cpu_reference() {
-    let scene = scene(3, 1, 1.0, vec![2.0, 5.0, 20.0]);
+    let scene = scattered(3, 1, 1.0, vec![2.0, 5.0, 20.0]);
     check_against_cpu(&scene, 42, "seed");
 }
 
 #[test]
 fn many_lights_with_zeros_match_the_cpu_reference() {
-    let scene = scene(700, 2, 1.0, random_powers(700, 3, 3.0));
+    let scene = scattered(700, 2, 1.0, random_powers(&mut SplitMix(3), 700, 3.0, 3));
     check_against_cpu(&scene, 9, "700 lights");
 }
 
@@ -184,7 +135,7 @@ fn many_lights_with_zeros_match_the_cpu_reference() {
 #[test]
 fn rejected_column_draws_render_like_the_cpu() {
     let n = 2_147_484usize;
-    let mut scene = scene(n, 12, 1.0, random_powers(n, 13, 3.0));
+    let mut scene = scattered(n, 12, 1.0, random_powers(&mut SplitMix(13), n, 3.0, 3));
     scene.plane.width = 96;
     scene.plane.height = 72;
     let seed = 5;
@@ -204,8 +155,8 @@ fn rejected_column_draws_render_like_the_cpu() {
 #[test]
 fn powers_from_1e_minus_30_to_1e30_match_the_cpu_reference() {
     // Raw powers overflow f32; only normalized ones reach the GPU, and Φ_total stays f64.
-    let scene = scene(200, 4, 1.0, random_powers(200, 5, 30.0));
-    let Some(ctx) = gpu_common::context() else {
+    let scene = scattered(200, 4, 1.0, random_powers(&mut SplitMix(5), 200, 30.0, 3));
+    let Some(ctx) = common::context() else {
         return;
     };
     // Power-proportional only: the uniform estimate N·p_i·G of a light with p_i ≈ 1e-60
@@ -224,17 +175,17 @@ fn huge_and_tiny_scene_scales_do_not_overflow_f32() {
     // At scale 1e15, r³ ≈ 1e45 overflows f32 and at 1e-15, r³ ≈ 1e-45 underflows it,
     // although G itself (≈ 1e-31 and 1e29) is a normal f32: the rescaled G must hold.
     for scale in [1e15, 1e-15] {
-        let scene = scene(50, 6, scale, random_powers(50, 7, 2.0));
+        let scene = scattered(50, 6, scale, random_powers(&mut SplitMix(7), 50, 2.0, 3));
         check_against_cpu(&scene, 11, &format!("scale {scale:e}"));
     }
 }
 
 #[test]
 fn reset_restarts_the_streams_and_set_powers_rebuilds() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
-    let a = scene(40, 8, 1.0, random_powers(40, 9, 2.0));
+    let a = scattered(40, 8, 1.0, random_powers(&mut SplitMix(9), 40, 2.0, 3));
     let mut renderer = GpuRenderer::new(ctx, &a, Scheme::Alias, 5).expect("renderer");
     renderer.accumulate(4).expect("accumulate");
     let first = renderer.readback().expect("readback");
@@ -246,11 +197,9 @@ fn reset_restarts_the_streams_and_set_powers_rebuilds() {
     assert_eq!(renderer.readback().expect("readback"), first);
 
     // New powers: the same image as a fresh renderer built with them.
-    let b_powers = random_powers(40, 10, 2.0);
-    let b = Scene {
-        powers: LightPowers::new(b_powers.clone()).expect("valid"),
-        ..a.clone()
-    };
+    let b_powers = random_powers(&mut SplitMix(10), 40, 2.0, 3);
+    let mut b = a.clone();
+    b.powers = LightPowers::new(b_powers.clone()).expect("valid");
     renderer
         .set_powers(&LightPowers::new(b_powers).expect("valid"))
         .expect("set_powers");
@@ -276,10 +225,10 @@ fn reset_restarts_the_streams_and_set_powers_rebuilds() {
 
 #[test]
 fn refusals_name_the_problem() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
-    let s = scene(3, 1, 1.0, vec![2.0, 5.0, 20.0]);
+    let s = scattered(3, 1, 1.0, vec![2.0, 5.0, 20.0]);
     let err = GpuRenderer::new(ctx, &s, Scheme::Cdf, 1).expect_err("cdf");
     assert!(matches!(err, GpuError::UnsupportedScheme { .. }), "{err}");
     assert!(err.to_string().contains("cdf"), "{err}");
@@ -315,7 +264,7 @@ fn refusals_name_the_problem() {
 #[test]
 fn coordinates_beyond_f32_are_refused_by_name() {
     // Finite f64 values that become ±inf as f32 (f32::MAX ≈ 3.4028235e38).
-    let base = scene(3, 1, 1.0, vec![2.0, 5.0, 20.0]);
+    let base = scattered(3, 1, 1.0, vec![2.0, 5.0, 20.0]);
     let mut light = base.clone();
     std::sync::Arc::make_mut(&mut light.positions)[2][1] = -1e39;
     let mut corner = base.clone();
@@ -348,7 +297,7 @@ fn coordinates_beyond_f32_are_refused_by_name() {
     assert_eq!(GpuRenderer::check_scene(&edge), Ok(()));
     assert_eq!(GpuRenderer::check_scene(&base), Ok(()));
 
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     for (scene, field, _) in cases {
@@ -364,10 +313,10 @@ fn coordinates_beyond_f32_are_refused_by_name() {
 
 #[test]
 fn gpu_tonemap_matches_the_cpu_tonemap() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
-    let s = scene(300, 12, 1.0, random_powers(300, 13, 2.0));
+    let s = scattered(300, 12, 1.0, random_powers(&mut SplitMix(13), 300, 2.0, 3));
     let mut renderer = GpuRenderer::new(ctx, &s, Scheme::Alias, 8).expect("renderer");
     // Before any sample the output is black.
     renderer.tonemap(1.0).expect("tonemap");
@@ -406,7 +355,7 @@ fn gpu_tonemap_matches_the_cpu_tonemap() {
 
 #[test]
 fn an_image_beyond_the_storage_limit_is_refused_before_allocating() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let limits = ctx.device().limits();
@@ -423,7 +372,7 @@ fn an_image_beyond_the_storage_limit_is_refused_before_allocating() {
         eprintln!("skipped: {limit} bytes of storage exceed any {width}² image's sums");
         return;
     }
-    let mut s = scene(3, 1, 1.0, vec![2.0, 5.0, 20.0]);
+    let mut s = scattered(3, 1, 1.0, vec![2.0, 5.0, 20.0]);
     s.plane.width = width;
     s.plane.height = height;
     let err = GpuRenderer::new(ctx, &s, Scheme::Alias, 1).expect_err("too large");
@@ -436,7 +385,7 @@ fn an_image_beyond_the_storage_limit_is_refused_before_allocating() {
 
 #[test]
 fn a_context_wrapping_a_shared_device_renders_the_same_image() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let shared = lightpick_core::gpu::GpuContext::from_device(
@@ -445,7 +394,7 @@ fn a_context_wrapping_a_shared_device_renders_the_same_image() {
         ctx.info().clone(),
     );
     assert_eq!(shared.description(), ctx.description());
-    let s = scene(20, 14, 1.0, random_powers(20, 15, 1.0));
+    let s = scattered(20, 14, 1.0, random_powers(&mut SplitMix(15), 20, 1.0, 3));
     let mut a = GpuRenderer::new(ctx, &s, Scheme::AliasOneRandom, 77).expect("a");
     let mut b = GpuRenderer::new(&shared, &s, Scheme::AliasOneRandom, 77).expect("b");
     a.accumulate(3).expect("a");
@@ -461,10 +410,10 @@ fn a_context_wrapping_a_shared_device_renders_the_same_image() {
 /// pass is in progress, and reading the sums back then is refused.
 #[test]
 fn passes_split_into_row_bands_equal_whole_passes() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
-    let s = scene(300, 61, 1.0, random_powers(300, 62, 3.0));
+    let s = scattered(300, 61, 1.0, random_powers(&mut SplitMix(62), 300, 3.0, 3));
     let height = s.plane.height;
     for scheme in [Scheme::Uniform, Scheme::Alias, Scheme::Spatial] {
         let mut whole = GpuRenderer::new(ctx, &s, scheme, 5).expect("renderer");
@@ -510,10 +459,10 @@ fn passes_split_into_row_bands_equal_whole_passes() {
 /// finished the output equals a whole pass's.
 #[test]
 fn the_tonemap_of_a_partial_pass_uses_each_rows_sample_count() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
-    let s = scene(3, 63, 1.0, vec![2.0, 5.0, 20.0]);
+    let s = scattered(3, 63, 1.0, vec![2.0, 5.0, 20.0]);
     let width = s.plane.width as usize;
     let mut r = GpuRenderer::new(ctx, &s, Scheme::Alias, 9).expect("renderer");
     assert!(!r.accumulate_rows(12).expect("band"));
@@ -554,10 +503,10 @@ fn the_tonemap_of_a_partial_pass_uses_each_rows_sample_count() {
 /// rows' sample counts did not change).
 #[test]
 fn tonemapping_the_band_alone_equals_a_full_tonemap() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
-    let s = scene(40, 64, 1.0, random_powers(40, 65, 2.0));
+    let s = scattered(40, 64, 1.0, random_powers(&mut SplitMix(65), 40, 2.0, 3));
     let mut banded = GpuRenderer::new(ctx, &s, Scheme::Alias, 3).expect("renderer");
     let mut full = GpuRenderer::new(ctx, &s, Scheme::Alias, 3).expect("renderer");
     for r in [&mut banded, &mut full] {

@@ -1,9 +1,9 @@
 //! The WGSL RNG prelude equals the CPU `Rng`, the CPU multiply-high and the CPU exact
 //! uniform pick (Lemire's rejection loop included), bit for bit.
 
-use crate::gpu_common;
+use crate::common;
 
-use crate::gpu_common::SplitMix;
+use crate::common::SplitMix;
 use lightpick_core::gpu::{probe_mulhi32, probe_pick_uniform, probe_rng};
 use lightpick_core::{Rng, Uniform};
 
@@ -11,7 +11,7 @@ const DRAWS: u32 = 8;
 
 #[test]
 fn gpu_rng_streams_equal_cpu_bit_for_bit() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let seeds = [
@@ -67,7 +67,7 @@ fn gpu_rng_streams_equal_cpu_bit_for_bit() {
 
 #[test]
 fn gpu_mulhi32_equals_the_64_bit_product() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let edges = [
@@ -113,7 +113,7 @@ fn gpu_mulhi32_equals_the_64_bit_product() {
 
 #[test]
 fn empty_probes_return_nothing() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     assert!(probe_rng(ctx, &[], 4).expect("empty rng probe").is_empty());
@@ -129,7 +129,7 @@ fn empty_probes_return_nothing() {
 /// sizes: the same pick and the same next draw, so the same number of draws was consumed.
 #[test]
 fn gpu_exact_uniform_pick_equals_cpu_including_rejections() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let mut draw = SplitMix(77);

@@ -20,55 +20,16 @@
 //!   bound; we allow twice that plus 3 pixels, and print what we see (typically 0);
 //! * the image means (over all pixels) agree within 5 standard errors of the CPU mean.
 
-use crate::gpu_common;
-use glam::{DVec3, dvec2};
+use crate::common;
 
-use crate::gpu_common::SplitMix;
+use crate::common::scenes::{preset_at, scattered_random};
+use lightpick_core::Scheme;
 use lightpick_core::gpu::GpuRenderer;
 use lightpick_core::render::CpuRenderer;
-use lightpick_core::scene::{ReceiverPlane, Scene};
+use lightpick_core::scene::Scene;
 use lightpick_core::spatial::{LightTree, SpatialSampler};
-use lightpick_core::{LightPowers, Scheme};
 
 const U: f64 = 1.0 / (1u64 << 24) as f64;
-
-fn scene(n: usize, seed: u64, scale: f64, decades: f64) -> Scene {
-    let mut d = SplitMix(seed);
-    let positions = (0..n)
-        .map(|i| {
-            let z = d.range(0.5, 2.0);
-            [
-                d.range(-2.0, 2.0) * scale,
-                d.range(-2.0, 2.0) * scale,
-                if i % 17 == 16 { -z * scale } else { z * scale },
-            ]
-        })
-        .map(DVec3::from)
-        .collect();
-    let mut powers: Vec<f64> = (0..n)
-        .map(|i| {
-            if i % 5 == 3 {
-                0.0
-            } else {
-                10f64.powf(d.range(-decades, decades))
-            }
-        })
-        .collect();
-    powers[0] = 1.0;
-    Scene {
-        name: format!("test-{n}"),
-        plane: ReceiverPlane {
-            min: dvec2(-scale, -0.75 * scale),
-            max: dvec2(scale, 0.75 * scale),
-            width: 40,
-            height: 30,
-        },
-        positions,
-        powers: LightPowers::new(powers).expect("valid"),
-        emission: None,
-        names: None,
-    }
-}
 
 /// `(per-pixel relative tolerance, allowed fraction of pixels beyond it)`; see the docs.
 fn criterion(scene: &Scene, spp: u32) -> (f64, f64) {
@@ -97,7 +58,7 @@ fn criterion(scene: &Scene, spp: u32) -> (f64, f64) {
 }
 
 fn compare(scene: &Scene, seed: u64, what: &str) {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let mut gpu = GpuRenderer::new(ctx, scene, Scheme::Spatial, seed).expect("renderer");
@@ -142,42 +103,43 @@ fn compare(scene: &Scene, seed: u64, what: &str) {
 
 #[test]
 fn exact_scheme_matches_the_cpu() {
-    compare(&scene(3, 1, 1.0, 1.0), 42, "3 lights (exact)");
-    compare(&scene(16, 2, 1.0, 3.0), 43, "16 lights (exact)");
+    compare(&scattered_random(3, 1, 1.0, 1.0), 42, "3 lights (exact)");
+    compare(&scattered_random(16, 2, 1.0, 3.0), 43, "16 lights (exact)");
 }
 
 #[test]
 fn light_tree_matches_the_cpu() {
-    compare(&scene(700, 3, 1.0, 3.0), 9, "700 lights (tree)");
-    compare(&scene(17, 4, 1.0, 1.0), 10, "17 lights (tree)");
+    compare(&scattered_random(700, 3, 1.0, 3.0), 9, "700 lights (tree)");
+    compare(&scattered_random(17, 4, 1.0, 1.0), 10, "17 lights (tree)");
 }
 
 #[test]
 fn extreme_powers_and_scales_match_the_cpu() {
-    compare(&scene(300, 5, 1.0, 30.0), 3, "powers 1e-30..1e30");
-    compare(&scene(200, 6, 1e15, 2.0), 4, "scale 1e15");
-    compare(&scene(200, 7, 1e-15, 2.0), 5, "scale 1e-15");
+    compare(
+        &scattered_random(300, 5, 1.0, 30.0),
+        3,
+        "powers 1e-30..1e30",
+    );
+    compare(&scattered_random(200, 6, 1e15, 2.0), 4, "scale 1e15");
+    compare(&scattered_random(200, 7, 1e-15, 2.0), 5, "scale 1e-15");
 }
 
 #[test]
 fn presets_match_the_cpu() {
     for name in ["extreme-range", "heavy-tail", "million", "zeros"] {
-        let mut s = Scene::preset(name).expect("preset");
-        s.plane.width = 32;
-        s.plane.height = 32;
-        compare(&s, 1, name);
+        compare(&preset_at(name, 32, 32), 1, name);
     }
 }
 
 #[test]
 fn one_light_and_lights_below_the_plane() {
-    let mut one = scene(1, 8, 1.0, 0.0);
+    let mut one = scattered_random(1, 8, 1.0, 0.0);
     std::sync::Arc::make_mut(&mut one.positions)[0][2] = 0.7;
     compare(&one, 2, "one light");
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
-    let mut below = scene(40, 9, 1.0, 1.0);
+    let mut below = scattered_random(40, 9, 1.0, 1.0);
     for p in std::sync::Arc::make_mut(&mut below.positions) {
         p[2] = -p[2].abs();
     }
@@ -197,10 +159,10 @@ fn one_light_and_lights_below_the_plane() {
 /// lights): under 24 more GPU bytes per light.
 #[test]
 fn scheme_switches_and_new_powers_rebuild_the_tree() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
-    let a = scene(500, 10, 1.0, 2.0);
+    let a = scattered_random(500, 10, 1.0, 2.0);
     let mut r = GpuRenderer::new(ctx, &a, Scheme::Alias, 6).expect("renderer");
     assert_eq!(r.gpu_bytes_per_light(), 24);
     r.set_scheme(Scheme::Spatial).expect("spatial");
@@ -216,13 +178,11 @@ fn scheme_switches_and_new_powers_rebuild_the_tree() {
         fresh.readback().expect("readback")
     );
 
-    let b = scene(500, 11, 1.0, 2.0);
+    let b = scattered_random(500, 11, 1.0, 2.0);
     r.set_powers(&b.powers).expect("powers");
     r.accumulate(4).expect("accumulate");
-    let b_scene = Scene {
-        powers: b.powers.clone(),
-        ..a.clone()
-    };
+    let mut b_scene = a.clone();
+    b_scene.powers = b.powers.clone();
     let mut fresh = GpuRenderer::new(ctx, &b_scene, Scheme::Spatial, 6).expect("renderer");
     fresh.accumulate(4).expect("accumulate");
     assert_eq!(

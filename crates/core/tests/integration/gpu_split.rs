@@ -8,7 +8,7 @@
 //! bit for bit, with the same kernel over one binding: the histogram (table and atomic
 //! counts split), the renderer's lights, and the spatial scheme's lights and tree nodes.
 
-use crate::gpu_common::{self, SplitMix};
+use crate::common::{self, SplitMix};
 
 use glam::{dvec2, dvec3};
 use lightpick_core::gpu::{self, GpuContext, GpuError, GpuRenderer};
@@ -19,7 +19,7 @@ use lightpick_core::{AliasTable, LightPowers, Rng, Sampler, Scheme};
 /// `n` lights over `[-2, 2]² × [0.2, 1.2]`, powers over three decades, every 7th zero.
 fn scene(n: usize, seed: u64) -> Scene {
     let mut d = SplitMix(seed);
-    let positions = (0..n)
+    let positions: Vec<_> = (0..n)
         .map(|_| dvec3(d.range(-2.0, 2.0), d.range(-2.0, 2.0), d.range(0.2, 1.2)))
         .collect();
     let powers = (0..n)
@@ -31,19 +31,17 @@ fn scene(n: usize, seed: u64) -> Scene {
             }
         })
         .collect();
-    Scene {
-        name: format!("split-{n}"),
-        plane: ReceiverPlane {
+    Scene::new(
+        format!("split-{n}"),
+        ReceiverPlane {
             min: dvec2(-2.0, -1.5),
             max: dvec2(2.0, 1.5),
             width: 20,
             height: 15,
         },
         positions,
-        powers: LightPowers::new(powers).expect("valid"),
-        emission: None,
-        names: None,
-    }
+        LightPowers::new(powers).expect("valid"),
+    )
 }
 
 /// The shared context with a binding limit of `bytes`.
@@ -55,7 +53,7 @@ fn limited(ctx: &GpuContext, bytes: u64) -> GpuContext {
 /// 3, the last ones partial, equals the histogram over one binding and the CPU's counts.
 #[test]
 fn a_split_table_and_split_counts_count_what_one_binding_counts() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let n = 2500;
@@ -83,7 +81,7 @@ fn a_split_table_and_split_counts_count_what_one_binding_counts() {
 /// over one binding, bit for bit.
 #[test]
 fn split_lights_render_the_images_of_one_binding() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let s = scene(600, 2);
@@ -106,7 +104,7 @@ fn split_lights_render_the_images_of_one_binding() {
 /// limit, and the image is the one over single bindings, bit for bit.
 #[test]
 fn a_split_light_tree_renders_the_image_of_one_binding() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let s = scene(2000, 3);
@@ -134,7 +132,7 @@ fn a_split_light_tree_renders_the_image_of_one_binding() {
 /// before any pipeline is made: no panic.
 #[test]
 fn too_many_chunks_are_refused_with_a_message() {
-    let Some(ctx) = gpu_common::context() else {
+    let Some(ctx) = common::context() else {
         return;
     };
     let limit = ctx.device().limits().max_storage_buffers_per_shader_stage;

@@ -19,24 +19,21 @@ const K: f64 = 5.0;
 const SPP: u32 = 40_000;
 
 fn scene() -> Scene {
-    Scene {
-        name: "inspect".into(),
-        plane: ReceiverPlane {
+    Scene::new(
+        "inspect",
+        ReceiverPlane {
             min: dvec2(-1.0, -1.0),
             max: dvec2(1.0, 1.0),
             width: 3,
             height: 2,
         },
-        positions: vec![
+        vec![
             dvec3(-0.6, 0.3, 0.4),
             dvec3(0.5, -0.4, 0.9),
             dvec3(0.1, 0.7, 0.15),
-        ]
-        .into(),
-        powers: LightPowers::new(vec![2.0, 5.0, 20.0]).unwrap(),
-        emission: None,
-        names: None,
-    }
+        ],
+        LightPowers::new(vec![2.0, 5.0, 20.0]).unwrap(),
+    )
 }
 
 /// Exact mean, variance and fourth central moment of one sample with pick pmf `q`.

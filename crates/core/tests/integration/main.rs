@@ -4,7 +4,7 @@
 //! the `gpu` feature (on by default); `cargo test -p lightpick-core --no-default-features`
 //! runs the rest, the lean configuration.
 
-mod gpu_common;
+mod common;
 
 #[cfg(feature = "gpu")]
 mod gpu_emission;

@@ -10,6 +10,7 @@
 
 #![allow(clippy::unwrap_used)] // Tests unwrap: a failure is the test failing.
 
+use crate::common::scenes::preset_at;
 use glam::{DVec3, dvec2};
 use lightpick_core::render::{
     Accumulator, CpuRenderer, Reference, convergence_series, mean_variance_per_sample,
@@ -19,17 +20,6 @@ use lightpick_core::{LightSampler as _, Rng, Sampler, Scheme, analytic_moments};
 
 /// Standard deviations allowed between a statistic and its exact expectation.
 const K: f64 = 5.0;
-
-/// A preset at a lower resolution (the lights unchanged), to keep tests fast.
-fn preset_at(name: &str, side: u32) -> Scene {
-    let mut scene = Scene::preset(name).unwrap();
-    scene.plane = ReceiverPlane {
-        width: side,
-        height: side,
-        ..scene.plane
-    };
-    scene
-}
 
 /// Exact moments of one pixel's sample, in irradiance units.
 #[derive(Clone, Copy, Debug)]
@@ -90,7 +80,7 @@ fn render(scene: &Scene, scheme: Scheme, seed: u64, spp: u32) -> Accumulator {
 
 #[test]
 fn pixel_sums_follow_the_stream_contract() {
-    let scene = preset_at("zeros", 16);
+    let scene = preset_at("zeros", 16, 16);
     for scheme in Scheme::ALL {
         let seed = 77;
         let mut r = CpuRenderer::new(&scene, scheme, seed);
@@ -139,15 +129,15 @@ fn batched_picks_equal_pick_light_through_rejected_draws() {
     let n = 2_147_484u32;
     let t = lightpick_core::rejection_threshold(n);
     let hash = |i: u32, salt: u32| f64::from(lightpick_core::pcg_hash(i ^ salt)) / 4_294_967_296.0;
-    let scene = Scene {
-        name: "rejections".to_owned(),
-        plane: ReceiverPlane {
+    let scene = Scene::new(
+        "rejections",
+        ReceiverPlane {
             min: dvec2(-1.0, -1.0),
             max: dvec2(1.0, 1.0),
             width: 48,
             height: 40,
         },
-        positions: (0..n)
+        (0..n)
             .map(|i| {
                 [
                     4.0 * hash(i, 1) - 2.0,
@@ -156,16 +146,14 @@ fn batched_picks_equal_pick_light_through_rejected_draws() {
                 ]
             })
             .map(DVec3::from)
-            .collect(),
-        powers: lightpick_core::LightPowers::new(
+            .collect::<Vec<_>>(),
+        lightpick_core::LightPowers::new(
             (0..n)
                 .map(|i| if i % 7 == 3 { 0.0 } else { 1e-3 + hash(i, 4) })
                 .collect(),
         )
         .unwrap(),
-        emission: None,
-        names: None,
-    };
+    );
     let (seed, spp) = (19u64, 24u32);
     let pixels = u64::from(scene.plane.width * scene.plane.height);
     let rejected = (0..u64::from(spp))
@@ -213,7 +201,7 @@ fn batched_picks_equal_pick_light_through_rejected_draws() {
 
 #[test]
 fn reset_restarts_the_sample_index() {
-    let scene = preset_at("seed", 8);
+    let scene = preset_at("seed", 8, 8);
     let mut r = CpuRenderer::new(&scene, Scheme::Alias, 5);
     r.accumulate(4);
     let first = r.accumulator().clone();
@@ -229,7 +217,7 @@ fn reset_restarts_the_sample_index() {
 
 #[test]
 fn same_seed_same_image_and_passes_do_not_matter() {
-    let scene = preset_at("heavy-tail", 24);
+    let scene = preset_at("heavy-tail", 24, 24);
     for scheme in [Scheme::Uniform, Scheme::Alias, Scheme::Cdf] {
         let once = render(&scene, scheme, 11, 8);
         assert_eq!(once, render(&scene, scheme, 11, 8));
@@ -244,7 +232,7 @@ fn same_seed_same_image_and_passes_do_not_matter() {
 
 #[test]
 fn thread_count_does_not_change_the_image() {
-    let scene = preset_at("zeros", 40);
+    let scene = preset_at("zeros", 40, 40);
     let in_pool = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -286,7 +274,7 @@ fn assert_unbiased(scene: &Scene, scheme: Scheme, spp: u32) {
 
 #[test]
 fn every_scheme_is_unbiased_on_the_seed_scene() {
-    let scene = preset_at("seed", 64);
+    let scene = preset_at("seed", 64, 64);
     for scheme in Scheme::ALL {
         assert_unbiased(&scene, scheme, 64);
     }
@@ -294,7 +282,7 @@ fn every_scheme_is_unbiased_on_the_seed_scene() {
 
 #[test]
 fn every_scheme_is_unbiased_with_zero_power_lights() {
-    let scene = preset_at("zeros", 64);
+    let scene = preset_at("zeros", 64, 64);
     for scheme in Scheme::ALL {
         assert_unbiased(&scene, scheme, 64);
     }
@@ -302,14 +290,14 @@ fn every_scheme_is_unbiased_with_zero_power_lights() {
 
 #[test]
 fn uniform_and_power_are_unbiased_on_the_dominant_scene() {
-    let scene = preset_at("dominant", 64);
+    let scene = preset_at("dominant", 64, 64);
     assert_unbiased(&scene, Scheme::Uniform, 256);
     assert_unbiased(&scene, Scheme::Alias, 64);
 }
 
 #[test]
 fn power_sampling_is_unbiased_across_thirty_decades_of_power() {
-    let scene = preset_at("extreme-range", 48);
+    let scene = preset_at("extreme-range", 48, 48);
     assert_unbiased(&scene, Scheme::Alias, 64);
     assert_unbiased(&scene, Scheme::Cdf, 64);
 }
@@ -351,7 +339,7 @@ fn assert_variance_matches(scene: &Scene, scheme: Scheme, spp: u32) -> f64 {
 
 #[test]
 fn power_sampling_beats_uniform_on_the_seed_scene() {
-    let scene = preset_at("seed", 64);
+    let scene = preset_at("seed", 64, 64);
     let uniform = assert_variance_matches(&scene, Scheme::Uniform, 64);
     let alias = assert_variance_matches(&scene, Scheme::Alias, 64);
     let cdf = assert_variance_matches(&scene, Scheme::Cdf, 64);
@@ -361,7 +349,7 @@ fn power_sampling_beats_uniform_on_the_seed_scene() {
 
 #[test]
 fn power_sampling_beats_uniform_by_orders_on_the_dominant_scene() {
-    let scene = preset_at("dominant", 64);
+    let scene = preset_at("dominant", 64, 64);
     let uniform = assert_variance_matches(&scene, Scheme::Uniform, 128);
     let alias = assert_variance_matches(&scene, Scheme::Alias, 128);
     assert!(
@@ -373,7 +361,7 @@ fn power_sampling_beats_uniform_by_orders_on_the_dominant_scene() {
 #[test]
 fn equal_powers_give_equal_exact_variances() {
     // With equal powers the power pmf is the uniform one: same estimator, same moments.
-    let scene = preset_at("equal", 16);
+    let scene = preset_at("equal", 16, 16);
     let u = exact_moments(&scene, Scheme::Uniform);
     let a = exact_moments(&scene, Scheme::Alias);
     for (x, y) in u.iter().zip(&a) {
@@ -391,7 +379,7 @@ fn equal_powers_give_equal_exact_variances() {
 /// standard deviations of its expectation.
 #[test]
 fn convergence_series_follows_the_exact_mse() {
-    let scene = preset_at("seed", 64);
+    let scene = preset_at("seed", 64, 64);
     let reference = Reference::compute(&scene);
     for scheme in [Scheme::Uniform, Scheme::Alias] {
         let exact = exact_moments(&scene, scheme);
@@ -429,9 +417,7 @@ fn convergence_series_follows_the_exact_mse() {
 /// sums of one pass of many samples (batched within each pixel), for every power scheme.
 #[test]
 fn passes_of_one_sample_equal_one_pass_of_many_bit_for_bit() {
-    let mut scene = Scene::preset("heavy-tail").unwrap();
-    scene.plane.width = 37; // not a multiple of the batch
-    scene.plane.height = 5;
+    let scene = preset_at("heavy-tail", 37, 5); // 37: not a multiple of the batch
     for scheme in [
         Scheme::Uniform,
         Scheme::Alias,

@@ -3,6 +3,7 @@
 
 #![allow(clippy::unwrap_used)] // Tests unwrap: a failure is the test failing.
 
+use crate::common::scenes::preset_at;
 use glam::{dvec2, dvec3};
 use lightpick_core::render::{
     Accumulator, CpuRenderer, MIN_REFERENCE_PIXELS, REL_MSE_EPSILON, Reference, SeriesPoint,
@@ -11,16 +12,6 @@ use lightpick_core::render::{
 };
 use lightpick_core::scene::{ReceiverPlane, Scene, pixel_center};
 use lightpick_core::{Scaled, Scheme};
-
-fn preset_at(name: &str, side: u32) -> Scene {
-    let mut scene = Scene::preset(name).unwrap();
-    scene.plane = ReceiverPlane {
-        width: side,
-        height: side,
-        ..scene.plane
-    };
-    scene
-}
 
 fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
@@ -61,7 +52,7 @@ fn full_reference_is_the_sum_over_all_lights() {
         }
     }
     for name in ["seed", "zeros", "extreme-range"] {
-        let scene = preset_at(name, 9);
+        let scene = preset_at(name, 9, 9);
         let reference = Reference::compute(&scene);
         for (p, value) in reference.iter() {
             let x = pixel_center(&scene.plane, p as u32 % 9, p as u32 / 9);
@@ -72,7 +63,7 @@ fn full_reference_is_the_sum_over_all_lights() {
 
 #[test]
 fn subset_reference_covers_the_budgeted_pixels_with_identical_values() {
-    let scene = preset_at("heavy-tail", 64);
+    let scene = preset_at("heavy-tail", 64, 64);
     let full = Reference::compute(&scene);
     assert!(full.is_complete());
     // Budget for 400 pixels of 10^4 lights.
@@ -95,7 +86,7 @@ fn subset_reference_covers_the_budgeted_pixels_with_identical_values() {
 
 #[test]
 fn tiny_budgets_still_cover_the_minimum_pixel_count() {
-    let scene = preset_at("heavy-tail", 64);
+    let scene = preset_at("heavy-tail", 64, 64);
     let subset = Reference::with_budget(&scene, 1);
     let n = subset.pixels().len();
     assert!(
@@ -130,7 +121,7 @@ fn subset_pixels_spread_evenly_over_the_image() {
 
 #[test]
 fn at_pixels_sorts_and_dedups() {
-    let scene = preset_at("seed", 8);
+    let scene = preset_at("seed", 8, 8);
     let r = Reference::at_pixels(&scene, vec![5, 3, 5, 63]);
     assert_eq!(r.pixels(), &[3, 5, 63]);
     assert_eq!(r.values().len(), 3);
@@ -183,7 +174,7 @@ fn rmse_and_rel_mse_follow_their_definitions() {
 
 #[test]
 fn rel_mse_is_invariant_under_scaling_the_powers() {
-    let scene = preset_at("zeros", 16);
+    let scene = preset_at("zeros", 16, 16);
     let mut bright = scene.clone();
     bright.powers = lightpick_core::LightPowers::new(
         scene.powers.as_slice().iter().map(|p| p * 1e20).collect(),
@@ -296,7 +287,7 @@ fn series_points_serialize_with_the_cli_keys() {
         serde_json::json!({ "spp": 4, "rmse": 0.5, "seconds": 0.25 })
     );
 
-    let scene = preset_at("seed", 8);
+    let scene = preset_at("seed", 8, 8);
     let reference = Reference::compute(&scene);
     let runs = cpu_convergence(&scene, &reference, &[Scheme::Uniform, Scheme::Alias], 1, 5);
     let json = serde_json::to_value(&runs).unwrap();

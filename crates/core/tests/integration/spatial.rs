@@ -7,57 +7,17 @@ use lightpick_core::scene::{ReceiverPlane, Scene, geometry_term, pixel_center};
 use lightpick_core::spatial::{EXACT_MAX_LIGHTS, ExactSampler, LightTree, SpatialSampler};
 use lightpick_core::{LightPowers, Rng, Scheme};
 
-/// `SplitMix64` for test inputs.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next_f64()
-    }
-}
+use crate::common::SplitMix;
+use crate::common::fit::assert_picks_fit;
+use crate::common::scenes::{preset_at, random_powers, scattered_positions, square_plane};
 
 /// `n` lights in `[-2, 2]² × [0.1, 1]` (every 7th below the plane, every 5th at power 0),
 /// powers over `decades` decades.
 fn random_lights(n: usize, seed: u64, decades: f64) -> (Vec<DVec3>, LightPowers) {
     let mut d = SplitMix(seed);
-    let positions = (0..n)
-        .map(|i| {
-            let z = d.range(0.1, 1.0);
-            dvec3(
-                d.range(-2.0, 2.0),
-                d.range(-2.0, 2.0),
-                if i % 7 == 6 { -z } else { z },
-            )
-        })
-        .collect();
-    let mut powers: Vec<f64> = (0..n)
-        .map(|i| {
-            if i % 5 == 4 {
-                0.0
-            } else {
-                10f64.powf(d.range(-decades, decades))
-            }
-        })
-        .collect();
-    powers[0] = 1.0;
+    let positions = scattered_positions(&mut d, n, 1.0, 0.1..1.0, (7, 6));
+    let powers = random_powers(&mut d, n, decades, 4);
     (positions, LightPowers::new(powers).expect("valid"))
-}
-
-fn plane(half: f64, pixels: u32) -> ReceiverPlane {
-    ReceiverPlane {
-        min: dvec2(-half, -half),
-        max: dvec2(half, half),
-        width: pixels,
-        height: pixels,
-    }
 }
 
 const POINTS: [DVec2; 6] = [
@@ -124,20 +84,7 @@ fn tree_picks_follow_their_pdf_and_report_it() {
         assert!((pick.pdf - expected).abs() <= 1e-12 * expected);
         counts[pick.light as usize] += 1;
     }
-    let (mut chi2, mut dof) = (0.0f64, -1.0f64);
-    for (i, &c) in counts.iter().enumerate() {
-        let e = tree.pdf(x, i) * draws as f64;
-        if e > 0.0 {
-            chi2 += (c as f64 - e).powi(2) / e;
-            dof += 1.0;
-        } else {
-            assert_eq!(c, 0, "light {i} has pdf 0 but was picked");
-        }
-    }
-    assert!(
-        chi2 < dof + 5.0 * (2.0 * dof).sqrt(),
-        "χ² = {chi2}, dof = {dof}"
-    );
+    assert_picks_fit(&counts, draws, |i| tree.pdf(x, i));
 }
 
 /// The tree estimate is unbiased: at several points, the mean of 100 000 estimates is within
@@ -175,9 +122,7 @@ fn tree_estimator_is_unbiased() {
 fn exact_scheme_has_zero_variance_per_pixel() {
     let scene = Scene::preset("seed").expect("preset");
     assert!(scene.light_count() <= EXACT_MAX_LIGHTS);
-    let mut small = scene.clone();
-    small.plane.width = 64;
-    small.plane.height = 64;
+    let small = preset_at("seed", 64, 64);
     let mut r = CpuRenderer::new(&small, Scheme::Spatial, 3);
     assert!(matches!(r.spatial(), Some(SpatialSampler::Exact(_))));
     r.accumulate(16);
@@ -206,18 +151,7 @@ fn exact_picks_follow_the_contributions() {
     for s in 0..draws {
         counts[exact.sample(x, &mut Rng::new(9, s)).expect("some").light as usize] += 1;
     }
-    let mut chi2 = 0.0;
-    let mut dof = -1.0f64;
-    for (i, &c) in counts.iter().enumerate() {
-        let e = exact.pdf(x, i) * draws as f64;
-        if e > 0.0 {
-            chi2 += (c as f64 - e).powi(2) / e;
-            dof += 1.0;
-        } else {
-            assert_eq!(c, 0);
-        }
-    }
-    assert!(chi2 < dof + 5.0 * (2.0 * dof).sqrt(), "χ² = {chi2}");
+    assert_picks_fit(&counts, draws, |i| exact.pdf(x, i));
 }
 
 /// A 32 × 32 grid of equal lights at height 0.25 spread over a 16 × 16 plane: power
@@ -231,14 +165,8 @@ fn spatial_beats_power_sampling_on_spread_out_equal_lights() {
             dvec3(-7.75 + 0.5 * i, -7.75 + 0.5 * j, 0.25)
         })
         .collect();
-    let scene = Scene {
-        name: "grid".into(),
-        plane: plane(8.0, 48),
-        powers: LightPowers::new(vec![1.0; positions.len()]).expect("valid"),
-        positions: positions.into(),
-        emission: None,
-        names: None,
-    };
+    let powers = LightPowers::new(vec![1.0; positions.len()]).expect("valid");
+    let scene = Scene::new("grid", square_plane(8.0, 48), positions, powers);
     let variance = |scheme| {
         let mut r = CpuRenderer::new(&scene, scheme, 21);
         r.accumulate(64);
@@ -260,9 +188,7 @@ fn spatial_beats_power_sampling_on_spread_out_equal_lights() {
 /// means, each over 2304 pixels × 64 samples) the bound is 30×.
 #[test]
 fn spatial_beats_power_sampling_on_the_grid_preset() {
-    let mut scene = Scene::preset("grid").expect("preset");
-    scene.plane.width = 48;
-    scene.plane.height = 48;
+    let scene = preset_at("grid", 48, 48);
     let variance = |scheme| {
         let mut r = CpuRenderer::new(&scene, scheme, 3);
         r.accumulate(64);
@@ -284,14 +210,7 @@ fn spatial_beats_power_sampling_on_the_grid_preset() {
 #[test]
 fn spatial_render_matches_the_reference_statistically() {
     let (positions, powers) = random_lights(2000, 23, 2.0);
-    let scene = Scene {
-        name: "random".into(),
-        plane: plane(2.0, 32),
-        positions: positions.into(),
-        powers,
-        emission: None,
-        names: None,
-    };
+    let scene = Scene::new("random", square_plane(2.0, 32), positions, powers);
     let mut r = CpuRenderer::new(&scene, Scheme::Spatial, 4);
     assert!(matches!(r.spatial(), Some(SpatialSampler::Tree(_))));
     let spp = 64;
@@ -328,36 +247,30 @@ fn assert_finite_image(scene: &Scene, spp: u32) -> Vec<f64> {
 /// 1e-30 … 1e30) and `million`: finite, non-negative images; exact where they must be.
 #[test]
 fn extremes_give_finite_images() {
-    let one = Scene {
-        name: "one".into(),
-        plane: plane(2.0, 16),
-        positions: vec![dvec3(0.3, 0.2, 0.5)].into(),
-        powers: LightPowers::new(vec![7.0]).expect("valid"),
-        emission: None,
-        names: None,
-    };
+    let one = Scene::new(
+        "one",
+        square_plane(2.0, 16),
+        vec![dvec3(0.3, 0.2, 0.5)],
+        LightPowers::new(vec![7.0]).expect("valid"),
+    );
     let image = assert_finite_image(&one, 4);
     let reference = Reference::compute(&one);
     for (p, exact) in reference.iter() {
         assert!((image[p] - exact).abs() <= 1e-13 * exact);
     }
 
-    let below = Scene {
-        name: "below".into(),
-        plane: plane(2.0, 16),
-        positions: (0..40)
+    let below = Scene::new(
+        "below",
+        square_plane(2.0, 16),
+        (0..40)
             .map(|i| dvec3(f64::from(i) * 0.1, 0.0, -0.5))
-            .collect(),
-        powers: LightPowers::new(vec![1.0; 40]).expect("valid"),
-        emission: None,
-        names: None,
-    };
+            .collect::<Vec<_>>(),
+        LightPowers::new(vec![1.0; 40]).expect("valid"),
+    );
     assert!(assert_finite_image(&below, 4).iter().all(|&v| v == 0.0));
 
     for name in ["zeros", "extreme-range", "heavy-tail", "million"] {
-        let mut scene = Scene::preset(name).expect("preset");
-        scene.plane.width = 24;
-        scene.plane.height = 24;
+        let scene = preset_at(name, 24, 24);
         let image = assert_finite_image(&scene, 4);
         assert!(image.iter().any(|&v| v > 0.0), "{name}");
     }
@@ -384,14 +297,12 @@ fn zero_power_lights_are_never_picked() {
 #[test]
 fn renderer_uses_the_sampler_at_pixel_centres() {
     let (positions, powers) = random_lights(100, 31, 1.0);
-    let scene = Scene {
-        name: "check".into(),
-        plane: plane(2.0, 8),
-        positions: positions.clone().into(),
-        powers: powers.clone(),
-        emission: None,
-        names: None,
-    };
+    let scene = Scene::new(
+        "check",
+        square_plane(2.0, 8),
+        positions.clone(),
+        powers.clone(),
+    );
     let mut r = CpuRenderer::new(&scene, Scheme::Spatial, 77);
     r.accumulate(3);
     let sampler = SpatialSampler::build(&positions, &powers);
@@ -451,19 +362,17 @@ fn interleaved_descents_equal_single_ones_bit_for_bit() {
             assert_eq!(rngs[b], rng, "the same draws");
         }
     }
-    let scene = Scene {
-        name: "row".into(),
-        plane: ReceiverPlane {
+    let scene = Scene::new(
+        "row",
+        ReceiverPlane {
             min: dvec2(-2.0, -1.0),
             max: dvec2(2.0, 1.0),
             width: 11,
             height: 5,
         },
-        positions: positions.clone().into(),
-        powers: powers.clone(),
-        emission: None,
-        names: None,
-    };
+        positions.clone(),
+        powers.clone(),
+    );
     let mut r = CpuRenderer::new(&scene, Scheme::Spatial, 19);
     r.accumulate(2);
     r.accumulate(3);

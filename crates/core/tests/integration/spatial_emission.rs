@@ -8,7 +8,9 @@ use lightpick_core::scene::{Emission, ReceiverPlane, Scene, Spot};
 use lightpick_core::spatial::{Child, LightTree, SpatialSampler, TREE_WIDTH};
 use lightpick_core::{Rng, Sampler, Scheme};
 
-use crate::gpu_common::SplitMix;
+use crate::common::SplitMix;
+use crate::common::fit::assert_picks_fit;
+use crate::common::scenes::tilted_spot;
 
 /// `n` lights over `[-2, 2]²` at heights 0.2–1.5: 60 % spots (cones 0.1–1.3 rad, most aimed
 /// down, every 8th grazing or upwards), every third with a range of 0.5–3, every 9th at
@@ -42,22 +44,13 @@ fn shaped_with(n: usize, seed: u64, spots: usize, range_every: usize) -> Scene {
             } else {
                 d.range(0.0, 0.9)
             };
-            let turn = d.range(0.0, std::f64::consts::TAU);
-            Spot {
-                direction: dvec3(
-                    tilt.sin() * turn.cos(),
-                    tilt.sin() * turn.sin(),
-                    -tilt.cos(),
-                ),
-                inner_cone: outer * d.range(0.0, 0.9),
-                outer_cone: outer,
-            }
+            tilted_spot(&mut d, outer, tilt, 0.0..0.9)
         });
         let range = (i % range_every == range_every / 2).then(|| d.range(0.5, 3.0));
         emission.push(Emission::new(spot, range).expect("valid"));
     }
     powers[0] = 1.0;
-    let mut scene = Scene::from_parts(
+    Scene::from_parts(
         "shaped",
         ReceiverPlane {
             min: dvec2(-2.0, -2.0),
@@ -68,9 +61,8 @@ fn shaped_with(n: usize, seed: u64, spots: usize, range_every: usize) -> Scene {
         positions,
         powers,
     )
-    .expect("valid");
-    scene.emission = Some(emission);
-    scene
+    .expect("valid")
+    .with_emission(emission)
 }
 
 const POINTS: [DVec2; 5] = [
@@ -171,21 +163,7 @@ fn picks_follow_their_pdf() {
         assert!((pick.pdf - pdfs[pick.light as usize]).abs() <= 1e-12 * pick.pdf);
         counts[pick.light as usize] += 1;
     }
-    let (mut chi2, mut dof) = (0.0f64, -1.0f64);
-    for (i, &c) in counts.iter().enumerate() {
-        let e = pdfs[i] * draws as f64;
-        if e > 0.0 {
-            chi2 += (c as f64 - e).powi(2) / e;
-            dof += 1.0;
-        } else {
-            assert_eq!(c, 0, "light {i} has pdf 0 but was picked");
-        }
-    }
-    // A χ² beyond dof + 5·√(2·dof) is a > 5σ event.
-    assert!(
-        chi2 < dof + 5.0 * (2.0 * dof).sqrt(),
-        "χ² = {chi2}, dof = {dof}"
-    );
+    assert_picks_fit(&counts, draws, |i| pdfs[i]);
 }
 
 /// Every scheme's mean of 60 000 estimates at each point is within 5 standard errors of
@@ -383,8 +361,9 @@ fn where_no_spot_reaches_the_sampler_says_so() {
         width: 16,
         height: 16,
     };
-    let mut scene = Scene::from_parts("spots", plane, positions, powers).expect("valid");
-    scene.emission = Some(emission);
+    let scene = Scene::from_parts("spots", plane, positions, powers)
+        .expect("valid")
+        .with_emission(emission);
     let pmf = scene.powers.pmf();
     let (mut dark, mut lit) = (0, 0);
     for tree in trees(&scene) {

@@ -9,8 +9,7 @@
 //! counts the small lights and sums the masses; prefix sums over the chunks locate any
 //! ordinal of either sequence and its running deficit or excess.
 
-use super::quantize::exclusive_prefix;
-use super::{CAPACITY, CHUNK, REACH_FLAG};
+use super::units::{CAPACITY, CHUNK, REACH_FLAG};
 
 /// Bitmap words per chunk.
 pub(super) const WORDS_PER_CHUNK: usize = CHUNK / 64;
@@ -286,4 +285,16 @@ impl BitCursor {
     pub(super) fn pos(self) -> usize {
         self.base + self.bits.trailing_zeros() as usize
     }
+}
+
+/// The exclusive prefix sums of `values` (length `values.len() + 1`).
+fn exclusive_prefix(values: &[u64]) -> Vec<u64> {
+    let mut prefix = Vec::with_capacity(values.len() + 1);
+    let mut sum = 0u64;
+    prefix.push(0);
+    for &v in values {
+        sum += v;
+        prefix.push(sum);
+    }
+    prefix
 }

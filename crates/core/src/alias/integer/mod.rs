@@ -9,7 +9,7 @@
 //! `X_i = x_i·2^f` rounded to the nearest integer (one `cvtsd2si`), with
 //! `f = 30 − ⌊log2 N⌋` fractional bits so that every running sum fits a `u64`. The masses
 //! are the increments of the rounded running sums, `m_i = round(P_i) − round(P_{i−1})`
-//! with `P_i = Z_c + Σ X_j` over chunk `c`'s lights up to `i`: each chunk of [`CHUNK`]
+//! with `P_i = Z_c + Σ X_j` over chunk `c`'s lights up to `i`: each chunk of [`CHUNK`](units::CHUNK)
 //! lights starts from its *anchor* `Z_c = round(k·S_{<c}·2^f)`, the ideal running sum at its
 //! start from the chunks' double-double sums, so no chunk waits for another and rounding
 //! errors do not carry from chunk to chunk. `m_i` is `⌊x_i⌋` or `⌈x_i⌉` (the increment of a
@@ -47,7 +47,7 @@
 //! lights).
 //!
 //! # On every core, the same bits for any thread count
-//! Every pass works on fixed chunks of [`CHUNK`] lights, whatever the thread count:
+//! Every pass works on fixed chunks of [`CHUNK`](units::CHUNK) lights, whatever the thread count:
 //! 1. **Total** (`quantize.rs`): per chunk its largest power and the double-double sum of
 //!    its powers scaled by that chunk's power of two; the chunks' sums are rescaled (exactly,
 //!    by powers of two) and added in chunk order, which gives every chunk's anchor.
@@ -76,33 +76,13 @@ mod reference;
 mod sweep;
 #[cfg(test)]
 mod tests;
+mod units;
 
-use super::PackedAliasEntry;
-
-/// One column's capacity, `C = 2^32`.
-const CAPACITY: u64 = 1 << 32;
-/// Marks the mass word of a positive light whose mass rounded to 0.
-const REACH_FLAG: u64 = 1 << 63;
-/// The largest `N` the integer construction takes: `N·C` and the flag must fit in a `u64`.
-pub(crate) const MAX_LEN: usize = (1 << 31) - 1;
-/// Lights per chunk of every pass. Fixed, so no result depends on the thread count; large
-/// enough that a chunk's masses (128 KiB) and lists stay in L2 while it is listed.
-pub(crate) const CHUNK: usize = 1 << 14;
-
-/// The packed entry as one `u64` word (the same bytes as [`PackedAliasEntry`]).
-#[inline]
-fn word(threshold: u32, alias: u32) -> u64 {
-    bytemuck::cast(PackedAliasEntry { threshold, alias })
-}
-
-/// The "keep always" entry of column `i`.
-#[inline]
-fn full(i: usize) -> u64 {
-    word(u32::MAX, i as u32)
-}
+pub(crate) use units::MAX_LEN;
+use units::full;
 
 /// Builds the packed table of `powers` (finite, `≥ 0`, not all zero, `1 ≤ N ≤ MAX_LEN`)
-/// into `table` (one word per light, see [`PackedAliasEntry`]) using `heavy` for the
+/// into `table` (one word per light, see [`crate::alias::PackedAliasEntry`]) using `heavy` for the
 /// bitmap of large lights (`⌈N/64⌉` words). Both are resized; at equal `N` only the
 /// per-chunk bookkeeping is allocated. Runs on the current rayon pool; the result does not
 /// depend on its size.

@@ -5,7 +5,7 @@
 use rayon::prelude::*;
 
 use super::heavy::{Census, ChunkCensus, WORDS_PER_CHUNK};
-use super::{CAPACITY, CHUNK, REACH_FLAG};
+use super::units::{CAPACITY, CHUNK, REACH_FLAG};
 use crate::alias::exact::{double_double_sum_and_max, double_double_sum_of, two_product, two_sum};
 use crate::powers::{Pow2Scale, pow2_scale_to_unit, unit_exponent};
 
@@ -235,18 +235,6 @@ fn times_pow2(mut x: f64, mut k: i32) -> f64 {
         k += STEP;
     }
     x * f64::from_bits(((k + 1023) as u64) << 52)
-}
-
-/// The exclusive prefix sums of `values` (length `values.len() + 1`).
-pub(super) fn exclusive_prefix(values: &[u64]) -> Vec<u64> {
-    let mut prefix = Vec::with_capacity(values.len() + 1);
-    let mut sum = 0u64;
-    prefix.push(0);
-    for &v in values {
-        sum += v;
-        prefix.push(sum);
-    }
-    prefix
 }
 
 /// The ideal mass `x = w·k` of a power in fixed point: `k = N·2^32/S` carried as

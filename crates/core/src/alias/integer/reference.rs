@@ -3,7 +3,8 @@
 //! one sweep. Tests only.
 
 use super::quantize::{IdealMass, nearest_integer};
-use super::{CAPACITY, CHUNK, REACH_FLAG, full, word};
+use super::units::{CAPACITY, CHUNK, REACH_FLAG, full};
+use crate::alias::packed::packed_word;
 
 /// The masses (with [`REACH_FLAG`]) by the quantization's rule, written plainly: per chunk,
 /// the cumulative rounding of the fixed-point ideal masses from the chunk's anchor, then
@@ -67,12 +68,12 @@ pub(super) fn sweep(masses: &[u64]) -> Vec<u64> {
     loop {
         if w >= CAPACITY {
             let Some(&l) = small.get(s) else { break };
-            table[l] = word((mass(l) | masses[l] >> 63) as u32, h as u32);
+            table[l] = packed_word((mass(l) | masses[l] >> 63) as u32, h as u32);
             w = w + mass(l) - CAPACITY;
             s += 1;
         } else {
             let next = large[t + 1];
-            table[h] = word(w as u32, next as u32);
+            table[h] = packed_word(w as u32, next as u32);
             w = mass(next) + w - CAPACITY;
             h = next;
             t += 1;

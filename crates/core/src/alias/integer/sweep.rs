@@ -8,7 +8,8 @@ use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 use rayon::prelude::*;
 
 use super::heavy::Census;
-use super::{CAPACITY, REACH_FLAG, full, word};
+use super::units::{CAPACITY, REACH_FLAG, full};
+use crate::alias::packed::packed_word;
 
 /// Pieces per thread: enough that uneven pieces balance out, and that a thread the system
 /// takes off its core in the middle of a piece (a machine shared with other work) holds
@@ -199,7 +200,7 @@ fn step(table: &[AtomicU64], state: &mut State, l: usize, h_next: usize, m_next:
     let column = select(fill, l, h);
     let threshold = select(fill, m_l | raw >> 63, w);
     let alias = select(fill, h, h_next);
-    table[column].store(word(threshold as u32, alias as u32), Relaxed);
+    table[column].store(packed_word(threshold as u32, alias as u32), Relaxed);
     // Filled: h gives C − m_l. Turned: h_next gives C − w to h's column.
     state.w = (select(fill, m_l, m_next) + w) - CAPACITY;
     state.h = select(fill, h, h_next);

@@ -1,7 +1,8 @@
 //! The chunked, parallel construction against the one-pass sequential one, on every pool.
 
 use super::sweep::{Order, sweep};
-use super::{CHUNK, build, quantize, reference};
+use super::units::CHUNK;
+use super::{build, quantize, reference};
 
 /// A reproducible stream of uniforms in `[0, 1)` (`SplitMix64`).
 fn uniforms(seed: u64, n: usize) -> Vec<f64> {

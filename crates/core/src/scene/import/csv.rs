@@ -4,7 +4,8 @@
 
 use glam::DVec3;
 
-use super::{IMPORT_PLANE_PIXELS, check_count, footprint_plane};
+use super::count::check_count;
+use super::plane::{IMPORT_PLANE_PIXELS, footprint_plane};
 use crate::scene::{Scene, SceneError};
 
 /// The columns of a list: indices of x, y, z, power and (optionally) name.

@@ -22,9 +22,10 @@
 
 use glam::{DMat4, DQuat, DVec3};
 
-use super::{
-    IMPORT_PLANE_PIXELS, ImportReport, SceneFormat, SkippedLight, check_count, footprint_plane,
-};
+use super::count::check_count;
+use super::format::SceneFormat;
+use super::plane::{IMPORT_PLANE_PIXELS, footprint_plane};
+use super::report::{ImportReport, SkippedLight};
 use crate::scene::{Emission, Scene, SceneError, Spot};
 
 /// glTF's `(x, y, z)` (+Y up) as lightpick's (+Z up): `(x, −z, y)`.
@@ -197,52 +198,10 @@ pub(super) fn read(
     name: &str,
     format: SceneFormat,
 ) -> Result<(Scene, ImportReport), SceneError> {
-    let fmt = format.name();
-    if format == SceneFormat::Glb {
-        check_glb(bytes)?;
-    }
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| SceneError::Import {
-        format: fmt,
-        message: match e {
-            gltf::Error::Validation(errors) => {
-                let (path, error) = &errors[0];
-                let more = errors.len() - 1;
-                format!(
-                    "invalid glTF: {path}: {error}{}",
-                    if more > 0 {
-                        format!(" (and {more} more)")
-                    } else {
-                        String::new()
-                    }
-                )
-            }
-            other => other.to_string(),
-        },
-    })?;
+    let gltf = parse(bytes, format)?;
     let document = &gltf.document;
     let parent = parents(document)?;
-    let roots: Vec<usize> = match document
-        .default_scene()
-        .or_else(|| document.scenes().next())
-    {
-        Some(scene) => scene.nodes().map(|n| n.index()).collect(),
-        None => (0..parent.len()).filter(|&i| parent[i].is_none()).collect(),
-    };
-    let mut listed = vec![false; parent.len()];
-    for &r in &roots {
-        if std::mem::replace(&mut listed[r], true) {
-            return Err(SceneError::invalid(
-                node_label(r, document.nodes().nth(r).and_then(|n| n.name())),
-                "is listed twice among the scene's root nodes",
-            ));
-        }
-        if let Some(p) = parent[r] {
-            return Err(SceneError::invalid(
-                node_label(r, document.nodes().nth(r).and_then(|n| n.name())),
-                format!("is a scene root but also a child of nodes[{p}]"),
-            ));
-        }
-    }
+    let roots = scene_roots(document, &parent)?;
     let nodes: Vec<gltf::Node<'_>> = document.nodes().collect();
     // Each node has one parent and each root is listed once, so a light appears at most
     // once per node that references it: refuse too many before reading any.
@@ -270,88 +229,15 @@ pub(super) fn read(
         let children: Vec<usize> = node.children().map(|c| c.index()).collect();
         stack.extend(children.into_iter().rev().map(|c| (c, world)));
         let Some(light) = node.light() else { continue };
-        let light_label = match light.name() {
-            Some(n) if !n.is_empty() => format!("lights[{}] '{n}'", light.index()),
-            _ => format!("lights[{}]", light.index()),
-        };
-        let field = |what: &str| format!("{label} → KHR_lights_punctual.{light_label}.{what}");
-        let display_name = node
-            .name()
-            .filter(|n| !n.is_empty())
-            .or(light.name())
-            .unwrap_or("")
-            .to_owned();
-        let spot = match light.kind() {
-            gltf::khr_lights_punctual::Kind::Directional => {
-                skipped.push(SkippedLight {
-                    name: if display_name.is_empty() {
-                        label.clone()
-                    } else {
-                        display_name
-                    },
-                    reason: "directional light (at infinity, not a point light)".to_owned(),
-                });
-                continue;
+        match read_light(node, &light, &label, &world)? {
+            NodeLight::Skipped(skip) => skipped.push(skip),
+            NodeLight::Read(l) => {
+                positions.push(l.position);
+                powers.push(l.power);
+                shapes.push((l.spot, l.range));
+                names.push(l.name);
             }
-            gltf::khr_lights_punctual::Kind::Point => None,
-            gltf::khr_lights_punctual::Kind::Spot {
-                inner_cone_angle,
-                outer_cone_angle,
-            } => {
-                let (inner, mut outer) = (f64::from(inner_cone_angle), f64::from(outer_cone_angle));
-                // π/2 written in f32 rounds up past π/2: that is the hemisphere.
-                if outer > std::f64::consts::FRAC_PI_2
-                    && outer <= f64::from(std::f32::consts::FRAC_PI_2)
-                {
-                    outer = std::f64::consts::FRAC_PI_2;
-                }
-                let axis = to_lightpick(world.transform_vector3(DVec3::NEG_Z));
-                let axis = axis.try_normalize().unwrap_or(axis);
-                Some(Spot {
-                    direction: axis,
-                    inner_cone: inner,
-                    outer_cone: outer,
-                })
-            }
-        };
-        let intensity = f64::from(light.intensity());
-        if !intensity.is_finite() {
-            return Err(SceneError::NotFinite {
-                field: field("intensity"),
-                value: intensity,
-            });
         }
-        if intensity < 0.0 {
-            return Err(SceneError::Negative {
-                field: field("intensity"),
-                value: intensity,
-            });
-        }
-        let color = light.color().map(f64::from);
-        if let Some(c) = color.iter().position(|c| !c.is_finite() || *c < 0.0) {
-            return Err(SceneError::invalid(
-                field(&format!("color[{c}]")),
-                format!("must be finite and non-negative (got {})", color[c]),
-            ));
-        }
-        let range = light.range().map(f64::from);
-        let emission = Emission::new(spot, range).map_err(|e| {
-            let what = match e.field() {
-                "spot" => "spot",
-                "spot.direction" => "spot (its node's world axis)",
-                _ => "range",
-            };
-            SceneError::invalid(field(what), e.to_string())
-        })?;
-        let per_intensity = match emission.spot() {
-            Some(s) => spot_power_per_intensity(s.inner_cone, s.outer_cone),
-            None => 2.0 * std::f64::consts::TAU,
-        };
-        let power = per_intensity * intensity * luminance(color);
-        positions.push(to_lightpick(world.transform_point3(DVec3::ZERO)));
-        powers.push(power);
-        shapes.push((spot, range));
-        names.push(display_name);
     }
     if positions.is_empty() {
         return Err(SceneError::invalid(
@@ -386,4 +272,174 @@ pub(super) fn read(
     let mut report = ImportReport::of(&scene, format);
     report.skipped = skipped;
     Ok((scene, report))
+}
+
+/// Parses the document (a `.glb`'s header checked first); a validation error names the
+/// first problem's path and how many more there are.
+fn parse(bytes: &[u8], format: SceneFormat) -> Result<gltf::Gltf, SceneError> {
+    let fmt = format.name();
+    if format == SceneFormat::Glb {
+        check_glb(bytes)?;
+    }
+    gltf::Gltf::from_slice(bytes).map_err(|e| SceneError::Import {
+        format: fmt,
+        message: match e {
+            gltf::Error::Validation(errors) => {
+                let (path, error) = &errors[0];
+                let more = errors.len() - 1;
+                format!(
+                    "invalid glTF: {path}: {error}{}",
+                    if more > 0 {
+                        format!(" (and {more} more)")
+                    } else {
+                        String::new()
+                    }
+                )
+            }
+            other => other.to_string(),
+        },
+    })
+}
+
+/// The root nodes of the document's scene (the default one, else the first; without
+/// scenes, every node without a parent), each listed once and none a child.
+fn scene_roots(
+    document: &gltf::Document,
+    parent: &[Option<usize>],
+) -> Result<Vec<usize>, SceneError> {
+    let roots: Vec<usize> = match document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    {
+        Some(scene) => scene.nodes().map(|n| n.index()).collect(),
+        None => (0..parent.len()).filter(|&i| parent[i].is_none()).collect(),
+    };
+    let mut listed = vec![false; parent.len()];
+    for &r in &roots {
+        if std::mem::replace(&mut listed[r], true) {
+            return Err(SceneError::invalid(
+                node_label(r, document.nodes().nth(r).and_then(|n| n.name())),
+                "is listed twice among the scene's root nodes",
+            ));
+        }
+        if let Some(p) = parent[r] {
+            return Err(SceneError::invalid(
+                node_label(r, document.nodes().nth(r).and_then(|n| n.name())),
+                format!("is a scene root but also a child of nodes[{p}]"),
+            ));
+        }
+    }
+    Ok(roots)
+}
+
+/// What a node's light becomes: a point or spot light of the scene, or a skipped light.
+enum NodeLight {
+    Read(ReadLight),
+    Skipped(SkippedLight),
+}
+
+/// A point or spot light as read: in lightpick's axes, its power from its intensity and
+/// colour, its cone and range as given, and its display name (empty for none).
+struct ReadLight {
+    position: DVec3,
+    power: f64,
+    spot: Option<Spot>,
+    range: Option<f64>,
+    name: String,
+}
+
+/// Reads `light`, referenced by `node` (`label`) with world transform `world`: a
+/// directional light is skipped; a point or spot light's intensity, colour, cone and range
+/// are checked (errors name `label → KHR_lights_punctual.lights[i].field`).
+fn read_light(
+    node: &gltf::Node<'_>,
+    light: &gltf::khr_lights_punctual::Light<'_>,
+    label: &str,
+    world: &DMat4,
+) -> Result<NodeLight, SceneError> {
+    let light_label = match light.name() {
+        Some(n) if !n.is_empty() => format!("lights[{}] '{n}'", light.index()),
+        _ => format!("lights[{}]", light.index()),
+    };
+    let field = |what: &str| format!("{label} → KHR_lights_punctual.{light_label}.{what}");
+    let display_name = node
+        .name()
+        .filter(|n| !n.is_empty())
+        .or(light.name())
+        .unwrap_or("")
+        .to_owned();
+    let spot = match light.kind() {
+        gltf::khr_lights_punctual::Kind::Directional => {
+            return Ok(NodeLight::Skipped(SkippedLight {
+                name: if display_name.is_empty() {
+                    label.to_owned()
+                } else {
+                    display_name
+                },
+                reason: "directional light (at infinity, not a point light)".to_owned(),
+            }));
+        }
+        gltf::khr_lights_punctual::Kind::Point => None,
+        gltf::khr_lights_punctual::Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => Some(spot_cone(inner_cone_angle, outer_cone_angle, world)),
+    };
+    let intensity = f64::from(light.intensity());
+    if !intensity.is_finite() {
+        return Err(SceneError::NotFinite {
+            field: field("intensity"),
+            value: intensity,
+        });
+    }
+    if intensity < 0.0 {
+        return Err(SceneError::Negative {
+            field: field("intensity"),
+            value: intensity,
+        });
+    }
+    let color = light.color().map(f64::from);
+    if let Some(c) = color.iter().position(|c| !c.is_finite() || *c < 0.0) {
+        return Err(SceneError::invalid(
+            field(&format!("color[{c}]")),
+            format!("must be finite and non-negative (got {})", color[c]),
+        ));
+    }
+    let range = light.range().map(f64::from);
+    let emission = Emission::new(spot, range).map_err(|e| {
+        let what = match e.field() {
+            "spot" => "spot",
+            "spot.direction" => "spot (its node's world axis)",
+            _ => "range",
+        };
+        SceneError::invalid(field(what), e.to_string())
+    })?;
+    let per_intensity = match emission.spot() {
+        Some(s) => spot_power_per_intensity(s.inner_cone, s.outer_cone),
+        None => 2.0 * std::f64::consts::TAU,
+    };
+    Ok(NodeLight::Read(ReadLight {
+        position: to_lightpick(world.transform_point3(DVec3::ZERO)),
+        power: per_intensity * intensity * luminance(color),
+        spot,
+        range,
+        name: display_name,
+    }))
+}
+
+/// A glTF spot's cone in lightpick's terms: its axis (the node's world `−Z`, normalized)
+/// and its half-angles, an `f32` π/2 taken as the hemisphere.
+fn spot_cone(inner_cone_angle: f32, outer_cone_angle: f32, world: &DMat4) -> Spot {
+    let (inner, mut outer) = (f64::from(inner_cone_angle), f64::from(outer_cone_angle));
+    // π/2 written in f32 rounds up past π/2: that is the hemisphere.
+    if outer > std::f64::consts::FRAC_PI_2 && outer <= f64::from(std::f32::consts::FRAC_PI_2) {
+        outer = std::f64::consts::FRAC_PI_2;
+    }
+    let axis = to_lightpick(world.transform_vector3(DVec3::NEG_Z));
+    let axis = axis.try_normalize().unwrap_or(axis);
+    Spot {
+        direction: axis,
+        inner_cone: inner,
+        outer_cone: outer,
+    }
 }

@@ -11,156 +11,20 @@
 //! height `H` ([`LoadOptions::floor`]) moves the receiver to `z = H` for any format: every
 //! light's `z` becomes `z − H`, and lights on or below the receiver contribute nothing.
 
+mod count;
 mod csv;
+mod format;
 mod gltf;
+mod plane;
+mod report;
 
-use std::fmt::Write as _;
+pub use format::SceneFormat;
+pub use plane::{IMPORT_PLANE_PIXELS, footprint_plane};
+pub use report::{ImportReport, SkippedLight};
+
 use std::path::Path;
 
-use glam::{DVec2, DVec3};
-
-use super::{MAX_LIGHTS, ReceiverPlane, Scene, SceneError};
-
-/// The formats [`load`] reads.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum SceneFormat {
-    /// lightpick's scene JSON.
-    Json,
-    /// glTF 2.0, JSON form (`.gltf`).
-    Gltf,
-    /// glTF 2.0, binary form (`.glb`).
-    Glb,
-    /// A CSV or white-space list of `x, y, z, power`.
-    Csv,
-}
-
-impl SceneFormat {
-    /// The format's short name (`json`, `gltf`, `glb`, `csv`).
-    pub fn name(self) -> &'static str {
-        match self {
-            SceneFormat::Json => "json",
-            SceneFormat::Gltf => "gltf",
-            SceneFormat::Glb => "glb",
-            SceneFormat::Csv => "csv",
-        }
-    }
-
-    /// The file extensions of each format, for file choosers.
-    pub const EXTENSIONS: [&'static str; 6] = ["json", "gltf", "glb", "csv", "txt", "tsv"];
-
-    /// The format a file of extension `ext` (lower case, no dot) holds, if known.
-    pub fn from_extension(ext: &str) -> Option<SceneFormat> {
-        match ext {
-            "json" => Some(SceneFormat::Json),
-            "gltf" => Some(SceneFormat::Gltf),
-            "glb" => Some(SceneFormat::Glb),
-            "csv" | "txt" | "tsv" => Some(SceneFormat::Csv),
-            _ => None,
-        }
-    }
-
-    /// The format of `bytes` read from a file with extension `ext`: the magic bytes first
-    /// (`glTF` is a GLB whatever the name; a JSON object with a top-level `"asset"` is glTF),
-    /// then the extension; a JSON object defaults to lightpick JSON and anything else to a
-    /// light list.
-    pub fn detect(bytes: &[u8], ext: Option<&str>) -> SceneFormat {
-        if bytes.starts_with(b"glTF") {
-            return SceneFormat::Glb;
-        }
-        if let Some(format) = ext.and_then(SceneFormat::from_extension) {
-            return format;
-        }
-        let text = String::from_utf8_lossy(&bytes[..bytes.len().min(4096)]);
-        if text.trim_start().starts_with('{') {
-            if text.contains("\"asset\"") {
-                SceneFormat::Gltf
-            } else {
-                SceneFormat::Json
-            }
-        } else {
-            SceneFormat::Csv
-        }
-    }
-}
-
-/// A light of the file that is not in the scene, and why.
-#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
-pub struct SkippedLight {
-    /// Its name (or where it is, when unnamed).
-    pub name: String,
-    /// Why it was left out.
-    pub reason: String,
-}
-
-/// What a file held: its format, the lights taken by kind, and the lights skipped.
-#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
-pub struct ImportReport {
-    /// The format read.
-    pub format: SceneFormat,
-    /// Lights without a spot cone (points, with or without a range).
-    pub points: usize,
-    /// Spot lights.
-    pub spots: usize,
-    /// Lights of the file left out (directional lights).
-    pub skipped: Vec<SkippedLight>,
-}
-
-impl ImportReport {
-    /// The report of `scene` read from `format`, nothing skipped.
-    pub fn of(scene: &Scene, format: SceneFormat) -> Self {
-        let spots = scene.spot_count();
-        ImportReport {
-            format,
-            points: scene.light_count() - spots,
-            spots,
-            skipped: Vec::new(),
-        }
-    }
-
-    /// One line for a status bar: "402 lights: 362 points, 40 spots; skipped 1
-    /// directional light 'Sun'".
-    pub fn summary(&self) -> String {
-        let n = self.points + self.spots;
-        let mut out = format!("{n} {}", plural(n, "light", "lights"));
-        if self.spots > 0 {
-            let _ = write!(
-                out,
-                ": {} {}, {} {}",
-                self.points,
-                plural(self.points, "point", "points"),
-                self.spots,
-                plural(self.spots, "spot", "spots")
-            );
-        }
-        if !self.skipped.is_empty() {
-            let names: Vec<String> = self
-                .skipped
-                .iter()
-                .take(3)
-                .map(|s| format!("'{}'", s.name))
-                .collect();
-            let more = self.skipped.len().saturating_sub(3);
-            let k = self.skipped.len();
-            let _ = write!(
-                out,
-                "; skipped {k} {} {}{}",
-                plural(k, "directional light", "directional lights"),
-                names.join(", "),
-                if more > 0 {
-                    format!(" and {more} more")
-                } else {
-                    String::new()
-                }
-            );
-        }
-        out
-    }
-}
-
-fn plural<'a>(n: usize, one: &'a str, many: &'a str) -> &'a str {
-    if n == 1 { one } else { many }
-}
+use super::{Scene, SceneError};
 
 /// How to read a file.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -251,73 +115,10 @@ pub fn load_bytes(
     Ok(Loaded { scene, report })
 }
 
-/// Pixels on the longer side of an imported scene's plane.
-pub const IMPORT_PLANE_PIXELS: u32 = 256;
-
-/// A plane over the footprint of the lights above `z = 0` (all lights when none is): their
-/// `(x, y)` box widened on every side by a margin of a quarter of its larger side, at least
-/// the lights' median height (a light lights the plane out to a few times its height), and
-/// `side` pixels along the longer side.
-pub fn footprint_plane(positions: &[DVec3], side: u32) -> ReceiverPlane {
-    let above: Vec<DVec3> = positions.iter().copied().filter(|p| p.z > 0.0).collect();
-    let lights = if above.is_empty() {
-        positions.to_vec()
-    } else {
-        above
-    };
-    let (mut min, mut max) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
-    for p in &lights {
-        min = min.min(p.truncate());
-        max = max.max(p.truncate());
-    }
-    if !(min.x.is_finite() && max.x.is_finite() && min.y.is_finite() && max.y.is_finite()) {
-        min = DVec2::splat(-1.0);
-        max = DVec2::splat(1.0);
-    }
-    let mut heights: Vec<f64> = lights.iter().map(|p| p.z.abs()).collect();
-    heights.sort_by(f64::total_cmp);
-    let median = heights.get(heights.len() / 2).copied().unwrap_or(1.0);
-    let extent = max - min;
-    let margin = (0.25 * extent.max_element())
-        .max(median)
-        .max(f64::MIN_POSITIVE * 1e10);
-    let (min, max) = (min - margin, max + margin);
-    let size = max - min;
-    let side = side.clamp(1, super::MAX_PLANE_SIDE);
-    let (width, height) = if size.x >= size.y {
-        (
-            side,
-            ((f64::from(side) * size.y / size.x).round() as u32).clamp(1, side),
-        )
-    } else {
-        (
-            ((f64::from(side) * size.x / size.y).round() as u32).clamp(1, side),
-            side,
-        )
-    };
-    ReceiverPlane {
-        min,
-        max,
-        width,
-        height,
-    }
-}
-
-/// Refuses more lights than a scene may hold, before they are read one by one.
-fn check_count(count: usize, what: &str) -> Result<(), SceneError> {
-    if count > MAX_LIGHTS {
-        return Err(SceneError::out_of_range(
-            format!("{what} (count)"),
-            count,
-            1,
-            MAX_LIGHTS,
-        ));
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
+    use glam::{DVec2, DVec3};
+
     use super::*;
 
     #[test]

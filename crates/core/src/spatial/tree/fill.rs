@@ -8,7 +8,7 @@
 
 use glam::DVec3;
 
-use super::{Child, ChildRef, TREE_WIDTH, TreeNode};
+use super::node::{Child, ChildRef, TREE_WIDTH, TreeNode};
 use crate::scene::Emission;
 use crate::spatial::{LaneBounds, SpatialLight};
 

@@ -30,7 +30,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::{ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
+use super::node::{ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
 use crate::scene::Emission;
 
 /// Buckets along each key (pbrt and Cycles use 12).
@@ -301,12 +301,12 @@ mod tests {
             assert!(node_first[k] as usize <= 1000);
             for lane in 0..TREE_WIDTH {
                 match nodes[k].child[lane].get() {
-                    super::super::Child::Node(j) => stack.push(j),
-                    super::super::Child::Leaf { count, .. } => {
+                    super::super::node::Child::Node(j) => stack.push(j),
+                    super::super::node::Child::Leaf { count, .. } => {
                         assert!(count <= LEAF_SIZE);
                         covered += count;
                     }
-                    super::super::Child::Empty => {}
+                    super::super::node::Child::Empty => {}
                 }
             }
         }

@@ -6,7 +6,7 @@
 
 use glam::DVec3;
 
-use super::{ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
+use super::node::{ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
 
 /// Ranges of more lights than this lay out their subtrees in parallel.
 const PARALLEL_LAYOUT: usize = 1 << 13;

@@ -1,0 +1,264 @@
+//! Building the tree (its layout, then its lanes bottom up) and refitting it to new
+//! powers.
+
+use glam::{DVec2, DVec3};
+
+use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
+use super::{LightTree, fill, footprint_split, layout};
+use crate::powers::LightPowers;
+use crate::scene::Emission;
+use crate::spatial::bounds::LaneBounds;
+use crate::spatial::grid::{LaneGrid, MappedLanes};
+use crate::spatial::{SpatialLight, contributing};
+
+impl LightTree {
+    /// Builds the tree over the lights with `z_i > 0` (`O(N log N)`, large subtrees in
+    /// parallel; the result does not depend on the thread count). Lights of power 0 are in
+    /// the tree (so that new powers keep its layout) but never picked: their lanes and
+    /// leaf masses are 0.
+    ///
+    /// # Panics
+    /// If `positions` and `powers` have different lengths, or the scene holds more than
+    /// `2^27` lights.
+    pub fn build(positions: &[DVec3], powers: &LightPowers) -> Self {
+        Self::build_with_emission(positions, powers, None)
+    }
+
+    /// [`LightTree::build`] for lights with emission profiles (`None`: point lights), with
+    /// each node's lane bounds.
+    ///
+    /// # Panics
+    /// As [`LightTree::build`], or if the profiles' count differs.
+    pub fn build_with_emission(
+        positions: &[DVec3],
+        powers: &LightPowers,
+        emission: Option<&[Emission]>,
+    ) -> Self {
+        Self::build_over(positions, powers, emission, None)
+    }
+
+    /// [`LightTree::build_with_emission`] with lanes of spots mapped over `region` of the
+    /// plane (`[min, max]`, the receiver's rectangle: [`crate::spatial::grid`]): each light's
+    /// footprint within it, and there too the lights whose footprint is unbounded (without a
+    /// region, those are weighed as one representative light per lane). Picks stay unbiased
+    /// everywhere; outside the region they are as good as the lanes' bounds make them.
+    ///
+    /// # Panics
+    /// As [`LightTree::build_with_emission`].
+    pub fn build_over(
+        positions: &[DVec3],
+        powers: &LightPowers,
+        emission: Option<&[Emission]>,
+        region: Option<[DVec2; 2]>,
+    ) -> Self {
+        // Every light that can reach the plane, whatever its power: the layout depends on
+        // the positions (and cones) only, so that new powers refit it ([`LightTree::refit`]).
+        let contributing = contributing(positions, powers, emission, true);
+        let m = contributing.len();
+        assert!(m < 1 << 27, "at most 2^27 lights");
+        let (nodes, node_first, order, root) = lay_out(&contributing, emission);
+        let node_count = nodes.len();
+        let pmf = powers.pmf();
+        let lights = order
+            .iter()
+            .map(|&i| SpatialLight {
+                position_in_world: positions[i as usize],
+                power: pmf[i as usize],
+            })
+            .collect();
+        let mut tree = Self {
+            nodes,
+            node_first,
+            lights,
+            root,
+            depth: 0,
+            n: positions.len(),
+            emission: emission
+                .map_or_else(Vec::new, |e| order.iter().map(|&i| e[i as usize]).collect()),
+            bounds: if emission.is_some() {
+                vec![[LaneBounds::EMPTY; TREE_WIDTH]; node_count]
+            } else {
+                Vec::new()
+            },
+            footprints: emission
+                .map_or_else(Vec::new, |e| footprints_in(&order, positions, e, region)),
+            mapped: Vec::new(),
+            order,
+        };
+        tree.depth = tree.deepest(tree.root);
+        tree.fill_lanes();
+        tree
+    }
+
+    /// Recomputes every lane's power, centroid and bounds from the lights, bottom up.
+    fn fill_lanes(&mut self) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let emission = (!self.emission.is_empty()).then_some(self.emission.as_slice());
+        let bounds = (!self.bounds.is_empty()).then_some(self.bounds.as_mut_slice());
+        let job = fill::Fill {
+            nodes: &mut self.nodes,
+            bounds,
+            index: 0,
+        };
+        if emission.is_some() {
+            fill::fill::<fill::Bounded>(job, &self.lights, emission);
+            self.fill_grids();
+        } else {
+            fill::fill::<fill::Aggregate>(job, &self.lights, None);
+        }
+    }
+
+    /// Recomputes every lane's map ([`crate::spatial::grid`]) from its lights, nodes in parallel
+    /// (each map depends on its own lights only: the same bits on any thread count).
+    fn fill_grids(&mut self) {
+        use rayon::prelude::*;
+        let ranges = self.lane_ranges();
+        let (lights, emission, footprints) = (&self.lights, &self.emission, &self.footprints);
+        let mut mapped = std::mem::take(&mut self.mapped);
+        mapped.resize(self.nodes.len(), MappedLanes::EMPTY);
+        mapped
+            .par_iter_mut()
+            .zip(ranges.par_iter())
+            .zip(self.bounds.par_iter())
+            .with_max_len(1)
+            .for_each(|((node, lanes), bounds)| {
+                let grids: [LaneGrid; TREE_WIDTH] = std::array::from_fn(|k| {
+                    let (first, count) = lanes[k];
+                    let r = first as usize..(first + count) as usize;
+                    if count == 0 {
+                        LaneGrid::EMPTY
+                    } else {
+                        LaneGrid::of_lights(
+                            &lights[r.clone()],
+                            &emission[r.clone()],
+                            &footprints[r],
+                        )
+                    }
+                });
+                *node = MappedLanes::new(bounds, &grids);
+            });
+        self.mapped = mapped;
+    }
+
+    /// Each node's lanes' lights as `(first, count)` in leaf order, top down.
+    fn lane_ranges(&self) -> Vec<[(u32, u32); TREE_WIDTH]> {
+        let mut ranges = vec![[(0u32, 0u32); TREE_WIDTH]; self.nodes.len()];
+        if self.nodes.is_empty() {
+            return ranges;
+        }
+        // (node, end of its lights)
+        let mut stack = vec![(0usize, self.lights.len())];
+        while let Some((k, end)) = stack.pop() {
+            let node = &self.nodes[k];
+            for (lane, range) in ranges[k].iter_mut().enumerate() {
+                let Some(first) = self.first_of(node.child[lane]) else {
+                    continue;
+                };
+                let lane_end = (lane + 1..TREE_WIDTH)
+                    .find_map(|next| self.first_of(node.child[next]))
+                    .unwrap_or(end);
+                *range = (first as u32, (lane_end - first) as u32);
+                if let Child::Node(j) = node.child[lane].get() {
+                    stack.push((j, lane_end));
+                }
+            }
+        }
+        ranges
+    }
+
+    /// New powers for the same lights (same positions, cones and ranges): each light's
+    /// normalized power is replaced and every lane recomputed bottom up, `O(N)`, in
+    /// parallel, without allocating; the tree then equals [`LightTree::build`] over the new
+    /// powers bit for bit (the layout depends on positions only, and both fill the lanes
+    /// with the same pass).
+    ///
+    /// # Panics
+    /// If `powers` holds a different number of lights.
+    pub fn refit(&mut self, powers: &LightPowers) {
+        use rayon::prelude::*;
+        assert_eq!(powers.len(), self.n, "one power per light of the tree");
+        let raw = powers.as_slice();
+        let pmf = powers.pmf_scale();
+        // Each light's new share is a function of its own power: any split gives the same.
+        self.lights
+            .par_iter_mut()
+            .zip(self.order.par_iter())
+            .with_min_len(1 << 14)
+            .for_each(|(l, &i)| l.power = pmf.of(raw[i as usize]));
+        self.fill_lanes();
+    }
+}
+
+/// The layout of the contributing lights (scene index, light, profile): the internal nodes,
+/// each node's first light, the scene index of each light in leaf order, and the root.
+/// Spots and ranges are split by where they shine ([`footprint_split`]), point lights at
+/// medians of their positions ([`layout`]).
+fn lay_out(
+    contributing: &[(u32, SpatialLight, Option<Emission>)],
+    emission: Option<&[Emission]>,
+) -> (Vec<TreeNode>, Vec<u32>, Vec<u32>, ChildRef) {
+    let m = contributing.len();
+    match emission {
+        // Spots and ranges: split by where the lights shine.
+        Some(e) if m > LEAF_SIZE => {
+            let mut items: Vec<footprint_split::Footprinted> = contributing
+                .iter()
+                .map(|(i, l, _)| {
+                    footprint_split::Footprinted::new(*i, l.position_in_world, &e[*i as usize])
+                })
+                .collect();
+            let (nodes, node_first) = footprint_split::lay_out(&mut items);
+            let order = items.iter().map(|l| l.index).collect();
+            (nodes, node_first, order, ChildRef::node(0))
+        }
+        _ => {
+            let mut items: Vec<layout::Item> = contributing
+                .iter()
+                .map(|(i, l, _)| (*i, l.position_in_world))
+                .collect();
+            let node_count = layout::internal_nodes(m);
+            let mut nodes = vec![TreeNode::EMPTY; node_count];
+            let mut node_first = vec![0u32; node_count];
+            let root = if m == 0 {
+                ChildRef::EMPTY
+            } else if m <= LEAF_SIZE {
+                ChildRef::leaf(0, m)
+            } else {
+                layout::lay_out(layout::Job {
+                    items: &mut items,
+                    index: 0,
+                    first: 0,
+                    nodes: &mut nodes,
+                    node_first: &mut node_first,
+                });
+                ChildRef::node(0)
+            };
+            let order: Vec<u32> = items.iter().map(|(i, _)| *i).collect();
+            (nodes, node_first, order, root)
+        }
+    }
+}
+
+/// Where each light (scene indices `order`) is mapped on the plane: its footprint
+/// ([`Emission::footprint`]) within `region`, or `region` for a light whose footprint is
+/// unbounded (`None` without a region).
+fn footprints_in(
+    order: &[u32],
+    positions: &[DVec3],
+    emission: &[Emission],
+    region: Option<[DVec2; 2]>,
+) -> Vec<Option<[DVec2; 2]>> {
+    order
+        .iter()
+        .map(|&i| {
+            let f = emission[i as usize].footprint(positions[i as usize]);
+            match (f, region) {
+                (Some([a, b]), Some([lo, hi])) => Some([a.max(lo), b.min(hi)]),
+                (None, Some(r)) => Some(r),
+                (f, None) => f,
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,169 @@
+//! The descent: a pick with one draw per node and one in the leaf cluster (one point, or
+//! several in lockstep), and the pdf `P(i | x)` it realizes, for one light or all.
+
+use glam::DVec2;
+
+use super::LightTree;
+use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
+use crate::rng::Rng;
+use crate::spatial::SpatialPick;
+use crate::spatial::importance::{GRID_CELL, grid_masses, pick_on_grid};
+
+impl LightTree {
+    /// The grid masses of node `k`'s lanes at `x` (with its lane bounds when the lights
+    /// have emission profiles).
+    #[inline]
+    fn node_masses(&self, k: usize, x: DVec2) -> [u32; TREE_WIDTH] {
+        match (self.bounds.get(k), self.mapped.get(k)) {
+            (Some(bounds), Some(mapped)) => TreeNode::masses_mapped(bounds, mapped, x),
+            _ => self.nodes[k].masses(x),
+        }
+    }
+
+    /// The grid masses of the lights `first .. first + count` of a leaf cluster at `x`, by
+    /// their contributions `c_j = p_j·G_j(x)`, and the contributions themselves.
+    #[inline]
+    fn leaf_masses(
+        &self,
+        first: usize,
+        count: usize,
+        x: DVec2,
+    ) -> ([u32; LEAF_SIZE], [f64; LEAF_SIZE]) {
+        let mut c = [0.0; LEAF_SIZE];
+        let mut total = 0.0;
+        for (j, cj) in c.iter_mut().enumerate().take(count) {
+            *cj = self.lights[first + j].contribution_with(self.emission.get(first + j), x);
+            total += *cj;
+        }
+        let mut p = [0.0; LEAF_SIZE];
+        if total > 0.0 {
+            let inv = 1.0 / total;
+            for (pj, &cj) in p.iter_mut().zip(&c) {
+                *pj = cj * inv;
+            }
+        }
+        (grid_masses(p), c)
+    }
+
+    /// Descends from the root with one draw per node and one in the leaf cluster; `None`
+    /// when there is no contributing light or every contribution of the leaf reached is 0
+    /// (then `ê = 0`).
+    #[inline]
+    pub fn sample(&self, x: DVec2, rng: &mut Rng) -> Option<SpatialPick> {
+        let (mut at, mut pdf) = (self.root, 1.0);
+        while let Child::Node(k) = at.get() {
+            at = self.step(k, x, rng, &mut pdf);
+        }
+        self.pick_in_leaf(at, x, rng, pdf)
+    }
+
+    /// [`LightTree::sample`] at `B` points at once, each from its own stream: the descents
+    /// advance in lockstep, so that their node and light loads (cache misses among a million
+    /// lights) are independent and overlap. Pick `b` is exactly `sample(points[b], rngs[b])`,
+    /// with the same draws.
+    #[inline]
+    pub fn sample_many<const B: usize>(
+        &self,
+        points: &[DVec2; B],
+        rngs: &mut [Rng; B],
+    ) -> [Option<SpatialPick>; B] {
+        let (mut at, mut pdf) = ([self.root; B], [1.0; B]);
+        loop {
+            let mut descending = false;
+            for b in 0..B {
+                if let Child::Node(k) = at[b].get() {
+                    at[b] = self.step(k, points[b], &mut rngs[b], &mut pdf[b]);
+                    descending = true;
+                }
+            }
+            if !descending {
+                break;
+            }
+        }
+        std::array::from_fn(|b| self.pick_in_leaf(at[b], points[b], &mut rngs[b], pdf[b]))
+    }
+
+    /// One level of the descent: node `k`'s lane picked by the next draw, its grid
+    /// probability multiplied into `pdf`; returns the lane's child.
+    #[inline]
+    fn step(&self, k: usize, x: DVec2, rng: &mut Rng, pdf: &mut f64) -> ChildRef {
+        let masses = self.node_masses(k, x);
+        let lane = pick_on_grid(&masses, rng.next_u32() >> 8);
+        *pdf *= f64::from(masses[lane]) * GRID_CELL;
+        self.nodes[k].child[lane]
+    }
+
+    /// The end of a descent at `at` (a leaf cluster, or the empty root) with the path's
+    /// probability `pdf`: a light of the cluster by the next draw, by its contribution.
+    #[inline]
+    fn pick_in_leaf(&self, at: ChildRef, x: DVec2, rng: &mut Rng, pdf: f64) -> Option<SpatialPick> {
+        let Child::Leaf { first, count } = at.get() else {
+            return None;
+        };
+        let (masses, c) = self.leaf_masses(first, count, x);
+        let j = pick_on_grid(&masses[..count], rng.next_u32() >> 8);
+        let pdf = pdf * (f64::from(masses[j]) * GRID_CELL);
+        (c[j] > 0.0 && pdf > 0.0).then(|| SpatialPick {
+            light: self.order[first + j],
+            pdf,
+            estimate: c[j] / pdf,
+        })
+    }
+
+    /// `P(i | x)` of every light of the scene at once, indexed by scene index (0 for a light
+    /// outside the tree): one traversal with the masses of [`LightTree::sample`], `O(N)`.
+    pub fn pdfs(&self, x: DVec2) -> Vec<f64> {
+        let mut out = vec![0.0; self.n];
+        let mut stack = vec![(self.root, 1.0f64)];
+        while let Some((at, pdf)) = stack.pop() {
+            match at.get() {
+                Child::Node(k) => {
+                    let node = &self.nodes[k];
+                    for (lane, &m) in self.node_masses(k, x).iter().enumerate() {
+                        if m > 0 {
+                            stack.push((node.child[lane], pdf * (f64::from(m) * GRID_CELL)));
+                        }
+                    }
+                }
+                Child::Leaf { first, count } => {
+                    let (masses, _) = self.leaf_masses(first, count, x);
+                    for (j, &m) in masses[..count].iter().enumerate() {
+                        out[self.order[first + j] as usize] = pdf * (f64::from(m) * GRID_CELL);
+                    }
+                }
+                Child::Empty => {}
+            }
+        }
+        out
+    }
+
+    /// `P(i | x)`: the product of the realized factors on the path to light `i` (0 for a
+    /// light outside the tree). `O(N)` to find the light: meant for tests and single lights.
+    pub fn pdf(&self, x: DVec2, light: usize) -> f64 {
+        let Some(j) = self.order.iter().position(|&i| i as usize == light) else {
+            return 0.0;
+        };
+        let mut at = self.root;
+        let mut pdf = 1.0;
+        loop {
+            match at.get() {
+                Child::Node(k) => {
+                    let node = &self.nodes[k];
+                    let masses = self.node_masses(k, x);
+                    // The last lane whose range starts at or before j holds it.
+                    let lane = (0..TREE_WIDTH)
+                        .rev()
+                        .find(|&lane| self.first_of(node.child[lane]).is_some_and(|f| f <= j))
+                        .unwrap_or(0);
+                    pdf *= f64::from(masses[lane]) * GRID_CELL;
+                    at = node.child[lane];
+                }
+                Child::Leaf { first, count } => {
+                    let (masses, _) = self.leaf_masses(first, count, x);
+                    return pdf * (f64::from(masses[j - first]) * GRID_CELL);
+                }
+                Child::Empty => return 0.0,
+            }
+        }
+    }
+}

@@ -1,0 +1,148 @@
+//! The tree's nodes: a child lane's word ([`ChildRef`], what the GPU reads too) and an
+//! internal node's four lanes ([`TreeNode`]) with the grid masses a descent picks by.
+
+use glam::{DVec2, DVec3};
+
+use crate::spatial::bounds::LaneBounds;
+use crate::spatial::grid::MappedLanes;
+use crate::spatial::importance::{
+    IMPORTANCE_CAP, branch_probabilities, grid_masses, lane_importances,
+};
+
+/// Children per internal node.
+pub const TREE_WIDTH: usize = 4;
+
+/// The most lights in a leaf cluster, picked by their exact contributions.
+pub const LEAF_SIZE: usize = 8;
+
+/// What a child lane of a node holds, in one `u32` (the word the GPU reads too): an internal
+/// node's index (bit 31 clear), or a leaf cluster `1 << 31 | count << 27 | first` (its
+/// `count ≤ 8` lights from leaf-order index `first < 2^27`); an empty lane is the leaf
+/// cluster of no lights.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ChildRef(u32);
+
+/// A [`ChildRef`] decoded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Child {
+    /// An internal node, by index.
+    Node(usize),
+    /// A leaf cluster: lights `first .. first + count` in leaf order.
+    Leaf {
+        /// Leaf-order index of its first light.
+        first: usize,
+        /// Its number of lights, `1 ..=` [`LEAF_SIZE`].
+        count: usize,
+    },
+    /// No child.
+    Empty,
+}
+
+impl ChildRef {
+    const LEAF_BIT: u32 = 1 << 31;
+    const COUNT_SHIFT: u32 = 27;
+    const FIRST_MASK: u32 = (1 << Self::COUNT_SHIFT) - 1;
+
+    /// An empty lane.
+    pub const EMPTY: ChildRef = ChildRef(Self::LEAF_BIT);
+
+    /// The internal node `index` (`< 2^31`).
+    pub(super) fn node(index: usize) -> Self {
+        debug_assert!(index < Self::LEAF_BIT as usize);
+        ChildRef(index as u32)
+    }
+
+    /// The leaf cluster of `count` lights from `first` (`count ≤ 8`, `first < 2^27`).
+    pub(super) fn leaf(first: usize, count: usize) -> Self {
+        debug_assert!(count <= LEAF_SIZE && first <= Self::FIRST_MASK as usize);
+        ChildRef(Self::LEAF_BIT | (count as u32) << Self::COUNT_SHIFT | first as u32)
+    }
+
+    /// What the lane holds.
+    #[inline]
+    pub fn get(self) -> Child {
+        if self.0 & Self::LEAF_BIT == 0 {
+            return Child::Node(self.0 as usize);
+        }
+        let count = ((self.0 & !Self::LEAF_BIT) >> Self::COUNT_SHIFT) as usize;
+        if count == 0 {
+            Child::Empty
+        } else {
+            Child::Leaf {
+                first: (self.0 & Self::FIRST_MASK) as usize,
+                count,
+            }
+        }
+    }
+
+    /// The encoded word (uploaded as is to the GPU).
+    pub fn bits(self) -> u32 {
+        self.0
+    }
+}
+
+/// An internal node: per child lane, the representative light (power-weighted centroid and
+/// total normalized power of the child's lights) and what the lane holds. The centroids are
+/// stored by coordinate (one array of the four lanes' `x`, one of `y`, one of `z`), so that
+/// the four importances evaluate together.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TreeNode {
+    /// `c = Σ p_i·y_i / Σ p_i` of each lane's lights, in the world (clamped into the
+    /// child's box, so `c_z > 0`), as `[x; 4], [y; 4], [z; 4]`; `(0, 0, 1)` in empty lanes.
+    pub(super) centroid: [[f64; TREE_WIDTH]; 3],
+    /// `Φ_c = Σ p_i` of each lane's lights (0 for an empty lane).
+    pub(super) power: [f64; TREE_WIDTH],
+    /// Each lane's child.
+    pub(super) child: [ChildRef; TREE_WIDTH],
+}
+
+impl TreeNode {
+    pub(super) const EMPTY: TreeNode = TreeNode {
+        centroid: [[0.0; TREE_WIDTH], [0.0; TREE_WIDTH], [1.0; TREE_WIDTH]],
+        power: [0.0; TREE_WIDTH],
+        child: [ChildRef::EMPTY; TREE_WIDTH],
+    };
+
+    /// The power-weighted centroid of lane `lane`'s lights, in the world.
+    pub fn centroid(&self, lane: usize) -> DVec3 {
+        let [x, y, z] = &self.centroid;
+        DVec3::new(x[lane], y[lane], z[lane])
+    }
+
+    /// `Φ_c = Σ p_i` of lane `lane`'s lights (0 for an empty lane).
+    pub fn power(&self, lane: usize) -> f64 {
+        self.power[lane]
+    }
+
+    /// What lane `lane` holds.
+    pub fn child(&self, lane: usize) -> ChildRef {
+        self.child[lane]
+    }
+
+    /// The grid masses of the four lanes at `point_on_plane` for point lights (summing to
+    /// `2^24`, or all 0 when no lane has power).
+    #[inline]
+    pub fn masses(&self, point_on_plane: DVec2) -> [u32; TREE_WIDTH] {
+        let [x, y, z] = &self.centroid;
+        let importance = lane_importances([x, y, z], &self.power, point_on_plane);
+        grid_masses(branch_probabilities(importance, self.power))
+    }
+
+    /// The grid masses of four lanes of lights with emission profiles at `point_on_plane`:
+    /// a lane whose bounds exclude the point gets none; the others are weighed by their
+    /// maps, mixed with their shares of peak intensity `Σ p_i·g_i`
+    /// ([`MappedLanes::weights`], [`branch_probabilities`]). All zero when every lane is
+    /// culled.
+    #[inline]
+    pub fn masses_mapped(
+        bounds: &[LaneBounds; TREE_WIDTH],
+        mapped: &MappedLanes,
+        point_on_plane: DVec2,
+    ) -> [u32; TREE_WIDTH] {
+        let (importance, share) = mapped.weights(bounds, point_on_plane);
+        grid_masses(branch_probabilities(
+            importance.map(|i| i.min(IMPORTANCE_CAP)),
+            share,
+        ))
+    }
+}
