@@ -151,7 +151,7 @@ pub fn animation_export_ui(ctx: &egui::Context, state: &mut AppState) {
                     ui.add_enabled(
                         !running,
                         egui::DragValue::new(&mut export.frames)
-                            .range(1..=crate::cli::animation::MAX_FRAMES),
+                            .range(1..=crate::recording::MAX_FRAMES),
                     )
                     .labelled_by(label.id)
                     .on_hover_text("Frames, spaced geometrically in samples per pixel from 1");
@@ -162,7 +162,7 @@ pub fn animation_export_ui(ctx: &egui::Context, state: &mut AppState) {
                     ui.add_enabled(
                         !running,
                         egui::DragValue::new(&mut export.max_spp)
-                            .range(least..=crate::cli::animation::MAX_SPP),
+                            .range(least..=crate::recording::MAX_SPP),
                     )
                     .labelled_by(label.id)
                     .on_hover_text("Samples per pixel of the last frame");
@@ -244,7 +244,7 @@ pub fn controls_ui(ui: &mut Ui, state: &mut AppState) {
         egui::DragValue::new(&mut s.exposure)
             .range(1e-300..=1e300)
             .speed(speed)
-            .custom_formatter(|v, _| super::fractions::three_significant(v)),
+            .custom_formatter(|v, _| crate::numbers::three_significant(v)),
     )
     .labelled_by(label.id)
     .on_hover_text("Tonemap exposure: irradiance is multiplied by this before display");

@@ -10,9 +10,9 @@ use lightpick_core::{Scaled, Scheme};
 
 use super::colors;
 use super::engine::{ConvergencePoint, Published, SchemeImage};
-use super::fractions;
 use super::log_axes;
 use super::state::AppState;
+use crate::numbers;
 
 /// Which x axis the plot uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -176,23 +176,23 @@ fn figures_ui(
             for ((name, scheme), image) in SCHEMES.into_iter().zip(images) {
                 ui.colored_label(colors::scheme(scheme), name);
                 let exact = spatial_exact && scheme == Scheme::Spatial && image.spp > 0;
-                let seconds = format!("{} s", fractions::short(image.seconds_per_sample(pixels)));
+                let seconds = format!("{} s", numbers::short(image.seconds_per_sample(pixels)));
                 if exact {
                     ui.label("0 (exact)").on_hover_text(format!(
                         "Every sample is the exact irradiance; the measured {} is rounding \
                          of the sums",
-                        fractions::short_scaled(image.variance)
+                        numbers::short_scaled(image.variance)
                     ));
                     ui.label(seconds);
                     ui.label("∞");
                     ui.label("∞ (zero variance)");
                 } else {
-                    ui.label(fractions::short_scaled(image.variance));
+                    ui.label(numbers::short_scaled(image.variance));
                     ui.label(seconds);
                     ui.label(
                         image
                             .efficiency(pixels)
-                            .map_or("–".to_owned(), fractions::short_scaled),
+                            .map_or("–".to_owned(), numbers::short_scaled),
                     );
                     ui.label(if scheme == Scheme::Uniform {
                         "1×".to_owned()
@@ -226,11 +226,7 @@ fn speedup_text(u: &SchemeImage, image: &SchemeImage, pixels: usize) -> String {
     let variance_ratio = (image.normalized_variance > Scaled::ZERO)
         .then(|| (u.normalized_variance / image.normalized_variance).to_f64());
     match (speedup, variance_ratio) {
-        (Some(s), Some(v)) => format!(
-            "{}× (variance {}×)",
-            fractions::short(s),
-            fractions::short(v)
-        ),
+        (Some(s), Some(v)) => format!("{}× (variance {}×)", numbers::short(s), numbers::short(v)),
         _ => "–".to_owned(),
     }
 }

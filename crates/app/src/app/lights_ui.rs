@@ -218,7 +218,7 @@ fn light_about(state: &AppState, i: usize) -> String {
             );
         }
         if let Some(r) = e.range() {
-            let _ = write!(text, "\nrange {}", super::fractions::short(r));
+            let _ = write!(text, "\nrange {}", crate::numbers::short(r));
         }
     }
     text

@@ -20,7 +20,6 @@ pub mod convergence_ui;
 pub mod engine;
 pub mod estimator_ui;
 pub mod file_dialog_ui;
-pub mod fractions;
 pub mod frame_budget;
 pub mod gpu_images;
 pub mod histogram_ui;

@@ -12,9 +12,9 @@ use std::sync::Arc;
 use egui::Ui;
 
 use super::colors;
-use super::fractions;
 use super::state::precision::measure;
 use super::state::{AppState, SYNC_BUILD_LIMIT};
+use crate::numbers;
 
 /// The whole panel.
 pub fn precision_ui(ui: &mut Ui, state: &mut AppState) {
@@ -94,27 +94,27 @@ pub fn precision_ui(ui: &mut Ui, state: &mut AppState) {
             ui.label("1. build in f64 / f32")
                 .on_hover_text("The table built in f64 (the project) against a naive f32 Vose build");
             ui.label("leak onto zero lights");
-            ui.label(format!("{} ({} lights)", fractions::short(a.zero_leak), a.leaking_lights))
+            ui.label(format!("{} ({} lights)", numbers::short(a.zero_leak), a.leaking_lights))
                 .on_hover_text("Probability the f64 table picks a light of zero power");
-            ui.label(format!("{} ({} lights)", fractions::short(b.zero_leak), b.leaking_lights))
+            ui.label(format!("{} ({} lights)", numbers::short(b.zero_leak), b.leaking_lights))
                 .on_hover_text("Probability the f32 table picks a light of zero power");
             ui.end_row();
             ui.label("");
             ui.label("max relative error");
-            ui.label(fractions::short(a.max_rel_error));
-            ui.label(fractions::short(b.max_rel_error));
+            ui.label(numbers::short(a.max_rel_error));
+            ui.label(numbers::short(b.max_rel_error));
             ui.end_row();
             let int = r.construction.integer_build;
             ui.label("1b. build exact f64 / integer")
                 .on_hover_text("The exact f64 construction against the fast integer one (the samplers' default)");
             ui.label("worst error")
                 .on_hover_text("The integer table realizes exactly integer masses summing to N·2^32: below 1 unit of 2^-32/N unless some p_i < 2^-32/N (then at most 1 + a_i)");
-            ui.label(format!("{} relative", fractions::short(a.max_rel_error)))
+            ui.label(format!("{} relative", numbers::short(a.max_rel_error)))
                 .on_hover_text("The exact f64 table: relative error, as above");
             ui.label(format!(
                 "{} × 2^-32/N, leak {}",
-                fractions::short(r.construction.integer_max_error_units),
-                fractions::short(int.zero_leak)
+                numbers::short(r.construction.integer_max_error_units),
+                numbers::short(int.zero_leak)
             ))
             .on_hover_text("The integer table (the samplers' default): absolute error of the pmf it samples, and its probability on zero lights");
             ui.end_row();
@@ -125,14 +125,14 @@ pub fn precision_ui(ui: &mut Ui, state: &mut AppState) {
             ui.label("pmf error / its bound");
             ui.label(format!(
                 "{} (bound {})",
-                fractions::short(t.u32_error_over_bound),
-                fractions::short(t.u32_bound_max)
+                numbers::short(t.u32_error_over_bound),
+                numbers::short(t.u32_bound_max)
             ))
             .on_hover_text("Measured error over (1+a_i)·2^-32/N (at most 1), and the bound's largest value");
             ui.label(format!(
                 "{} (bound {})",
-                fractions::short(t.f32_error_over_bound),
-                fractions::short(t.f32_bound_max)
+                numbers::short(t.f32_error_over_bound),
+                numbers::short(t.f32_bound_max)
             ))
             .on_hover_text("Measured error over (1+a_i)·1.5·2^-24/N (at most 1), and the bound's largest value");
             ui.end_row();
@@ -140,12 +140,12 @@ pub fn precision_ui(ui: &mut Ui, state: &mut AppState) {
             ui.label("max relative error · lost lights");
             ui.label(format!(
                 "{} · {}",
-                fractions::short(t.u32_max_rel_error),
+                numbers::short(t.u32_max_rel_error),
                 t.u32_lost_lights
             ));
             ui.label(format!(
                 "{} · {}",
-                fractions::short(t.f32_max_rel_error),
+                numbers::short(t.f32_max_rel_error),
                 t.f32_lost_lights
             ));
             ui.end_row();
@@ -159,7 +159,7 @@ pub fn precision_ui(ui: &mut Ui, state: &mut AppState) {
             ui.label("unreachable columns");
             ui.label(m.multiply_high.map_or("–".to_owned(), |s| s.unreachable.to_string()));
             ui.label(m.f32_pick.map_or("–".to_owned(), |s| {
-                format!("{} ({})", s.unreachable, fractions::short(s.unreachable_share))
+                format!("{} ({})", s.unreachable, numbers::short(s.unreachable_share))
             }))
             .on_hover_text("Columns no f32 uniform reaches, and their share of all columns");
             ui.end_row();
@@ -175,14 +175,14 @@ pub fn precision_ui(ui: &mut Ui, state: &mut AppState) {
                  against one random whose fraction is reused",
             );
             ui.label("max relative error vs p");
-            ui.label(fractions::short(o.exact_max_rel_error));
-            ui.label(fractions::short(o.one_max_rel_error));
+            ui.label(numbers::short(o.exact_max_rel_error));
+            ui.label(numbers::short(o.one_max_rel_error));
             ui.end_row();
             ui.label("");
             ui.label("bias (total variation)");
-            ui.label(fractions::short(o.exact_total_variation))
+            ui.label(numbers::short(o.exact_total_variation))
                 .on_hover_text("½ Σ|P(i) − p_i| of the default path: only the u32 thresholds' rounding");
-            ui.label(fractions::short(o.one_total_variation))
+            ui.label(numbers::short(o.one_total_variation))
                 .on_hover_text("½ Σ|P_one(i) − p_i|: how far the realized pmf is from p");
             ui.end_row();
         });

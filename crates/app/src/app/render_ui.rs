@@ -6,9 +6,9 @@ use lightpick_core::Scheme;
 
 use super::colors;
 use super::engine::{Published, SchemeImage};
-use super::fractions;
 use super::inspector_ui;
 use super::state::{AppState, BudgetMode};
+use crate::numbers;
 
 /// The textures of the latest published frame.
 #[derive(Default)]
@@ -363,7 +363,7 @@ fn image_column(
                 .on_hover_text("Samples per pixel accumulated");
         }
         if let Some(rmse) = image.rmse {
-            ui.label(format!("RMSE {}", fractions::short(rmse)))
+            ui.label(format!("RMSE {}", numbers::short(rmse)))
                 .on_hover_text("Root-mean-square error against the reference");
         }
         ui.label(format!(

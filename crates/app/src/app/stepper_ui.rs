@@ -13,9 +13,9 @@ use egui::{Align2, FontId, Rect, RichText, Sense, Stroke, StrokeKind, Ui, pos2, 
 use lightpick_core::construction::{ConstructionEvent, ConstructionState};
 
 use super::colors;
-use super::fractions;
 use super::state::AppState;
 use super::state::stepper::{STEPPER_MAX_LIGHTS, StepperState};
+use crate::numbers;
 
 /// The tallest mass the diagram shows before clipping a bar.
 const MAX_SHOWN_MASS: f64 = 4.0;
@@ -141,7 +141,7 @@ fn controls_ui(ui: &mut Ui, s: &mut StepperState, last: usize, now: f64) {
 
 /// One sentence for the event that led to `state`.
 pub fn event_sentence(state: &ConstructionState, den: Option<u64>) -> String {
-    let show = |v: f64| fractions::show(v, den);
+    let show = |v: f64| numbers::show(v, den);
     match state.event {
         ConstructionEvent::Scaled => "Start: q = N·p, mean 1. Columns with q < 1 wait in the \
                                       small list, the others in the large list."
@@ -217,7 +217,7 @@ fn lists_ui(ui: &mut Ui, state: &ConstructionState, den: Option<u64>) {
                 ui.label(RichText::new("empty").size(15.0).italics());
             }
             for &i in list {
-                let text = format!(" {}: {} ", i + 1, fractions::show(state.mass[i], den));
+                let text = format!(" {}: {} ", i + 1, numbers::show(state.mass[i], den));
                 ui.label(
                     RichText::new(text)
                         .size(15.0)
@@ -299,7 +299,7 @@ fn diagram_ui(ui: &mut Ui, state: &ConstructionState, den: Option<u64>, dark: bo
             painter.text(
                 pos2(x0.midpoint(x1), bar.top() - 2.0),
                 Align2::CENTER_BOTTOM,
-                fractions::show(state.mass[j], den),
+                numbers::show(state.mass[j], den),
                 font.clone(),
                 fg,
             );
@@ -363,7 +363,7 @@ fn diagram_ui(ui: &mut Ui, state: &ConstructionState, den: Option<u64>, dark: bo
                 painter.text(
                     start.lerp(end, 0.5) - vec2(0.0, 4.0),
                     Align2::CENTER_BOTTOM,
-                    fractions::show(moved, den),
+                    numbers::show(moved, den),
                     font.clone(),
                     hi,
                 );

@@ -7,9 +7,9 @@ use egui::{Align2, FontId, Rect, Sense, Stroke, StrokeKind, Ui, Vec2, pos2, vec2
 use lightpick_core::walkthrough::{ColumnPart, Highlight, TableField};
 
 use super::colors;
-use super::fractions;
 pub use super::state::DIAGRAM_MAX_COLUMNS;
 use super::state::{AppState, OneDraw};
+use crate::numbers;
 
 /// Rows of the table shown without scrolling when the table is small.
 const ROW_HEIGHT: f32 = 18.0;
@@ -21,7 +21,7 @@ pub fn table_panel_ui(ui: &mut Ui, state: &mut AppState) {
         ui.label(format!(
             "N = {}   ΣΦ = {}",
             built.len(),
-            fractions::short(built.total_power)
+            numbers::short(built.total_power)
         ))
         .on_hover_text("Number of lights and their total power");
         if state.is_building() {
@@ -94,20 +94,20 @@ pub fn table_ui(ui: &mut Ui, state: &AppState) {
                     );
                     let power = ui.add_sized(
                         [widths[1], ROW_HEIGHT],
-                        egui::Label::new(fractions::short(powers[i])),
+                        egui::Label::new(numbers::short(powers[i])),
                     );
                     mark_cell(ui, highlight, i, TableField::Power, power.rect);
                     let p = ui
                         .add_sized(
                             [widths[2], ROW_HEIGHT],
-                            egui::Label::new(fractions::show(pmf[i], den)),
+                            egui::Label::new(numbers::show(pmf[i], den)),
                         )
                         .on_hover_text(format!("p = {:.12}", pmf[i]));
                     mark_cell(ui, highlight, i, TableField::Pmf, p.rect);
                     let t = ui
                         .add_sized(
                             [widths[3], ROW_HEIGHT],
-                            egui::Label::new(fractions::show(table.threshold(i), den)),
+                            egui::Label::new(numbers::show(table.threshold(i), den)),
                         )
                         .on_hover_text(format!("threshold = {:.12}", table.threshold(i)));
                     mark_cell(ui, highlight, i, TableField::Threshold, t.rect);
@@ -181,7 +181,7 @@ pub fn column_sentence(state: &AppState, i: usize) -> String {
     let built = &state.built;
     let t = built.table.threshold(i);
     let a = built.table.alias(i) as usize;
-    let p = fractions::show(t, built.denominator);
+    let p = numbers::show(t, built.denominator);
     if t >= 1.0 || a == i {
         format!("column {} always keeps light {}", i + 1, i + 1)
     } else if t <= 0.0 {
@@ -371,7 +371,7 @@ pub fn diagram_ui(ui: &mut Ui, state: &mut AppState, height: Option<f32>) {
             ui.label(format!(
                 "light {}: p = {}  (ghost outline)",
                 i + 1,
-                fractions::show(pmf[i], built.denominator)
+                numbers::show(pmf[i], built.denominator)
             ));
         });
     }
@@ -426,7 +426,7 @@ fn draw_pick(
 pub fn draw_sentence(state: &AppState, draw: &OneDraw) -> String {
     let den = state.built.denominator;
     let n = state.built.len();
-    let t = fractions::show(draw.threshold, den);
+    let t = numbers::show(draw.threshold, den);
     let verdict = if draw.kept {
         format!("U2 = {:.4} < {t} → keep light {}", draw.u2, draw.column + 1)
     } else {

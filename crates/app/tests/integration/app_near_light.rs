@@ -6,9 +6,9 @@
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
 use glam::{dvec2, dvec3};
-use lightpick::app::fractions;
 use lightpick::app::state::trade::{TradeMeasurement, measure, scheme_label};
 use lightpick::app::{LightpickApp, PanelKind};
+use lightpick::numbers as fractions;
 use lightpick_core::render::{Efficiency, is_zero_variance_scaled};
 use lightpick_core::scene::{ReceiverPlane, Scene};
 use lightpick_core::{Scaled, Scheme};

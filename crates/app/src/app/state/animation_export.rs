@@ -1,5 +1,5 @@
 //! File → "Export animation…": the convergence animation of `lightpick plot animation`
-//! ([`crate::cli::animation`]) recorded from the app's running state — its scene, seed,
+//! ([`crate::recording`]) recorded from the app's running state — its scene, seed,
 //! exposure, image size and theme — on a worker thread, so the window stays responsive,
 //! with the progress and the outcome for the export window and the status bar.
 //!
@@ -15,7 +15,7 @@ use std::time::Instant;
 use lightpick_core::draw::Theme;
 
 use super::AppState;
-use crate::cli::animation::{self, Recording};
+use crate::recording::{self, Recording};
 
 /// Images larger than this many pixels a side are exported smaller (same aspect), so a
 /// large scene's frames stay slide-sized and the export takes seconds, not minutes.
@@ -62,10 +62,10 @@ impl Exported {
 }
 
 /// Records `job`'s animation and writes it to `job.path`, calling `progress(done, total)`
-/// as [`animation::record`] does. Errors are sentences for the status bar.
+/// as [`recording::record`] does. Errors are sentences for the status bar.
 pub fn export(job: &ExportJob, progress: &mut dyn FnMut(u32, u32)) -> Result<Exported, String> {
     let started = Instant::now();
-    let recorded = animation::record(&job.recording, progress).map_err(|e| format!("{e:#}"))?;
+    let recorded = recording::record(&job.recording, progress).map_err(|e| format!("{e:#}"))?;
     std::fs::write(&job.path, &recorded.gif)
         .map_err(|e| format!("cannot write {}: {e}", job.path.display()))?;
     Ok(Exported {
@@ -112,8 +112,8 @@ impl Default for AnimationExport {
         Self {
             open: false,
             path: String::new(),
-            frames: animation::DEFAULT_FRAMES,
-            max_spp: animation::DEFAULT_MAX_SPP,
+            frames: recording::DEFAULT_FRAMES,
+            max_spp: recording::DEFAULT_MAX_SPP,
             last: None,
             running: None,
         }
@@ -224,7 +224,7 @@ impl AppState {
     pub fn animation_job(&self, path: impl Into<PathBuf>) -> ExportJob {
         let mut scene = (*self.built.scene).clone();
         let (w, h) = export_size(scene.plane.width, scene.plane.height);
-        animation::size_scene(&mut scene, Some(w), Some(h));
+        recording::size_scene(&mut scene, Some(w), Some(h));
         let settings = &self.animation_export;
         ExportJob {
             recording: Recording {
@@ -233,8 +233,8 @@ impl AppState {
                 exposure: Some(self.settings.exposure),
                 frames: settings.frames,
                 max_spp: settings.max_spp,
-                delay_ms: animation::DEFAULT_DELAY_MS,
-                hold_ms: animation::DEFAULT_HOLD_MS,
+                delay_ms: recording::DEFAULT_DELAY_MS,
+                hold_ms: recording::DEFAULT_HOLD_MS,
                 theme: if self.dark() {
                     Theme::Dark
                 } else {
