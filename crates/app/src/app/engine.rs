@@ -20,6 +20,7 @@ use lightpick_core::render::{
 use lightpick_core::scene::Scene;
 use lightpick_core::{SceneSamplers, Scheme};
 
+use super::background::Worker;
 use super::colors;
 use super::state::BudgetMode;
 
@@ -433,6 +434,8 @@ pub(crate) fn reference(scene: &Scene) -> (Reference, Option<String>) {
 enum Mode {
     /// A worker thread; frames come back through `shared`.
     Threaded {
+        /// The render loop; it ends when `sender` is dropped.
+        _thread: Worker<()>,
         sender: mpsc::Sender<Command>,
         shared: Arc<Mutex<Option<Arc<Published>>>>,
         last_seen: Option<u64>,
@@ -472,15 +475,16 @@ impl Engine {
         let bytes = Arc::new(Mutex::new(RendererBytes::default()));
         let worker_bytes = Arc::clone(&bytes);
         let ctx = ctx.clone();
-        let spawned = std::thread::Builder::new()
-            .name("lightpick-render".to_owned())
-            .spawn(move || worker(&receiver, &worker_shared, &worker_bytes, &ctx));
-        if spawned.is_err() {
+        let spawned = Worker::spawn("lightpick-render", move || {
+            worker(&receiver, &worker_shared, &worker_bytes, &ctx);
+        });
+        let Ok(thread) = spawned else {
             // Without a thread the engine still works, on the UI thread.
             return Self::inline();
-        }
+        };
         Self {
             mode: Mode::Threaded {
+                _thread: thread,
                 sender,
                 shared,
                 last_seen: None,

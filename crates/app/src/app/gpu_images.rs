@@ -10,7 +10,7 @@
 //! costlier than that, so a slow device slows the images, never the window. The sums are
 //! read back at pass boundaries only.
 
-use std::sync::{Arc, mpsc};
+use std::sync::Arc;
 use std::time::Instant;
 
 use eframe::egui_wgpu::{self, wgpu};
@@ -19,6 +19,7 @@ use lightpick_core::render::{Reference, mean_variance_scaled, normalized_varianc
 use lightpick_core::scene::Scene;
 use lightpick_core::{SceneSamplers, Scheme};
 
+use super::background::{Polled, Worker};
 use super::engine::{self, ConvergencePoint, EngineConfig, Published, RendererBytes, SchemeImage};
 use super::frame_budget::{self, FrameBudget, LaneWork};
 use super::state::SYNC_BUILD_LIMIT;
@@ -78,12 +79,12 @@ fn build_trio(ctx: &GpuContext, samplers: &SceneSamplers, seed: u64) -> Result<T
     Ok((uniform, importance, spatial))
 }
 
-/// Renderers being built on a worker thread.
-struct PendingBuild {
+/// A scene's renderers being uploaded on a worker thread.
+struct RendererUpload {
     generation: u64,
     seed: u64,
     samplers: SceneSamplers,
-    receiver: mpsc::Receiver<Result<Trio, String>>,
+    worker: Worker<Result<Trio, String>>,
 }
 
 /// The GPU side of the images panel.
@@ -95,7 +96,7 @@ pub struct GpuImages {
     /// Texture ids kept across scenes (re-pointed at each new renderer's output).
     ids: Option<[egui::TextureId; 3]>,
     latest: Option<Arc<Published>>,
-    pending: Option<PendingBuild>,
+    pending: Option<RendererUpload>,
     /// The reference being computed, and for which scene generation.
     reference_job: Option<ReferenceJob>,
     /// How much GPU work each UI frame may take.
@@ -103,7 +104,7 @@ pub struct GpuImages {
 }
 
 /// A reference computed on a worker thread, for one scene generation.
-type ReferenceJob = (u64, mpsc::Receiver<(Reference, Option<String>)>);
+type ReferenceJob = (u64, Worker<(Reference, Option<String>)>);
 
 impl GpuImages {
     /// Wraps eframe's device; `None` when eframe runs without wgpu.
@@ -282,8 +283,8 @@ impl GpuImages {
         // One reference computation at a time (up to a second of both cores for huge
         // scenes): a drag through many tables computes only the newest one's.
         let mut reference_arrived = false;
-        if let Some((job_generation, receiver)) = &self.reference_job
-            && let Ok((reference, note)) = receiver.try_recv()
+        if let Some((job_generation, worker)) = &self.reference_job
+            && let Polled::Done((reference, note)) = worker.poll()
         {
             if *job_generation == lanes.generation {
                 lanes.reference = Some(reference);
@@ -293,15 +294,12 @@ impl GpuImages {
             self.reference_job = None;
         }
         if lanes.reference.is_none() && self.reference_job.is_none() {
-            let (sender, receiver) = mpsc::channel();
             let for_reference = Arc::clone(&lanes.scene);
-            let spawned = std::thread::Builder::new()
-                .name("lightpick-reference".to_owned())
-                .spawn(move || {
-                    let _ = sender.send(engine::reference(&for_reference));
-                });
+            let spawned = Worker::spawn("lightpick-reference", move || {
+                engine::reference(&for_reference)
+            });
             match spawned {
-                Ok(_) => self.reference_job = Some((lanes.generation, receiver)),
+                Ok(worker) => self.reference_job = Some((lanes.generation, worker)),
                 Err(e) => lanes.reference_note = Some(format!("no reference: {e}")),
             }
         }
@@ -475,19 +473,16 @@ impl GpuImages {
             // Let the running build finish; `poll_pending` asks again for the newest scene.
             return Ok(());
         }
-        let (sender, receiver) = mpsc::channel();
         let (ctx, for_build) = (self.ctx.clone(), samplers.clone());
-        std::thread::Builder::new()
-            .name("lightpick-gpu-upload".to_owned())
-            .spawn(move || {
-                let _ = sender.send(build_trio(&ctx, &for_build, seed));
-            })
-            .map_err(|e| e.to_string())?;
-        self.pending = Some(PendingBuild {
+        let worker = Worker::spawn("lightpick-gpu-upload", move || {
+            build_trio(&ctx, &for_build, seed)
+        })
+        .map_err(|e| e.to_string())?;
+        self.pending = Some(RendererUpload {
             generation,
             seed,
             samplers: samplers.clone(),
-            receiver,
+            worker,
         });
         Ok(())
     }
@@ -502,10 +497,10 @@ impl GpuImages {
         let Some(pending) = &self.pending else {
             return Ok(());
         };
-        let trio = match pending.receiver.try_recv() {
-            Ok(result) => result?,
-            Err(mpsc::TryRecvError::Empty) => return Ok(()),
-            Err(mpsc::TryRecvError::Disconnected) => {
+        let trio = match pending.worker.poll() {
+            Polled::Done(result) => result?,
+            Polled::Running => return Ok(()),
+            Polled::Lost => {
                 self.pending = None;
                 return Err("the GPU upload thread stopped".to_owned());
             }

@@ -11,7 +11,7 @@
 //! larger ones on a background thread, so dragging a power of the `million` preset never
 //! freezes the window (the old table stays on screen until the new one is ready).
 
-use std::sync::{Arc, mpsc};
+use std::sync::Arc;
 
 use glam::DVec3;
 use lightpick_core::scene::{Emission, ReceiverPlane, Scene};
@@ -19,6 +19,7 @@ use lightpick_core::{
     ChiSquare, LightPowers, PowersError, Rng, SceneSamplers, Uniform, chi_square_cells,
 };
 
+use super::background::{Polled, Worker};
 use super::scene_io::{self, PowerDistribution};
 
 pub mod animation_export;
@@ -404,9 +405,10 @@ impl FileDialog {
     }
 }
 
-struct PendingBuild {
+/// A table (with its samplers) being built on a worker for one scene generation.
+struct TableBuild {
     generation: u64,
-    receiver: mpsc::Receiver<Built>,
+    worker: Worker<Built>,
 }
 
 /// Everything the panels show and edit.
@@ -455,7 +457,7 @@ pub struct AppState {
     /// edit): how a scene too large to store light by light is persisted.
     pub unedited_preset: Option<String>,
     next_generation: u64,
-    pending: Option<PendingBuild>,
+    pending: Option<TableBuild>,
     rebuild_queued: bool,
     /// The samplers a large scene's last install replaced, and when: the next power edit
     /// rebuilds into their table and tree ([`Built::repowered`]) instead of copying the
@@ -780,25 +782,12 @@ impl AppState {
         previous: Option<(SceneSamplers, Option<SceneSamplers>)>,
     ) {
         let generation = self.take_generation();
-        let (sender, receiver) = mpsc::channel();
-        let spawned = std::thread::Builder::new()
-            .name("lightpick-table".to_owned())
-            .spawn(move || {
-                let built = match previous {
-                    Some((previous, earlier)) => {
-                        Built::from_edit(generation, scene, &previous, earlier)
-                    }
-                    None => Built::new(generation, scene),
-                };
-                let _ = sender.send(built);
-            });
+        let spawned = Worker::spawn("lightpick-table", move || match previous {
+            Some((previous, earlier)) => Built::from_edit(generation, scene, &previous, earlier),
+            None => Built::new(generation, scene),
+        });
         match spawned {
-            Ok(_) => {
-                self.pending = Some(PendingBuild {
-                    generation,
-                    receiver,
-                });
-            }
+            Ok(worker) => self.pending = Some(TableBuild { generation, worker }),
             Err(e) => self.message(
                 format!("cannot start the table builder: {e}"),
                 MessageKind::Error,
@@ -818,8 +807,8 @@ impl AppState {
         let Some(pending) = &self.pending else {
             return;
         };
-        match pending.receiver.try_recv() {
-            Ok(built) => {
+        match pending.worker.poll() {
+            Polled::Done(built) => {
                 debug_assert_eq!(built.generation, pending.generation);
                 self.pending = None;
                 self.install(built);
@@ -827,8 +816,8 @@ impl AppState {
                     self.powers_changed();
                 }
             }
-            Err(mpsc::TryRecvError::Empty) => {}
-            Err(mpsc::TryRecvError::Disconnected) => {
+            Polled::Running => {}
+            Polled::Lost => {
                 self.pending = None;
                 self.message("the table builder stopped unexpectedly", MessageKind::Error);
             }
