@@ -4,10 +4,11 @@
 use egui::{ColorImage, TextureHandle, TextureOptions, Ui};
 use lightpick_core::Scheme;
 
-use super::colors;
-use super::engine::{Published, SchemeImage};
 use super::inspector_ui;
-use super::state::{AppState, BudgetMode};
+use crate::app::colors;
+use crate::app::images::{Published, SchemeImage};
+use crate::app::state::AppState;
+use crate::app::state::settings::BudgetMode;
 use crate::numbers;
 
 /// The textures of the latest published frame.

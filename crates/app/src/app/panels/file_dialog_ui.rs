@@ -9,8 +9,9 @@ use std::path::{Path, PathBuf};
 
 use egui::Ui;
 
-use super::colors;
-use super::state::{AppState, FileAction, FileDialog, FolderEntry};
+use crate::app::colors;
+use crate::app::state::AppState;
+use crate::app::state::file_dialog::{FileAction, FileDialog, FolderEntry};
 
 /// What the user confirmed in the dialog this frame.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -222,6 +223,23 @@ pub fn file_dialog_ui(ui: &mut Ui, state: &mut AppState) -> Option<Confirmed> {
             path: state.file_dialog.resolved().display().to_string(),
         }
     })
+}
+
+/// A veil over the window while files are dragged over it, saying what a drop does.
+pub fn drop_hint_ui(ui: &Ui) {
+    let rect = ui.ctx().content_rect();
+    let painter = ui.ctx().layer_painter(egui::LayerId::new(
+        egui::Order::Foreground,
+        egui::Id::unique("lightpick_drop_hint"),
+    ));
+    painter.rect_filled(rect, 0.0, egui::Color32::from_black_alpha(170));
+    painter.text(
+        rect.center(),
+        egui::Align2::CENTER_CENTER,
+        "Drop a scene to open it: glTF (.gltf, .glb), CSV or lightpick JSON",
+        egui::FontId::proportional(22.0),
+        egui::Color32::WHITE,
+    );
 }
 
 #[cfg(test)]

@@ -12,9 +12,9 @@
 use egui::{Align2, FontId, Rect, RichText, Sense, Stroke, StrokeKind, Ui, pos2, vec2};
 use lightpick_core::construction::{ConstructionEvent, ConstructionState};
 
-use super::colors;
-use super::state::AppState;
-use super::state::stepper::{STEPPER_MAX_LIGHTS, StepperState};
+use crate::app::colors;
+use crate::app::state::AppState;
+use crate::app::state::stepper::{STEPPER_MAX_LIGHTS, StepperState};
 use crate::numbers;
 
 /// The tallest mass the diagram shows before clipping a bar.

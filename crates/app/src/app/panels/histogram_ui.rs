@@ -5,9 +5,9 @@ use egui::Ui;
 use egui_plot::{Bar, BarChart, Plot, Points};
 use lightpick_core::{ChiSquare, Scheme};
 
-use super::colors;
-use super::state::AppState;
 use super::table_ui;
+use crate::app::colors;
+use crate::app::state::AppState;
 
 /// The whole panel.
 pub fn sampling_ui(ui: &mut Ui, state: &mut AppState) {

@@ -7,9 +7,11 @@ use std::fmt::Write as _;
 use egui::{RichText, Sense, Ui, vec2};
 use lightpick_core::scene::MAX_LIGHTS;
 
-use super::colors;
-use super::scene_io::{self, PowerDistribution};
-use super::state::{AppState, SliderScale};
+use crate::app::colors;
+use crate::app::scene_io::{self, PowerShape};
+use crate::app::state::AppState;
+use crate::app::state::edit::powers_to_text;
+use crate::app::state::settings::SliderScale;
 
 const ROW_HEIGHT: f32 = 22.0;
 
@@ -80,7 +82,7 @@ fn generate_ui(ui: &mut Ui, state: &mut AppState) {
         egui::ComboBox::from_id_salt("power_distribution")
             .selected_text(state.settings.distribution.label())
             .show_ui(ui, |ui| {
-                for d in PowerDistribution::ALL {
+                for d in PowerShape::ALL {
                     ui.selectable_value(&mut state.settings.distribution, d, d.label());
                 }
             })
@@ -323,7 +325,7 @@ fn rows_ui(ui: &mut Ui, state: &mut AppState) {
         state.remove_light(i);
     } else if changed {
         if n <= 1000 {
-            state.powers_text = super::state::powers_to_text(&state.edit.powers);
+            state.powers_text = powers_to_text(&state.edit.powers);
         }
         state.powers_changed();
     }

@@ -6,9 +6,10 @@ use egui::{Align2, FontId, Rect, Sense, Stroke, StrokeKind, Ui, Vec2, pos2, vec2
 
 use lightpick_core::walkthrough::{ColumnPart, Highlight, TableField};
 
-use super::colors;
-pub use super::state::DIAGRAM_MAX_COLUMNS;
-use super::state::{AppState, OneDraw};
+use crate::app::colors;
+use crate::app::state::AppState;
+pub use crate::app::state::sampling::DIAGRAM_MAX_COLUMNS;
+use crate::app::state::sampling::OneDraw;
 use crate::numbers;
 
 /// Rows of the table shown without scrolling when the table is small.

@@ -11,9 +11,10 @@ use std::sync::Arc;
 
 use egui::Ui;
 
-use super::colors;
-use super::state::precision::measure;
-use super::state::{AppState, SYNC_BUILD_LIMIT};
+use crate::app::colors;
+use crate::app::state::AppState;
+use crate::app::state::build::SYNC_BUILD_LIMIT;
+use crate::app::state::precision::measure;
 use crate::numbers;
 
 /// The whole panel.

@@ -8,10 +8,10 @@ use egui::Ui;
 use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints};
 use lightpick_core::{Scaled, Scheme};
 
-use super::colors;
-use super::engine::{ConvergencePoint, Published, SchemeImage};
 use super::log_axes;
-use super::state::AppState;
+use crate::app::colors;
+use crate::app::images::{ConvergencePoint, Published, SchemeImage};
+use crate::app::state::AppState;
 use crate::numbers;
 
 /// Which x axis the plot uses.

@@ -14,12 +14,13 @@ use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
 use lightpick_core::Scaled;
 use lightpick_core::render::SeriesPoint;
 
-use super::colors;
 use super::log_axes;
-use super::state::trade::{
+use crate::app::colors;
+use crate::app::state::AppState;
+use crate::app::state::build::SYNC_BUILD_LIMIT;
+use crate::app::state::trade::{
     TRADE_MAX_SPP, TRADE_SIDE, TradeMeasurement, TradeRow, measure, scheme_label,
 };
-use super::state::{AppState, SYNC_BUILD_LIMIT};
 use crate::numbers;
 
 /// The whole panel.

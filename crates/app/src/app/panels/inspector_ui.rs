@@ -9,9 +9,9 @@ use egui_plot::{Bar, BarChart, Legend, Plot};
 use lightpick_core::Scheme;
 use lightpick_core::inspect::PointInspection;
 
-use super::colors;
-use super::state::AppState;
-use super::state::estimator::EstimatorPoint;
+use crate::app::colors;
+use crate::app::state::AppState;
+use crate::app::state::estimator::EstimatorPoint;
 use crate::numbers;
 
 /// The pixel of a `width × height` image under a click on its `response`, if it was

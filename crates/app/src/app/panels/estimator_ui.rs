@@ -16,10 +16,10 @@ use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints};
 use lightpick_core::Scaled;
 use lightpick_core::point_estimate::{PointEstimator, samples_for_relative_error};
 
-use super::colors;
 use super::log_axes;
-use super::state::AppState;
-use super::state::estimator::{EstimatorPoint, seed_point_uses_scene};
+use crate::app::colors;
+use crate::app::state::AppState;
+use crate::app::state::estimator::{EstimatorPoint, seed_point_uses_scene};
 use crate::numbers;
 
 /// The relative standard error the table's sample counts aim at.
@@ -154,7 +154,7 @@ fn point_sentence_ui(
     ui: &mut Ui,
     point: EstimatorPoint,
     estimator: &PointEstimator,
-    built: &super::state::Built,
+    built: &crate::app::state::built::Built,
     dark: bool,
 ) {
     let f = estimator.contributions();
