@@ -1,5 +1,5 @@
 //! The panels and windows, one `*_ui.rs` each, over the [`AppState`] (which imports no
-//! panel): [`lights_ui`], [`table_ui`] (table and diagram), [`histogram_ui`] (sampling),
+//! panel): [`lights_ui`], [`table_ui`] (table, over the [`diagram_ui`]), [`histogram_ui`] (sampling),
 //! [`render_ui`] (images), [`convergence_ui`], and the windows [`trade_ui`] (speed against
 //! accuracy), [`precision_ui`], [`walkthrough_ui`] and [`stepper_ui`] (the classroom),
 //! [`inspector_ui`] (a clicked pixel), [`estimator_ui`], [`animation_export_ui`]; the
@@ -10,6 +10,7 @@
 pub mod animation_export_ui;
 pub mod controls_ui;
 pub mod convergence_ui;
+pub mod diagram_ui;
 pub mod estimator_ui;
 pub mod file_dialog_ui;
 pub mod histogram_ui;
