@@ -2,7 +2,7 @@
 //!
 //! - small shared pieces: [`background`] (the one worker-thread mechanism), [`colors`] (the
 //!   palette in egui's colours), [`scene_io`] (presets, scene files, random scenes) and
-//!   [`memory`] (what the app holds, and giving freed memory back);
+//!   `memory` (what the app holds, and giving freed memory back);
 //! - [`state`]: the one [`AppState`] every panel reads and edits, split by concept;
 //! - [`images`]: where the progressive images are made (CPU engine, GPU lanes, placement,
 //!   frame budget);

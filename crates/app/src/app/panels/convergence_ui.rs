@@ -83,6 +83,22 @@ pub fn convergence_ui(
         ui.label("spatial: the exact contribution pick (few lights), zero variance: its RMSE is rounding, off the plot")
             .on_hover_text("p(i | x) ∝ p_i·G_i(x) makes every sample equal to the exact irradiance");
     }
+    curves_plot_ui(
+        ui,
+        *axis,
+        [uniform_points, importance_points, spatial_points],
+        state.dark(),
+    );
+}
+
+/// The log-log plot of the three schemes' curves (`log10` points against `axis`) with the
+/// `−1/2` slope through the first uniform point.
+fn curves_plot_ui(
+    ui: &mut Ui,
+    axis: ConvergenceAxis,
+    [uniform_points, importance_points, spatial_points]: [Vec<[f64; 2]>; 3],
+    dark: bool,
+) {
     // The −1/2 slope through the first uniform point.
     let slope = uniform_points
         .first()
@@ -95,8 +111,7 @@ pub fn convergence_ui(
         ConvergenceAxis::Spp => "samples per pixel (log scale)",
         ConvergenceAxis::Seconds => "render seconds, as T counts them (log scale)",
     };
-    let dark = state.dark();
-    log_axes::log_log_plot(Plot::new(("convergence", *axis == ConvergenceAxis::Spp)))
+    log_axes::log_log_plot(Plot::new(("convergence", axis == ConvergenceAxis::Spp)))
         .legend(Legend::default())
         .show_background(false)
         .height(ui.available_height().max(140.0))

@@ -3,11 +3,13 @@
 //! scheme and each samples-per-pixel count sits on the error-against-time plane.
 //!
 //! The figures come from a small copy of the scene (at most [`TRADE_SIDE`] pixels a side),
-//! one fresh [`CpuRenderer`] per scheme run to [`TRADE_MAX_SPP`] samples per pixel with
-//! [`convergence_series`] (three times, keeping the fastest time of each point), against an
-//! exact [`Reference`]. The measurement runs on a
-//! background thread in the app (the window never waits for it, even at `10^6` lights) and
-//! inline with virtual timings in tests (deterministic snapshots).
+//! one fresh [`CpuRenderer`](lightpick_core::render::CpuRenderer) per scheme run to
+//! [`TRADE_MAX_SPP`] samples per pixel with
+//! [`convergence_series`](lightpick_core::render::convergence_series) (three times, keeping
+//! the fastest time of each point), against an exact
+//! [`Reference`](lightpick_core::render::Reference). The measurement runs on a background
+//! thread in the app (the window never waits for it, even at `10^6` lights) and inline with
+//! virtual timings in tests (deterministic snapshots).
 
 use egui::Ui;
 use egui_plot::{Legend, Line, Plot, PlotPoints, Points};

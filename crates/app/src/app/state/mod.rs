@@ -16,7 +16,7 @@
 //! an edit to [`Built`], in the frame or on a worker), [`built`] (the last valid scene and
 //! its samplers), [`sampling`] (histograms, chi-square, one draw), [`file_dialog`],
 //! [`animation_export`], and one file per window's state (trade, precision, inspector,
-//! estimator, walkthrough, stepper); [`memory`] counts what each part holds.
+//! estimator, walkthrough, stepper); `memory` counts what each part holds.
 
 use std::sync::Arc;
 

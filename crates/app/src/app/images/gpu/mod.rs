@@ -10,7 +10,7 @@
 //! costlier than that, so a slow device slows the images, never the window. The sums are
 //! read back at pass boundaries only.
 //!
-//! [`lanes`] holds the three lanes and what each does in a frame; this file decides, per
+//! `lanes` holds the three lanes and what each does in a frame; this file decides, per
 //! frame, what they do: restart, upload (on a worker for large scenes), the reference (on a
 //! worker), accumulate, tonemap, read back, publish.
 
