@@ -1,15 +1,15 @@
 //! The egui/eframe desktop app, in layers (each imports only those below it):
 //!
 //! - small shared pieces: [`background`] (the one worker-thread mechanism), [`colors`] (the
-//!   palette in egui's colours), [`scene_io`] (presets, scene files, random scenes) and
-//!   `memory` (what the app holds, and giving freed memory back);
+//!   palette in egui's colours) and [`scene_io`] (presets, scene files, random scenes);
 //! - [`state`]: the one [`AppState`] every panel reads and edits, split by concept;
 //! - [`images`]: where the progressive images are made (CPU engine, GPU lanes, placement,
 //!   frame budget);
 //! - [`panels`]: one `*_ui.rs` per panel or window, and the layout;
 //! - the shell, here: [`LightpickApp`] wires them; [`window`] opens the eframe window
 //!   ([`run`]), `frame` is what each frame does around the panels, `files` opens, saves and
-//!   exports, `persist` keeps the settings, layout and scene between sessions.
+//!   exports, `persist` keeps the settings, layout and scene between sessions, `memory`
+//!   counts what the app holds and gives freed memory back.
 //!
 //! [`LightpickApp::ui`] draws the whole window into any [`egui::Ui`], so tests drive it with
 //! `egui_kittest` without eframe. The app never imports `crate::cli`; what both need lives
