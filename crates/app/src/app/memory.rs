@@ -3,7 +3,7 @@
 //! README's table of bytes per light).
 
 use super::LightpickApp;
-use super::engine::RendererBytes;
+use super::images::{Engine, GpuImages, RendererBytes};
 
 impl LightpickApp {
     /// The heap bytes each part of the app holds: the state's parts
@@ -15,11 +15,11 @@ impl LightpickApp {
         let cpu = self
             .engine
             .as_ref()
-            .map_or_else(RendererBytes::default, super::engine::Engine::bytes);
+            .map_or_else(RendererBytes::default, Engine::bytes);
         let gpu = self
             .gpu
             .as_ref()
-            .map_or_else(RendererBytes::default, super::gpu_images::GpuImages::bytes);
+            .map_or_else(RendererBytes::default, GpuImages::bytes);
         parts.extend([
             (
                 "CPU lanes: light profiles (positions and powers are the scene's)",

@@ -1,5 +1,6 @@
 //! The app's access to scenes: presets, scene files of every format the core's loader reads
-//! (lightpick JSON, glTF/GLB, CSV), and scenes generated from a count.
+//! (lightpick JSON, glTF/GLB, CSV), and scenes generated from a count with random powers of
+//! a chosen [`PowerShape`].
 //!
 //! Every scene format question is answered by `lightpick_core::scene`; this module only
 //! adapts its errors to one-line messages for the status bar.
@@ -70,9 +71,12 @@ pub fn save(path: &Path, scene: &Scene) -> Result<(), String> {
     std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// A distribution to draw random powers from.
+/// The shape of the random powers that the lights panel's Randomize and Generate draw: a
+/// fixed unit-scale density, times a scale ([`random_powers`]). Not the core's
+/// `lightpick_core::scene::PowerDistribution`, the parameterized recipe of a scene file's
+/// generator (another density family, drawn from another stream).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum PowerDistribution {
+pub enum PowerShape {
     /// Uniform on `[0, 1)` times the scale.
     Uniform,
     /// Exponential with mean 1, times the scale.
@@ -83,22 +87,22 @@ pub enum PowerDistribution {
     LogNormal,
 }
 
-impl PowerDistribution {
+impl PowerShape {
     /// Every distribution, in menu order.
-    pub const ALL: [PowerDistribution; 4] = [
-        PowerDistribution::Uniform,
-        PowerDistribution::Exponential,
-        PowerDistribution::Pareto,
-        PowerDistribution::LogNormal,
+    pub const ALL: [PowerShape; 4] = [
+        PowerShape::Uniform,
+        PowerShape::Exponential,
+        PowerShape::Pareto,
+        PowerShape::LogNormal,
     ];
 
     /// The menu label.
     pub fn label(self) -> &'static str {
         match self {
-            PowerDistribution::Uniform => "uniform [0, 1)",
-            PowerDistribution::Exponential => "exponential (mean 1)",
-            PowerDistribution::Pareto => "Pareto (α = 1.5)",
-            PowerDistribution::LogNormal => "log-normal (σ = 2)",
+            PowerShape::Uniform => "uniform [0, 1)",
+            PowerShape::Exponential => "exponential (mean 1)",
+            PowerShape::Pareto => "Pareto (α = 1.5)",
+            PowerShape::LogNormal => "log-normal (σ = 2)",
         }
     }
 
@@ -106,10 +110,10 @@ impl PowerDistribution {
     /// transforms, so the shared counter-based RNG drives everything).
     pub fn draw(self, u1: f64, u2: f64) -> f64 {
         match self {
-            PowerDistribution::Uniform => u1,
-            PowerDistribution::Exponential => -(1.0 - u1).ln(),
-            PowerDistribution::Pareto => (1.0 - u1).powf(-1.0 / 1.5),
-            PowerDistribution::LogNormal => {
+            PowerShape::Uniform => u1,
+            PowerShape::Exponential => -(1.0 - u1).ln(),
+            PowerShape::Pareto => (1.0 - u1).powf(-1.0 / 1.5),
+            PowerShape::LogNormal => {
                 let r = (-2.0 * (1.0 - u1).ln()).sqrt();
                 (2.0 * r * (std::f64::consts::TAU * u2).cos()).exp()
             }
@@ -118,7 +122,7 @@ impl PowerDistribution {
 }
 
 /// `count` powers drawn from `dist` with generator `seed`, scaled by `scale`.
-pub fn random_powers(count: usize, dist: PowerDistribution, scale: f64, seed: u64) -> Vec<f64> {
+pub fn random_powers(count: usize, dist: PowerShape, scale: f64, seed: u64) -> Vec<f64> {
     (0..count)
         .map(|i| {
             let mut rng = Rng::new(seed, i as u64);

@@ -11,7 +11,7 @@ use lightpick_core::scene::{Loaded, Scene};
 use serde_json::{Value, json};
 
 use super::input::SceneArgs;
-use crate::app::fractions::short;
+use crate::numbers::short;
 
 /// Arguments of `lightpick scene`.
 #[derive(Debug, Args)]

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use egui_kittest::Harness;
 use lightpick::app::LightpickApp;
-use lightpick::app::engine::Published;
+use lightpick::app::images::Published;
 use lightpick::app::state::FileAction;
 use lightpick_core::Scheme;
 use lightpick_core::render::{CpuRenderer, Reference, rmse};

@@ -5,8 +5,8 @@
 use egui::accesskit::Role;
 use egui_kittest::kittest::Queryable as _;
 use egui_kittest::{Harness, SnapshotOptions};
-use lightpick::app::fractions::short;
 use lightpick::app::{LightpickApp, PanelKind};
+use lightpick::numbers::short;
 use lightpick_core::inspect::PointInspection;
 use lightpick_core::scene::pixel_center;
 use lightpick_core::spatial::SpatialSampler;

@@ -6,9 +6,9 @@
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
 use glam::{dvec2, dvec3};
-use lightpick::app::fractions;
 use lightpick::app::state::trade::{TradeMeasurement, measure, scheme_label};
 use lightpick::app::{LightpickApp, PanelKind};
+use lightpick::numbers as fractions;
 use lightpick_core::render::{Efficiency, is_zero_variance_scaled};
 use lightpick_core::scene::{ReceiverPlane, Scene};
 use lightpick_core::{Scaled, Scheme};
@@ -135,7 +135,7 @@ fn convergence_table_gives_an_efficiency_and_its_ratios() {
     let (harness, near) = run(1e-150);
     let pixels = 64;
     assert_eq!(near.importance.spp, 8);
-    let efficiency = |image: &lightpick::app::engine::SchemeImage| {
+    let efficiency = |image: &lightpick::app::images::SchemeImage| {
         image.efficiency(pixels).expect("a variance and a time")
     };
     for (b, n) in [
@@ -155,12 +155,12 @@ fn convergence_table_gives_an_efficiency_and_its_ratios() {
         );
     }
     // The importance row's ratios over uniform: the same as at z = 1, printed the same.
-    let speedup = |p: &lightpick::app::engine::Published| {
+    let speedup = |p: &lightpick::app::images::Published| {
         (efficiency(&p.importance) / efficiency(&p.uniform)).to_f64()
     };
     let (a, b) = (speedup(&near), speedup(&base));
     assert!((a - b).abs() <= TOLERANCE * b, "{a} vs {b}");
-    let variance_ratio = |p: &lightpick::app::engine::Published| {
+    let variance_ratio = |p: &lightpick::app::images::Published| {
         (p.uniform.normalized_variance / p.importance.normalized_variance).to_f64()
     };
     let text = format!(

@@ -3,7 +3,8 @@
 
 use egui_kittest::kittest::Queryable as _;
 use egui_kittest::{Harness, SnapshotOptions};
-use lightpick::app::{LightpickApp, PanelKind, layout};
+use lightpick::app::panels::layout;
+use lightpick::app::{LightpickApp, PanelKind};
 
 fn options() -> SnapshotOptions {
     SnapshotOptions::new().output_path(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/snapshots"))

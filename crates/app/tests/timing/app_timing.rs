@@ -18,7 +18,7 @@ use std::sync::Arc;
 
 use egui_kittest::Harness;
 use lightpick::app::LightpickApp;
-use lightpick::app::engine::SchemeImage;
+use lightpick::app::images::SchemeImage;
 use lightpick_core::Scheme;
 use lightpick_core::gpu::{self, GpuContext};
 
@@ -162,7 +162,7 @@ fn the_apps_time_per_sample_is_the_benchs() {
 /// thing, the wall time or the window's work would still be off by 2× or more.
 #[test]
 fn the_cpu_engines_time_per_sample_is_the_benchs() {
-    use lightpick::app::engine::{Engine, EngineConfig, Published};
+    use lightpick::app::images::{Engine, EngineConfig, Published};
     use lightpick::app::state::{BudgetMode, Built};
     use lightpick_core::render::measure_cpu_passes;
 

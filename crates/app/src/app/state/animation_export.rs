@@ -1,5 +1,5 @@
 //! File → "Export animation…": the convergence animation of `lightpick plot animation`
-//! ([`crate::cli::animation`]) recorded from the app's running state — its scene, seed,
+//! ([`crate::recording`]) recorded from the app's running state — its scene, seed,
 //! exposure, image size and theme — on a worker thread, so the window stays responsive,
 //! with the progress and the outcome for the export window and the status bar.
 //!
@@ -9,13 +9,13 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::mpsc;
 use std::time::Instant;
 
 use lightpick_core::draw::Theme;
 
 use super::AppState;
-use crate::cli::animation::{self, Recording};
+use crate::app::background::{Polled, Worker};
+use crate::recording::{self, Recording};
 
 /// Images larger than this many pixels a side are exported smaller (same aspect), so a
 /// large scene's frames stay slide-sized and the export takes seconds, not minutes.
@@ -62,10 +62,10 @@ impl Exported {
 }
 
 /// Records `job`'s animation and writes it to `job.path`, calling `progress(done, total)`
-/// as [`animation::record`] does. Errors are sentences for the status bar.
+/// as [`recording::record`] does. Errors are sentences for the status bar.
 pub fn export(job: &ExportJob, progress: &mut dyn FnMut(u32, u32)) -> Result<Exported, String> {
     let started = Instant::now();
-    let recorded = animation::record(&job.recording, progress).map_err(|e| format!("{e:#}"))?;
+    let recorded = recording::record(&job.recording, progress).map_err(|e| format!("{e:#}"))?;
     std::fs::write(&job.path, &recorded.gif)
         .map_err(|e| format!("cannot write {}: {e}", job.path.display()))?;
     Ok(Exported {
@@ -77,6 +77,9 @@ pub fn export(job: &ExportJob, progress: &mut dyn FnMut(u32, u32)) -> Result<Exp
     })
 }
 
+/// What an export that ended without a result says.
+const LOST: &str = "the export stopped without a result";
+
 /// An export running on its worker thread.
 #[derive(Debug)]
 struct Running {
@@ -87,7 +90,7 @@ struct Running {
     /// The file being written.
     path: PathBuf,
     /// The outcome, once there is one.
-    receiver: mpsc::Receiver<Result<Exported, String>>,
+    worker: Worker<Result<Exported, String>>,
 }
 
 /// The export window's settings, the export in progress and the last outcome.
@@ -112,8 +115,8 @@ impl Default for AnimationExport {
         Self {
             open: false,
             path: String::new(),
-            frames: animation::DEFAULT_FRAMES,
-            max_spp: animation::DEFAULT_MAX_SPP,
+            frames: recording::DEFAULT_FRAMES,
+            max_spp: recording::DEFAULT_MAX_SPP,
             last: None,
             running: None,
         }
@@ -156,24 +159,20 @@ impl AnimationExport {
             return;
         }
         let done = Arc::new(AtomicU32::new(0));
-        let (sender, receiver) = mpsc::channel();
         let total = job.recording.frames;
         let path = job.path.clone();
         let counter = Arc::clone(&done);
-        let spawned = std::thread::Builder::new()
-            .name("lightpick-animation".to_owned())
-            .spawn(move || {
-                let result = export(&job, &mut |d, _| counter.store(d, Ordering::Relaxed));
-                let _ = sender.send(result);
-            });
+        let spawned = Worker::spawn("lightpick-animation", move || {
+            export(&job, &mut |d, _| counter.store(d, Ordering::Relaxed))
+        });
         match spawned {
-            Ok(_) => {
+            Ok(worker) => {
                 self.last = None;
                 self.running = Some(Running {
                     done,
                     total,
                     path,
-                    receiver,
+                    worker,
                 });
             }
             Err(e) => self.last = Some(Err(format!("cannot start the export: {e}"))),
@@ -184,12 +183,10 @@ impl AnimationExport {
     /// arrived now (call once per frame).
     pub fn poll(&mut self) -> Option<&Result<Exported, String>> {
         let running = self.running.as_ref()?;
-        let outcome = match running.receiver.try_recv() {
-            Ok(outcome) => outcome,
-            Err(mpsc::TryRecvError::Empty) => return None,
-            Err(mpsc::TryRecvError::Disconnected) => {
-                Err("the export stopped without a result".to_owned())
-            }
+        let outcome = match running.worker.poll() {
+            Polled::Done(outcome) => outcome,
+            Polled::Running => return None,
+            Polled::Lost => Err(LOST.to_owned()),
         };
         self.running = None;
         self.last = Some(outcome);
@@ -200,9 +197,9 @@ impl AnimationExport {
     pub fn wait(&mut self) -> Option<&Result<Exported, String>> {
         let running = self.running.take()?;
         let outcome = running
-            .receiver
-            .recv()
-            .unwrap_or_else(|_| Err("the export stopped without a result".to_owned()));
+            .worker
+            .wait()
+            .unwrap_or_else(|| Err(LOST.to_owned()));
         self.last = Some(outcome);
         self.last.as_ref()
     }
@@ -224,7 +221,7 @@ impl AppState {
     pub fn animation_job(&self, path: impl Into<PathBuf>) -> ExportJob {
         let mut scene = (*self.built.scene).clone();
         let (w, h) = export_size(scene.plane.width, scene.plane.height);
-        animation::size_scene(&mut scene, Some(w), Some(h));
+        recording::size_scene(&mut scene, Some(w), Some(h));
         let settings = &self.animation_export;
         ExportJob {
             recording: Recording {
@@ -233,8 +230,8 @@ impl AppState {
                 exposure: Some(self.settings.exposure),
                 frames: settings.frames,
                 max_spp: settings.max_spp,
-                delay_ms: animation::DEFAULT_DELAY_MS,
-                hold_ms: animation::DEFAULT_HOLD_MS,
+                delay_ms: recording::DEFAULT_DELAY_MS,
+                hold_ms: recording::DEFAULT_HOLD_MS,
                 theme: if self.dark() {
                     Theme::Dark
                 } else {

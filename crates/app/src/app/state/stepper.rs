@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use lightpick_core::construction::ConstructionTrace;
 
+use super::AppState;
 use super::built::Built;
 
 /// The stepper animates tables of at most this many lights.
@@ -71,5 +72,14 @@ impl StepperState {
                 })
                 .sum()
         })
+    }
+}
+
+impl AppState {
+    /// The construction of the current table for the stepper (`None` beyond
+    /// [`STEPPER_MAX_LIGHTS`] lights).
+    pub fn stepper_trace(&mut self) -> Option<Arc<ConstructionTrace>> {
+        let built = Arc::clone(&self.built);
+        self.stepper.trace(&built)
     }
 }

@@ -7,6 +7,8 @@ use lightpick_core::scene::Scene;
 use lightpick_core::walkthrough::{CLASSIC_GEOMETRY, WalkStep, Walkthrough};
 
 use super::built::Built;
+use super::{AppState, MessageKind};
+use crate::app::scene_io;
 
 /// The walkthrough retells the classic explanation, which has exactly this many lights.
 pub const WALKTHROUGH_LIGHTS: usize = 3;
@@ -56,5 +58,60 @@ impl WalkthroughState {
     /// Whether the current step is the last one of `lesson`.
     pub fn at_last_step(&self, lesson: &Lesson) -> bool {
         self.step + 1 >= lesson.1.len()
+    }
+}
+
+impl AppState {
+    /// Once per frame, before the panels: restores the user's scene when the walkthrough
+    /// was just closed, and sets the table highlight of the current step (or clears it).
+    pub fn prepare_walkthrough(&mut self) {
+        let open = self.settings.show_walkthrough;
+        if self.walkthrough.was_open && !open {
+            self.restore_scene();
+        }
+        self.walkthrough.was_open = open;
+        self.table_highlight = None;
+        if let Some(walk) = self.walkthrough_lesson() {
+            let k = self.walkthrough.step.min(walk.1.len() - 1);
+            self.walkthrough.step = k;
+            self.table_highlight = Some(walk.1[k].highlight.clone());
+        }
+    }
+
+    /// The walkthrough of the current powers, `None` when its window is closed or the scene
+    /// does not have three lights.
+    pub fn walkthrough_lesson(&mut self) -> Option<Lesson> {
+        if !self.settings.show_walkthrough {
+            return None;
+        }
+        let built = Arc::clone(&self.built);
+        self.walkthrough.lesson(&built)
+    }
+
+    /// Loads the seed scene (2, 5, 20), keeping the user's scene for later.
+    pub fn load_classic(&mut self) {
+        if self.walkthrough.saved_scene.is_none() {
+            self.walkthrough.saved_scene = Some((*self.built.scene).clone());
+        }
+        self.load_scene(scene_io::seed_scene());
+        self.walkthrough.step = 0;
+        self.message(
+            "classic scene loaded (powers 2, 5, 20); your scene comes back when the \
+             walkthrough closes",
+            MessageKind::Info,
+        );
+    }
+
+    /// Puts the scene kept by the walkthrough back, if any.
+    pub fn restore_scene(&mut self) {
+        if let Some(scene) = self.walkthrough.saved_scene.take() {
+            let text = format!(
+                "restored your scene \"{}\" ({} lights)",
+                scene.name,
+                scene.light_count()
+            );
+            self.load_scene(scene);
+            self.message(text, MessageKind::Success);
+        }
     }
 }

@@ -3,24 +3,27 @@
 //! scheme and each samples-per-pixel count sits on the error-against-time plane.
 //!
 //! The figures come from a small copy of the scene (at most [`TRADE_SIDE`] pixels a side),
-//! one fresh [`CpuRenderer`] per scheme run to [`TRADE_MAX_SPP`] samples per pixel with
-//! [`convergence_series`] (three times, keeping the fastest time of each point), against an
-//! exact [`Reference`]. The measurement runs on a
-//! background thread in the app (the window never waits for it, even at `10^6` lights) and
-//! inline with virtual timings in tests (deterministic snapshots).
+//! one fresh [`CpuRenderer`](lightpick_core::render::CpuRenderer) per scheme run to
+//! [`TRADE_MAX_SPP`] samples per pixel with
+//! [`convergence_series`](lightpick_core::render::convergence_series) (three times, keeping
+//! the fastest time of each point), against an exact
+//! [`Reference`](lightpick_core::render::Reference). The measurement runs on a background
+//! thread in the app (the window never waits for it, even at `10^6` lights) and inline with
+//! virtual timings in tests (deterministic snapshots).
 
 use egui::Ui;
 use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
 use lightpick_core::Scaled;
 use lightpick_core::render::SeriesPoint;
 
-use super::colors;
-use super::fractions;
 use super::log_axes;
-use super::state::trade::{
+use crate::app::colors;
+use crate::app::state::AppState;
+use crate::app::state::build::SYNC_BUILD_LIMIT;
+use crate::app::state::trade::{
     TRADE_MAX_SPP, TRADE_SIDE, TradeMeasurement, TradeRow, measure, scheme_label,
 };
-use super::state::{AppState, SYNC_BUILD_LIMIT};
+use crate::numbers;
 
 /// The whole panel.
 pub fn trade_ui(ui: &mut Ui, state: &mut AppState) {
@@ -158,15 +161,13 @@ fn figures_ui(ui: &mut Ui, m: &TradeMeasurement) {
             for row in &m.rows {
                 let e = row.efficiency;
                 ui.colored_label(colors::scheme(row.scheme), scheme_label(row.scheme));
-                ui.label(fractions::short(e.seconds_per_sample * 1e9));
-                ui.label(fractions::short_scaled(Scaled::from_log10(
-                    e.variance_log10,
-                )));
+                ui.label(numbers::short(e.seconds_per_sample * 1e9));
+                ui.label(numbers::short_scaled(Scaled::from_log10(e.variance_log10)));
                 let exact = is_exact(row, largest);
                 ui.label(if exact {
                     "∞ (exact)".to_owned()
                 } else {
-                    fractions::short_scaled(e.efficiency)
+                    numbers::short_scaled(e.efficiency)
                 });
                 let relative = if exact {
                     "∞".to_owned()
@@ -179,7 +180,7 @@ fn figures_ui(ui: &mut Ui, m: &TradeMeasurement) {
                 ui.label(
                     row.series
                         .last()
-                        .map_or("–".to_owned(), |p| fractions::short(p.rmse)),
+                        .map_or("–".to_owned(), |p| numbers::short(p.rmse)),
                 );
                 ui.end_row();
             }

@@ -4,11 +4,12 @@
 use egui::{ColorImage, TextureHandle, TextureOptions, Ui};
 use lightpick_core::Scheme;
 
-use super::colors;
-use super::engine::{Published, SchemeImage};
-use super::fractions;
 use super::inspector_ui;
-use super::state::{AppState, BudgetMode};
+use crate::app::colors;
+use crate::app::images::{Published, SchemeImage};
+use crate::app::state::AppState;
+use crate::app::state::settings::BudgetMode;
+use crate::numbers;
 
 /// The textures of the latest published frame.
 #[derive(Default)]
@@ -115,26 +116,7 @@ pub fn images_ui(
     published: Option<&Published>,
     textures: &ImageTextures,
 ) {
-    ui.horizontal_wrapped(|ui| {
-        ui.checkbox(&mut state.settings.show_reference, "reference")
-            .on_hover_text("Show the exact reference image (sum over every light)");
-        ui.checkbox(&mut state.settings.show_error, "error maps")
-            .on_hover_text("Show |estimate − reference| per pixel under each image");
-        if let Some(published) = published {
-            let mode = match state.settings.budget {
-                BudgetMode::EqualSamples => "equal samples",
-                BudgetMode::EqualTime => "equal time",
-            };
-            ui.label(
-                egui::RichText::new(format!(
-                    "{}×{} px · {mode}",
-                    published.width, published.height
-                ))
-                .color(colors::muted(state.dark())),
-            )
-            .on_hover_text("Image resolution, and how the frame's work is shared between schemes");
-        }
-    });
+    options_ui(ui, state, published);
     let Some(published) = published else {
         ui.label("waiting for the first frame…");
         return;
@@ -211,6 +193,37 @@ pub fn images_ui(
             });
         }
     });
+    notes_ui(ui, state, published, stale);
+}
+
+/// The reference and error-map switches, and the image size and budget mode.
+fn options_ui(ui: &mut Ui, state: &mut AppState, published: Option<&Published>) {
+    ui.horizontal_wrapped(|ui| {
+        ui.checkbox(&mut state.settings.show_reference, "reference")
+            .on_hover_text("Show the exact reference image (sum over every light)");
+        ui.checkbox(&mut state.settings.show_error, "error maps")
+            .on_hover_text("Show |estimate − reference| per pixel under each image");
+        if let Some(published) = published {
+            let mode = match state.settings.budget {
+                BudgetMode::EqualSamples => "equal samples",
+                BudgetMode::EqualTime => "equal time",
+            };
+            ui.label(
+                egui::RichText::new(format!(
+                    "{}×{} px · {mode}",
+                    published.width, published.height
+                ))
+                .color(colors::muted(state.dark())),
+            )
+            .on_hover_text("Image resolution, and how the frame's work is shared between schemes");
+        }
+    });
+}
+
+/// The notes under the images: what the scene shows (the seed, spots), a restart in
+/// progress (`stale`), why there is no reference.
+fn notes_ui(ui: &mut Ui, state: &AppState, published: &Published, stale: bool) {
+    let dark = state.dark();
     if let Some(note) = image_note(&state.built.scene, published.light_count) {
         ui.label(
             egui::RichText::new(note.text)
@@ -363,7 +376,7 @@ fn image_column(
                 .on_hover_text("Samples per pixel accumulated");
         }
         if let Some(rmse) = image.rmse {
-            ui.label(format!("RMSE {}", fractions::short(rmse)))
+            ui.label(format!("RMSE {}", numbers::short(rmse)))
                 .on_hover_text("Root-mean-square error against the reference");
         }
         ui.label(format!(

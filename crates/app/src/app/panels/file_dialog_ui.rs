@@ -9,8 +9,9 @@ use std::path::{Path, PathBuf};
 
 use egui::Ui;
 
-use super::colors;
-use super::state::{AppState, FileAction, FileDialog, FolderEntry};
+use crate::app::colors;
+use crate::app::state::AppState;
+use crate::app::state::file_dialog::{FileAction, FileDialog, FolderEntry};
 
 /// What the user confirmed in the dialog this frame.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -81,6 +82,97 @@ fn enter(dialog: &mut FileDialog, folder: PathBuf) {
     dialog.listing = None;
 }
 
+/// Up, Home and the folder shown; the "All files" switch.
+fn folder_ui(ui: &mut Ui, dialog: &mut FileDialog, folder: &Path, types_label: &str) {
+    ui.horizontal(|ui| {
+        let parent = folder.parent().map(Path::to_owned);
+        if ui
+            .add_enabled(parent.is_some(), egui::Button::new("Up"))
+            .on_hover_text("The folder above")
+            .clicked()
+            && let Some(parent) = parent
+        {
+            enter(dialog, parent);
+        }
+        if let Some(home) = std::env::var_os("HOME").map(PathBuf::from)
+            && ui
+                .button("Home")
+                .on_hover_text(home.display().to_string())
+                .clicked()
+        {
+            enter(dialog, home);
+        }
+        ui.label(egui::RichText::new(folder.display().to_string()).monospace())
+            .on_hover_text("The folder shown");
+    });
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut dialog.all_files, "All files")
+            .on_hover_text(format!("Show every file, not only {types_label}"));
+        if !dialog.all_files {
+            ui.weak(format!("showing {types_label}"));
+        }
+    });
+}
+
+/// The folder's entries (folders, then the action's files or all), scrolling in
+/// `list_height`: returns a folder clicked and a file picked (`true`: double-clicked, to
+/// confirm).
+fn entries_ui(
+    ui: &mut Ui,
+    dialog: &FileDialog,
+    folder: &Path,
+    extensions: &[&str],
+    (list_height, width): (f32, f32),
+    dark: bool,
+) -> (Option<PathBuf>, Option<(String, bool)>) {
+    let mut open_folder = None;
+    let mut picked = None;
+    egui::ScrollArea::vertical()
+        .id_salt("file_dialog_entries")
+        .max_height(list_height)
+        .min_scrolled_height(list_height)
+        .auto_shrink([false, false])
+        .show(ui, |ui| {
+            ui.set_min_width(480.0_f32.min(width - 80.0));
+            match dialog.listing.as_ref().map(|(_, l)| l) {
+                Some(Ok(entries)) => {
+                    let shown = entries.iter().filter(|e| {
+                        e.is_dir || dialog.all_files || has_extension(&e.name, extensions)
+                    });
+                    for entry in shown {
+                        if entry.is_dir {
+                            if ui
+                                .selectable_label(false, format!("{}/", entry.name))
+                                .on_hover_text("Open this folder")
+                                .clicked()
+                            {
+                                open_folder = Some(folder.join(&entry.name));
+                            }
+                        } else {
+                            let selected = dialog.path == entry.name;
+                            let response = ui
+                                .selectable_label(
+                                    selected,
+                                    format!("{}   {}", entry.name, size_text(entry.bytes)),
+                                )
+                                .on_hover_text("Click to choose, double-click to confirm");
+                            if response.double_clicked() {
+                                picked = Some((entry.name.clone(), true));
+                            } else if response.clicked() {
+                                picked = Some((entry.name.clone(), false));
+                            }
+                        }
+                    }
+                }
+                Some(Err(e)) => {
+                    ui.colored_label(colors::error(dark), e);
+                }
+                None => {}
+            }
+        });
+    (open_folder, picked)
+}
+
 /// Shows the dialog when an action is pending; returns the action confirmed this frame.
 pub fn file_dialog_ui(ui: &mut Ui, state: &mut AppState) -> Option<Confirmed> {
     let action = state.file_dialog.action?;
@@ -98,80 +190,16 @@ pub fn file_dialog_ui(ui: &mut Ui, state: &mut AppState) -> Option<Confirmed> {
         .show(ui.ctx(), |ui| {
             let dialog = &mut state.file_dialog;
             let folder = dialog.folder();
-            ui.horizontal(|ui| {
-                let parent = folder.parent().map(Path::to_owned);
-                if ui
-                    .add_enabled(parent.is_some(), egui::Button::new("Up"))
-                    .on_hover_text("The folder above")
-                    .clicked()
-                    && let Some(parent) = parent
-                {
-                    enter(dialog, parent);
-                }
-                if let Some(home) = std::env::var_os("HOME").map(PathBuf::from)
-                    && ui
-                        .button("Home")
-                        .on_hover_text(home.display().to_string())
-                        .clicked()
-                {
-                    enter(dialog, home);
-                }
-                ui.label(egui::RichText::new(folder.display().to_string()).monospace())
-                    .on_hover_text("The folder shown");
-            });
-            ui.horizontal(|ui| {
-                ui.checkbox(&mut dialog.all_files, "All files")
-                    .on_hover_text(format!("Show every file, not only {types_label}"));
-                if !dialog.all_files {
-                    ui.weak(format!("showing {types_label}"));
-                }
-            });
+            folder_ui(ui, dialog, &folder, types_label);
             let list_height = (screen.height() * 0.45).clamp(120.0, 360.0);
-            let mut open_folder = None;
-            let mut picked = None;
-            egui::ScrollArea::vertical()
-                .id_salt("file_dialog_entries")
-                .max_height(list_height)
-                .min_scrolled_height(list_height)
-                .auto_shrink([false, false])
-                .show(ui, |ui| {
-                    ui.set_min_width(480.0_f32.min(screen.width() - 80.0));
-                    match dialog.listing.as_ref().map(|(_, l)| l) {
-                        Some(Ok(entries)) => {
-                            let shown = entries.iter().filter(|e| {
-                                e.is_dir || dialog.all_files || has_extension(&e.name, extensions)
-                            });
-                            for entry in shown {
-                                if entry.is_dir {
-                                    if ui
-                                        .selectable_label(false, format!("{}/", entry.name))
-                                        .on_hover_text("Open this folder")
-                                        .clicked()
-                                    {
-                                        open_folder = Some(folder.join(&entry.name));
-                                    }
-                                } else {
-                                    let selected = dialog.path == entry.name;
-                                    let response = ui
-                                        .selectable_label(
-                                            selected,
-                                            format!("{}   {}", entry.name, size_text(entry.bytes)),
-                                        )
-                                        .on_hover_text("Click to choose, double-click to confirm");
-                                    if response.double_clicked() {
-                                        picked = Some((entry.name.clone(), true));
-                                    } else if response.clicked() {
-                                        picked = Some((entry.name.clone(), false));
-                                    }
-                                }
-                            }
-                        }
-                        Some(Err(e)) => {
-                            ui.colored_label(colors::error(dark), e);
-                        }
-                        None => {}
-                    }
-                });
+            let (open_folder, picked) = entries_ui(
+                ui,
+                dialog,
+                &folder,
+                extensions,
+                (list_height, screen.width()),
+                dark,
+            );
             if let Some(f) = open_folder {
                 enter(dialog, f);
             }
@@ -222,6 +250,23 @@ pub fn file_dialog_ui(ui: &mut Ui, state: &mut AppState) -> Option<Confirmed> {
             path: state.file_dialog.resolved().display().to_string(),
         }
     })
+}
+
+/// A veil over the window while files are dragged over it, saying what a drop does.
+pub fn drop_hint_ui(ui: &Ui) {
+    let rect = ui.ctx().content_rect();
+    let painter = ui.ctx().layer_painter(egui::LayerId::new(
+        egui::Order::Foreground,
+        egui::Id::unique("lightpick_drop_hint"),
+    ));
+    painter.rect_filled(rect, 0.0, egui::Color32::from_black_alpha(170));
+    painter.text(
+        rect.center(),
+        egui::Align2::CENTER_CENTER,
+        "Drop a scene to open it: glTF (.gltf, .glb), CSV or lightpick JSON",
+        egui::FontId::proportional(22.0),
+        egui::Color32::WHITE,
+    );
 }
 
 #[cfg(test)]

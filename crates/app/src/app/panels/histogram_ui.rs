@@ -5,9 +5,9 @@ use egui::Ui;
 use egui_plot::{Bar, BarChart, Plot, Points};
 use lightpick_core::{ChiSquare, Scheme};
 
-use super::colors;
-use super::state::AppState;
 use super::table_ui;
+use crate::app::colors;
+use crate::app::state::AppState;
 
 /// The whole panel.
 pub fn sampling_ui(ui: &mut Ui, state: &mut AppState) {
@@ -128,36 +128,7 @@ fn histogram_plot_ui(ui: &mut Ui, state: &AppState) {
     };
     let fg = colors::foreground(state.dark());
     // The key sits above the plot, where it never covers a bar.
-    ui.horizontal_wrapped(|ui| {
-        key_ui(
-            ui,
-            Marker::Bar,
-            uniform_color,
-            "uniform picks",
-            "Share of the uniform picks per light",
-        );
-        key_ui(
-            ui,
-            Marker::Bar,
-            alias_color,
-            "alias picks",
-            "Share of the alias picks per light",
-        );
-        key_ui(
-            ui,
-            Marker::Diamond,
-            fg,
-            "pmf",
-            "Expected share under alias sampling: Φ_i/ΣΦ",
-        );
-        key_ui(
-            ui,
-            Marker::Circle,
-            colors::reference(),
-            "1/N",
-            "Expected share under uniform picking",
-        );
-    });
+    key_row_ui(ui, fg);
     Plot::new("histograms")
         .show_background(false)
         .height(ui.available_height().max(140.0))
@@ -183,6 +154,40 @@ fn histogram_plot_ui(ui: &mut Ui, state: &AppState) {
                     .color(colors::reference()),
             );
         });
+}
+
+/// The plot's key: the two schemes' bars and the two expected markers (`fg`: the pmf's).
+fn key_row_ui(ui: &mut Ui, fg: egui::Color32) {
+    ui.horizontal_wrapped(|ui| {
+        key_ui(
+            ui,
+            Marker::Bar,
+            colors::scheme(Scheme::Uniform),
+            "uniform picks",
+            "Share of the uniform picks per light",
+        );
+        key_ui(
+            ui,
+            Marker::Bar,
+            colors::scheme(Scheme::Alias),
+            "alias picks",
+            "Share of the alias picks per light",
+        );
+        key_ui(
+            ui,
+            Marker::Diamond,
+            fg,
+            "pmf",
+            "Expected share under alias sampling: Φ_i/ΣΦ",
+        );
+        key_ui(
+            ui,
+            Marker::Circle,
+            colors::reference(),
+            "1/N",
+            "Expected share under uniform picking",
+        );
+    });
 }
 
 /// The mark drawn before an entry of the histogram's key.

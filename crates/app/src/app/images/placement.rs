@@ -12,7 +12,7 @@
 
 use std::time::Instant;
 
-use super::state::Device;
+use crate::app::state::settings::Device;
 
 /// Seconds of running images each candidate is measured for.
 pub const TRIAL_SECONDS: f64 = 1.5;

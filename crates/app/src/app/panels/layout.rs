@@ -20,7 +20,7 @@
 
 use egui::{Rect, Vec2};
 
-use super::PanelKind;
+use super::panel_kind::PanelKind;
 
 /// The five panels of the main window, in reading order.
 pub const PANES: [PanelKind; 5] = [

@@ -11,7 +11,7 @@
 
 use std::time::Instant;
 
-use super::state::BudgetMode;
+use crate::app::state::settings::BudgetMode;
 
 /// The frame time aimed at: 31 ms, a little under the 33 ms of 30 frames per second.
 pub const TARGET_FRAME_S: f64 = 0.031;

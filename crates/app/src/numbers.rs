@@ -1,5 +1,5 @@
-//! Number labels for the panels: exact fractions where the core finds one
-//! ([`lightpick_core::fraction`]), else short decimals.
+//! Number labels shared by the app's panels and the CLI's text output: exact fractions where
+//! the core finds one ([`lightpick_core::fraction`]), else short decimals.
 
 /// `value` as an exact fraction when possible, else with 4 significant digits.
 pub fn show(value: f64, den: Option<u64>) -> String {

@@ -12,9 +12,9 @@
 use egui::{Key, Modifiers, RichText, Ui};
 use lightpick_core::walkthrough::{CLASSIC_GEOMETRY, CLASSIC_POWERS};
 
-use super::state::AppState;
-use super::state::estimator::EstimatorPoint;
-use super::state::walkthrough::WALKTHROUGH_LIGHTS;
+use crate::app::state::AppState;
+use crate::app::state::estimator::EstimatorPoint;
+use crate::app::state::walkthrough::WALKTHROUGH_LIGHTS;
 
 /// Text size of the formulas: readable from the back of a classroom.
 pub const FORMULA_SIZE: f32 = 19.0;

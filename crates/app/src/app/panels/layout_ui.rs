@@ -5,10 +5,10 @@
 
 use egui::{Frame, Margin, Rect, Sense, Stroke, StrokeKind, Ui, Vec2, vec2};
 
-use super::PanelKind;
 use super::layout::{
     self, Arrangement, HEADER_HEIGHT, Layout, PANE_GAP, PANES, column_min_width, min_height, stacks,
 };
+use super::panel_kind::PanelKind;
 
 /// What the layout draws in each place.
 pub trait PaneContents {

@@ -67,7 +67,7 @@ const LABEL_ALL_BELOW_DECADES: f64 = 1.2;
 
 /// The label of a mark at `log10 x = v`: `x` as a short decimal for `10^-3 ≤ x < 10^4`
 /// (`0.002`, `0.5`, `20`), else `m·e k` (`2e-5`, `1e6`); empty for the minor lines unless the
-/// visible `range` spans less than [`LABEL_ALL_BELOW_DECADES`].
+/// visible `range` spans less than `LABEL_ALL_BELOW_DECADES` (1.2).
 pub fn log_tick_label(mark: GridMark, range: &RangeInclusive<f64>) -> String {
     let span = range.end() - range.start();
     if mark.step_size < TWO_FIVE && span >= LABEL_ALL_BELOW_DECADES {

@@ -7,9 +7,11 @@ use std::fmt::Write as _;
 use egui::{RichText, Sense, Ui, vec2};
 use lightpick_core::scene::MAX_LIGHTS;
 
-use super::colors;
-use super::scene_io::{self, PowerDistribution};
-use super::state::{AppState, SliderScale};
+use crate::app::colors;
+use crate::app::scene_io::{self, PowerShape};
+use crate::app::state::AppState;
+use crate::app::state::edit::powers_to_text;
+use crate::app::state::settings::SliderScale;
 
 const ROW_HEIGHT: f32 = 22.0;
 
@@ -80,7 +82,7 @@ fn generate_ui(ui: &mut Ui, state: &mut AppState) {
         egui::ComboBox::from_id_salt("power_distribution")
             .selected_text(state.settings.distribution.label())
             .show_ui(ui, |ui| {
-                for d in PowerDistribution::ALL {
+                for d in PowerShape::ALL {
                     ui.selectable_value(&mut state.settings.distribution, d, d.label());
                 }
             })
@@ -218,7 +220,7 @@ fn light_about(state: &AppState, i: usize) -> String {
             );
         }
         if let Some(r) = e.range() {
-            let _ = write!(text, "\nrange {}", super::fractions::short(r));
+            let _ = write!(text, "\nrange {}", crate::numbers::short(r));
         }
     }
     text
@@ -226,9 +228,6 @@ fn light_about(state: &AppState, i: usize) -> String {
 
 fn rows_ui(ui: &mut Ui, state: &mut AppState) {
     let n = state.edit.powers.len();
-    let dark = state.dark();
-    let slider_max = state.settings.slider_max;
-    let log = state.settings.slider_scale == SliderScale::Log;
     let mut changed = false;
     let mut remove = None;
     let mut duplicate = None;
@@ -238,80 +237,12 @@ fn rows_ui(ui: &mut Ui, state: &mut AppState) {
         .show_rows(ui, ROW_HEIGHT, n, |ui, rows| {
             for i in rows {
                 ui.horizontal(|ui| {
-                    let (swatch, _) = ui.allocate_exact_size(vec2(14.0, 14.0), Sense::hover());
-                    ui.painter().rect_filled(swatch, 3.0, colors::light(i));
-                    let name = format!("light {}", i + 1);
-                    let bad = {
-                        let p = state.edit.powers[i];
-                        !p.is_finite() || p < 0.0
-                    };
-                    let text = RichText::new(format!("{:>3}", i + 1)).monospace();
-                    let text = if bad { text.color(colors::error(dark)) } else { text };
-                    let about = light_about(state, i);
-                    ui.label(text).on_hover_text(&about);
-                    if state.edit.names.is_some() {
-                        let own = state.edit.display_name(i);
-                        ui.add_sized(
-                            [84.0, ROW_HEIGHT - 2.0],
-                            egui::Label::new(own).truncate(),
-                        )
-                        .on_hover_text(&about);
-                    }
-                    // Read here, written back (a copy while a scene shares the powers) only
-                    // when the user changed it.
-                    let mut power = state.edit.powers[i];
-                    let p = &mut power;
-                    let speed = if p.is_finite() { (p.abs() * 0.01).max(0.01) } else { 0.01 };
-                    // egui compares old and new values to detect edits, and NaN never equals
-                    // itself: a non-finite power is shown as typed but edited through a
-                    // finite stand-in, so it stays until the user replaces it.
-                    let shown = *p;
-                    let mut stand_in = if shown.is_finite() { shown } else { 0.0 };
-                    let mut drag_value = egui::DragValue::new(&mut stand_in).speed(speed).max_decimals(6);
-                    if !shown.is_finite() {
-                        drag_value = drag_value.custom_formatter(move |_, _| format!("{shown}"));
-                    }
-                    let drag = ui
-                        .add_sized([78.0, ROW_HEIGHT - 2.0], drag_value)
-                        .accessible_name(format!("power of {name}"))
-                        .on_hover_text(format!(
-                            "Power Φ of {name}: drag, or click and type (NaN and negative values are refused)"
-                        ));
-                    if drag.changed() {
-                        *p = stand_in;
-                        changed = true;
-                    }
-                    let mut slider_value = if p.is_finite() { p.clamp(0.0, slider_max) } else { 0.0 };
-                    let slider = ui
-                        .add(
-                            egui::Slider::new(&mut slider_value, 0.0..=slider_max)
-                                .logarithmic(log)
-                                .smallest_positive(slider_max * 1e-6)
-                                .show_value(false),
-                        )
-                        .accessible_name(format!("power slider of {name}"))
-                        .on_hover_text(format!("Drag to set the power of {name}"));
-                    if slider.changed() {
-                        *p = slider_value;
-                        changed = true;
-                    }
-                    if drag.changed() || slider.changed() {
-                        state.edit.powers_mut()[i] = power;
-                    }
-                    if ui
-                        .small_button("dup")
-                        .on_hover_text(format!("Duplicate {name}"))
-                        .accessible_name(format!("duplicate {name}"))
-                        .clicked()
-                    {
+                    let edits = row_ui(ui, state, i);
+                    changed |= edits.power;
+                    if edits.duplicate {
                         duplicate = Some(i);
                     }
-                    if ui
-                        .small_button("del")
-                        .on_hover_text(format!("Remove {name}"))
-                        .accessible_name(format!("remove {name}"))
-                        .clicked()
-                    {
+                    if edits.remove {
                         remove = Some(i);
                     }
                 });
@@ -323,8 +254,120 @@ fn rows_ui(ui: &mut Ui, state: &mut AppState) {
         state.remove_light(i);
     } else if changed {
         if n <= 1000 {
-            state.powers_text = super::state::powers_to_text(&state.edit.powers);
+            state.powers_text = powers_to_text(&state.edit.powers);
         }
         state.powers_changed();
     }
+}
+
+/// What the user did to one light's row this frame.
+struct RowEdits {
+    /// Its power was changed (and written to the edit).
+    power: bool,
+    /// "dup" was clicked.
+    duplicate: bool,
+    /// "del" was clicked.
+    remove: bool,
+}
+
+/// Light `i`'s row: colour, number (red while its power is refused), name, power, and the
+/// duplicate and remove buttons.
+fn row_ui(ui: &mut Ui, state: &mut AppState, i: usize) -> RowEdits {
+    let dark = state.dark();
+    let (swatch, _) = ui.allocate_exact_size(vec2(14.0, 14.0), Sense::hover());
+    ui.painter().rect_filled(swatch, 3.0, colors::light(i));
+    let name = format!("light {}", i + 1);
+    let bad = {
+        let p = state.edit.powers[i];
+        !p.is_finite() || p < 0.0
+    };
+    let text = RichText::new(format!("{:>3}", i + 1)).monospace();
+    let text = if bad {
+        text.color(colors::error(dark))
+    } else {
+        text
+    };
+    let about = light_about(state, i);
+    ui.label(text).on_hover_text(&about);
+    if state.edit.names.is_some() {
+        let own = state.edit.display_name(i);
+        ui.add_sized([84.0, ROW_HEIGHT - 2.0], egui::Label::new(own).truncate())
+            .on_hover_text(&about);
+    }
+    let power = power_ui(ui, state, i, &name);
+    let duplicate = ui
+        .small_button("dup")
+        .on_hover_text(format!("Duplicate {name}"))
+        .accessible_name(format!("duplicate {name}"))
+        .clicked();
+    let remove = ui
+        .small_button("del")
+        .on_hover_text(format!("Remove {name}"))
+        .accessible_name(format!("remove {name}"))
+        .clicked();
+    RowEdits {
+        power,
+        duplicate,
+        remove,
+    }
+}
+
+/// Light `i`'s power: a drag value (typed values too) and a slider; returns whether the
+/// user changed it (then it is written to the edit).
+fn power_ui(ui: &mut Ui, state: &mut AppState, i: usize, name: &str) -> bool {
+    let slider_max = state.settings.slider_max;
+    let log = state.settings.slider_scale == SliderScale::Log;
+    let mut changed = false;
+    // Read here, written back (a copy while a scene shares the powers) only
+    // when the user changed it.
+    let mut power = state.edit.powers[i];
+    let p = &mut power;
+    let speed = if p.is_finite() {
+        (p.abs() * 0.01).max(0.01)
+    } else {
+        0.01
+    };
+    // egui compares old and new values to detect edits, and NaN never equals
+    // itself: a non-finite power is shown as typed but edited through a
+    // finite stand-in, so it stays until the user replaces it.
+    let shown = *p;
+    let mut stand_in = if shown.is_finite() { shown } else { 0.0 };
+    let mut drag_value = egui::DragValue::new(&mut stand_in)
+        .speed(speed)
+        .max_decimals(6);
+    if !shown.is_finite() {
+        drag_value = drag_value.custom_formatter(move |_, _| format!("{shown}"));
+    }
+    let drag = ui
+        .add_sized([78.0, ROW_HEIGHT - 2.0], drag_value)
+        .accessible_name(format!("power of {name}"))
+        .on_hover_text(format!(
+            "Power Φ of {name}: drag, or click and type (NaN and negative values are refused)"
+        ));
+    if drag.changed() {
+        *p = stand_in;
+        changed = true;
+    }
+    let mut slider_value = if p.is_finite() {
+        p.clamp(0.0, slider_max)
+    } else {
+        0.0
+    };
+    let slider = ui
+        .add(
+            egui::Slider::new(&mut slider_value, 0.0..=slider_max)
+                .logarithmic(log)
+                .smallest_positive(slider_max * 1e-6)
+                .show_value(false),
+        )
+        .accessible_name(format!("power slider of {name}"))
+        .on_hover_text(format!("Drag to set the power of {name}"));
+    if slider.changed() {
+        *p = slider_value;
+        changed = true;
+    }
+    if changed {
+        state.edit.powers_mut()[i] = power;
+    }
+    changed
 }

@@ -12,10 +12,10 @@
 use egui::{Align2, FontId, Rect, RichText, Sense, Stroke, StrokeKind, Ui, pos2, vec2};
 use lightpick_core::construction::{ConstructionEvent, ConstructionState};
 
-use super::colors;
-use super::fractions;
-use super::state::AppState;
-use super::state::stepper::{STEPPER_MAX_LIGHTS, StepperState};
+use crate::app::colors;
+use crate::app::state::AppState;
+use crate::app::state::stepper::{STEPPER_MAX_LIGHTS, StepperState};
+use crate::numbers;
 
 /// The tallest mass the diagram shows before clipping a bar.
 const MAX_SHOWN_MASS: f64 = 4.0;
@@ -141,7 +141,7 @@ fn controls_ui(ui: &mut Ui, s: &mut StepperState, last: usize, now: f64) {
 
 /// One sentence for the event that led to `state`.
 pub fn event_sentence(state: &ConstructionState, den: Option<u64>) -> String {
-    let show = |v: f64| fractions::show(v, den);
+    let show = |v: f64| numbers::show(v, den);
     match state.event {
         ConstructionEvent::Scaled => "Start: q = N·p, mean 1. Columns with q < 1 wait in the \
                                       small list, the others in the large list."
@@ -217,7 +217,7 @@ fn lists_ui(ui: &mut Ui, state: &ConstructionState, den: Option<u64>) {
                 ui.label(RichText::new("empty").size(15.0).italics());
             }
             for &i in list {
-                let text = format!(" {}: {} ", i + 1, fractions::show(state.mass[i], den));
+                let text = format!(" {}: {} ", i + 1, numbers::show(state.mass[i], den));
                 ui.label(
                     RichText::new(text)
                         .size(15.0)
@@ -231,6 +231,35 @@ fn lists_ui(ui: &mut Ui, state: &ConstructionState, den: Option<u64>) {
                 ));
             }
         });
+    }
+}
+
+/// Where the stepper's bars go: the plot area and the vertical scale.
+struct Bars {
+    plot: Rect,
+    /// A column's width, gap included.
+    col_w: f32,
+    gap: f32,
+    /// The mass at the top of the plot.
+    y_max: f64,
+}
+
+impl Bars {
+    /// The height of mass `v` (clipped to the plot).
+    fn y_of(&self, v: f64) -> f32 {
+        self.plot.bottom() - (v.min(self.y_max) / self.y_max) as f32 * self.plot.height()
+    }
+
+    /// Column `j`'s left and right edges.
+    fn x_of(&self, j: usize) -> (f32, f32) {
+        let x0 = self.plot.left() + j as f32 * self.col_w + self.gap / 2.0;
+        (x0, x0 + self.col_w - self.gap)
+    }
+
+    /// Column `j` between masses `lo` and `top`.
+    fn rect(&self, j: usize, lo: f64, top: f64) -> Rect {
+        let (x0, x1) = self.x_of(j);
+        Rect::from_min_max(pos2(x0, self.y_of(top)), pos2(x1, self.y_of(lo)))
     }
 }
 
@@ -259,61 +288,20 @@ fn diagram_ui(ui: &mut Ui, state: &ConstructionState, den: Option<u64>, dark: bo
         .fold(before.max(1.0), f64::max)
         .min(MAX_SHOWN_MASS)
         * 1.1;
-    let y_of = |v: f64| plot.bottom() - (v.min(y_max) / y_max) as f32 * plot.height();
     let col_w = plot.width() / n as f32;
-    let gap = (col_w * 0.15).min(10.0);
-    let x_of = |j: usize| {
-        let x0 = plot.left() + j as f32 * col_w + gap / 2.0;
-        (x0, x0 + col_w - gap)
+    let bars = Bars {
+        plot,
+        col_w,
+        gap: (col_w * 0.15).min(10.0),
+        y_max,
     };
     let font = FontId::proportional(if col_w > 40.0 { 15.0 } else { 11.0 });
-    let fg = colors::foreground(dark);
-    let muted = colors::muted(dark);
-    let hi = colors::highlight(dark);
-    let rect = |j: usize, lo: f64, top: f64| {
-        let (x0, x1) = x_of(j);
-        Rect::from_min_max(pos2(x0, y_of(top)), pos2(x1, y_of(lo)))
-    };
-    let label = |r: Rect, text: String, color| {
-        if r.height() > 16.0 && col_w > 22.0 {
-            painter.text(r.center(), Align2::CENTER_CENTER, text, font.clone(), color);
-        }
-    };
     for j in 0..n {
-        let (x0, x1) = x_of(j);
-        if let (Some(t), Some(a)) = (state.threshold[j], state.alias[j]) {
-            let a = a as usize;
-            let own = rect(j, 0.0, t);
-            painter.rect_filled(own, 0.0, colors::light(j));
-            label(own, format!("{}", j + 1), colors::on_light(j));
-            if t < 1.0 {
-                let top = rect(j, t, 1.0);
-                painter.rect_filled(top, 0.0, colors::light(a));
-                label(top, format!("{}", a + 1), colors::on_light(a));
-                painter.line_segment([pos2(x0, y_of(t)), pos2(x1, y_of(t))], Stroke::new(1.0, fg));
-            }
-        } else {
-            let bar = rect(j, 0.0, state.mass[j]);
-            painter.rect_filled(bar, 0.0, colors::light(j).gamma_multiply(0.8));
-            painter.rect_stroke(bar, 0.0, Stroke::new(1.0, fg), StrokeKind::Inside);
-            painter.text(
-                pos2(x0.midpoint(x1), bar.top() - 2.0),
-                Align2::CENTER_BOTTOM,
-                fractions::show(state.mass[j], den),
-                font.clone(),
-                fg,
-            );
-        }
-        painter.text(
-            pos2(x0.midpoint(x1), plot.bottom() + 3.0),
-            Align2::CENTER_TOP,
-            format!("{}", j + 1),
-            font.clone(),
-            muted,
-        );
+        column_ui(&painter, &bars, state, j, den, &font, dark);
     }
     // The line every column is levelled to.
-    let y_one = y_of(1.0);
+    let fg = colors::foreground(dark);
+    let y_one = bars.y_of(1.0);
     painter.extend(egui::Shape::dashed_line(
         &[pos2(plot.left(), y_one), pos2(plot.right(), y_one)],
         Stroke::new(1.5, fg),
@@ -327,8 +315,84 @@ fn diagram_ui(ui: &mut Ui, state: &ConstructionState, den: Option<u64>, dark: bo
         font.clone(),
         fg,
     );
+    event_ui(
+        &painter,
+        &bars,
+        &state.event,
+        den,
+        &font,
+        (dark, bg),
+        progress,
+    );
+}
+
+/// Column `j`: split at its threshold once assigned, else a bar of its remaining mass
+/// (labelled with it); its number under the axis.
+fn column_ui(
+    painter: &egui::Painter,
+    bars: &Bars,
+    state: &ConstructionState,
+    j: usize,
+    den: Option<u64>,
+    font: &FontId,
+    dark: bool,
+) {
+    let fg = colors::foreground(dark);
+    let label = |r: Rect, text: String, color| {
+        if r.height() > 16.0 && bars.col_w > 22.0 {
+            painter.text(r.center(), Align2::CENTER_CENTER, text, font.clone(), color);
+        }
+    };
+    let (x0, x1) = bars.x_of(j);
+    if let (Some(t), Some(a)) = (state.threshold[j], state.alias[j]) {
+        let a = a as usize;
+        let own = bars.rect(j, 0.0, t);
+        painter.rect_filled(own, 0.0, colors::light(j));
+        label(own, format!("{}", j + 1), colors::on_light(j));
+        if t < 1.0 {
+            let top = bars.rect(j, t, 1.0);
+            painter.rect_filled(top, 0.0, colors::light(a));
+            label(top, format!("{}", a + 1), colors::on_light(a));
+            painter.line_segment(
+                [pos2(x0, bars.y_of(t)), pos2(x1, bars.y_of(t))],
+                Stroke::new(1.0, fg),
+            );
+        }
+    } else {
+        let bar = bars.rect(j, 0.0, state.mass[j]);
+        painter.rect_filled(bar, 0.0, colors::light(j).gamma_multiply(0.8));
+        painter.rect_stroke(bar, 0.0, Stroke::new(1.0, fg), StrokeKind::Inside);
+        painter.text(
+            pos2(x0.midpoint(x1), bar.top() - 2.0),
+            Align2::CENTER_BOTTOM,
+            numbers::show(state.mass[j], den),
+            font.clone(),
+            fg,
+        );
+    }
+    painter.text(
+        pos2(x0.midpoint(x1), bars.plot.bottom() + 3.0),
+        Align2::CENTER_TOP,
+        format!("{}", j + 1),
+        font.clone(),
+        colors::muted(dark),
+    );
+}
+
+/// The current event: a pairing outlines its two columns and moves the remainder from the
+/// large one onto the small one (`progress` of the way, eased); a leftover is outlined.
+fn event_ui(
+    painter: &egui::Painter,
+    bars: &Bars,
+    event: &ConstructionEvent,
+    den: Option<u64>,
+    font: &FontId,
+    (dark, bg): (bool, egui::Color32),
+    progress: f32,
+) {
+    let hi = colors::highlight(dark);
     let outline = |r: Rect| painter.rect_stroke(r, 0.0, Stroke::new(3.0, hi), StrokeKind::Outside);
-    match state.event {
+    match *event {
         ConstructionEvent::Pair {
             small,
             large,
@@ -338,10 +402,10 @@ fn diagram_ui(ui: &mut Ui, state: &ConstructionState, den: Option<u64>, dark: bo
             moved,
             ..
         } => {
-            let from = rect(large, large_after, large_before);
-            let to = rect(small, threshold, 1.0);
-            outline(rect(small, 0.0, 1.0));
-            outline(rect(large, 0.0, large_after.max(1.0)));
+            let from = bars.rect(large, large_after, large_before);
+            let to = bars.rect(small, threshold, 1.0);
+            outline(bars.rect(small, 0.0, 1.0));
+            outline(bars.rect(large, 0.0, large_after.max(1.0)));
             painter.rect_filled(from, 0.0, colors::light(large).gamma_multiply(0.3));
             painter.rect_stroke(from, 0.0, Stroke::new(1.5, hi), StrokeKind::Inside);
             let t = progress.clamp(0.0, 1.0);
@@ -359,18 +423,18 @@ fn diagram_ui(ui: &mut Ui, state: &ConstructionState, den: Option<u64>, dark: bo
             let start = from.center();
             let end = to.center();
             if (end - start).length() > 20.0 {
-                arrow(&painter, start, start.lerp(end, 0.88), Stroke::new(2.5, hi));
+                arrow(painter, start, start.lerp(end, 0.88), Stroke::new(2.5, hi));
                 painter.text(
                     start.lerp(end, 0.5) - vec2(0.0, 4.0),
                     Align2::CENTER_BOTTOM,
-                    fractions::show(moved, den),
+                    numbers::show(moved, den),
                     font.clone(),
                     hi,
                 );
             }
         }
         ConstructionEvent::Leftover { column, .. } => {
-            outline(rect(column, 0.0, 1.0));
+            outline(bars.rect(column, 0.0, 1.0));
         }
         ConstructionEvent::Scaled => {}
     }

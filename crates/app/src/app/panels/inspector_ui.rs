@@ -9,10 +9,10 @@ use egui_plot::{Bar, BarChart, Legend, Plot};
 use lightpick_core::Scheme;
 use lightpick_core::inspect::PointInspection;
 
-use super::colors;
-use super::fractions;
-use super::state::AppState;
-use super::state::estimator::EstimatorPoint;
+use crate::app::colors;
+use crate::app::state::AppState;
+use crate::app::state::estimator::EstimatorPoint;
+use crate::numbers;
 
 /// The pixel of a `width × height` image under a click on its `response`, if it was
 /// clicked.
@@ -86,9 +86,9 @@ pub fn inspector_ui(ui: &mut Ui, state: &mut AppState) {
         "pixel ({}, {}) · point x = ({}, {}) · exact irradiance E(x) = {}",
         pixel[0],
         pixel[1],
-        fractions::short(inspection.x.x),
-        fractions::short(inspection.x.y),
-        fractions::short(inspection.irradiance),
+        numbers::short(inspection.x.x),
+        numbers::short(inspection.x.y),
+        numbers::short(inspection.irradiance),
     ))
     .on_hover_text("E(x) = Σ Φ_i·max(0, cos θ)/(4π r²), summed over every light");
     if inspection.irradiance <= 0.0 {
@@ -159,14 +159,14 @@ fn variance_ui(ui: &mut Ui, inspection: &PointInspection) {
                     ui.end_row();
                     continue;
                 };
-                ui.label(fractions::short(relative));
-                ui.label(fractions::short(relative * e2));
+                ui.label(numbers::short(relative));
+                ui.label(numbers::short(relative * e2));
                 let ratio = if name.starts_with("uniform") {
                     "baseline".to_owned()
                 } else if relative > 0.0 {
                     format!(
                         "{}× lower",
-                        fractions::short(inspection.uniform_relative_variance / relative)
+                        numbers::short(inspection.uniform_relative_variance / relative)
                     )
                 } else if inspection.uniform_relative_variance > 0.0 {
                     "no noise".to_owned()
@@ -179,7 +179,7 @@ fn variance_ui(ui: &mut Ui, inspection: &PointInspection) {
         });
     ui.label(format!(
         "power sampling is ½Σ|s − p| = {} away from the ideal pmf at this point",
-        fractions::short(inspection.total_variation)
+        numbers::short(inspection.total_variation)
     ))
     .on_hover_text("Total variation distance between the shares and the power pmf");
 }
@@ -293,17 +293,17 @@ fn shares_table_ui(
                                 None => ui.label(format!("{}", l.index + 1)),
                             };
                         });
-                        ui.label(fractions::short(l.power));
-                        ui.label(fractions::short(l.pmf));
-                        ui.label(l.spatial.map_or("…".to_owned(), fractions::short));
-                        ui.label(fractions::short(l.share));
+                        ui.label(numbers::short(l.power));
+                        ui.label(numbers::short(l.pmf));
+                        ui.label(l.spatial.map_or("…".to_owned(), numbers::short));
+                        ui.label(numbers::short(l.share));
                         ui.label(if l.pmf > 0.0 {
-                            fractions::short(l.share / l.pmf)
+                            numbers::short(l.share / l.pmf)
                         } else {
                             "—".to_owned()
                         });
                         if cones {
-                            ui.label(l.cone.map_or("point".to_owned(), fractions::short));
+                            ui.label(l.cone.map_or("point".to_owned(), numbers::short));
                         }
                         ui.end_row();
                     }
@@ -311,9 +311,9 @@ fn shares_table_ui(
                     if others.count > 0 {
                         ui.colored_label(colors::muted(dark), format!("{} others", others.count));
                         ui.label("");
-                        ui.label(fractions::short(others.pmf));
-                        ui.label(others.spatial.map_or("…".to_owned(), fractions::short));
-                        ui.label(fractions::short(others.share));
+                        ui.label(numbers::short(others.pmf));
+                        ui.label(others.spatial.map_or("…".to_owned(), numbers::short));
+                        ui.label(numbers::short(others.share));
                         ui.label("");
                         ui.end_row();
                     }

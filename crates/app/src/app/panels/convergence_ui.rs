@@ -8,11 +8,11 @@ use egui::Ui;
 use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints};
 use lightpick_core::{Scaled, Scheme};
 
-use super::colors;
-use super::engine::{ConvergencePoint, Published, SchemeImage};
-use super::fractions;
 use super::log_axes;
-use super::state::AppState;
+use crate::app::colors;
+use crate::app::images::{ConvergencePoint, Published, SchemeImage};
+use crate::app::state::AppState;
+use crate::numbers;
 
 /// Which x axis the plot uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -83,6 +83,22 @@ pub fn convergence_ui(
         ui.label("spatial: the exact contribution pick (few lights), zero variance: its RMSE is rounding, off the plot")
             .on_hover_text("p(i | x) ∝ p_i·G_i(x) makes every sample equal to the exact irradiance");
     }
+    curves_plot_ui(
+        ui,
+        *axis,
+        [uniform_points, importance_points, spatial_points],
+        state.dark(),
+    );
+}
+
+/// The log-log plot of the three schemes' curves (`log10` points against `axis`) with the
+/// `−1/2` slope through the first uniform point.
+fn curves_plot_ui(
+    ui: &mut Ui,
+    axis: ConvergenceAxis,
+    [uniform_points, importance_points, spatial_points]: [Vec<[f64; 2]>; 3],
+    dark: bool,
+) {
     // The −1/2 slope through the first uniform point.
     let slope = uniform_points
         .first()
@@ -95,8 +111,7 @@ pub fn convergence_ui(
         ConvergenceAxis::Spp => "samples per pixel (log scale)",
         ConvergenceAxis::Seconds => "render seconds, as T counts them (log scale)",
     };
-    let dark = state.dark();
-    log_axes::log_log_plot(Plot::new(("convergence", *axis == ConvergenceAxis::Spp)))
+    log_axes::log_log_plot(Plot::new(("convergence", axis == ConvergenceAxis::Spp)))
         .legend(Legend::default())
         .show_background(false)
         .height(ui.available_height().max(140.0))
@@ -176,23 +191,23 @@ fn figures_ui(
             for ((name, scheme), image) in SCHEMES.into_iter().zip(images) {
                 ui.colored_label(colors::scheme(scheme), name);
                 let exact = spatial_exact && scheme == Scheme::Spatial && image.spp > 0;
-                let seconds = format!("{} s", fractions::short(image.seconds_per_sample(pixels)));
+                let seconds = format!("{} s", numbers::short(image.seconds_per_sample(pixels)));
                 if exact {
                     ui.label("0 (exact)").on_hover_text(format!(
                         "Every sample is the exact irradiance; the measured {} is rounding \
                          of the sums",
-                        fractions::short_scaled(image.variance)
+                        numbers::short_scaled(image.variance)
                     ));
                     ui.label(seconds);
                     ui.label("∞");
                     ui.label("∞ (zero variance)");
                 } else {
-                    ui.label(fractions::short_scaled(image.variance));
+                    ui.label(numbers::short_scaled(image.variance));
                     ui.label(seconds);
                     ui.label(
                         image
                             .efficiency(pixels)
-                            .map_or("–".to_owned(), fractions::short_scaled),
+                            .map_or("–".to_owned(), numbers::short_scaled),
                     );
                     ui.label(if scheme == Scheme::Uniform {
                         "1×".to_owned()
@@ -226,11 +241,7 @@ fn speedup_text(u: &SchemeImage, image: &SchemeImage, pixels: usize) -> String {
     let variance_ratio = (image.normalized_variance > Scaled::ZERO)
         .then(|| (u.normalized_variance / image.normalized_variance).to_f64());
     match (speedup, variance_ratio) {
-        (Some(s), Some(v)) => format!(
-            "{}× (variance {}×)",
-            fractions::short(s),
-            fractions::short(v)
-        ),
+        (Some(s), Some(v)) => format!("{}× (variance {}×)", numbers::short(s), numbers::short(v)),
         _ => "–".to_owned(),
     }
 }

@@ -16,11 +16,11 @@ use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints};
 use lightpick_core::Scaled;
 use lightpick_core::point_estimate::{PointEstimator, samples_for_relative_error};
 
-use super::colors;
-use super::fractions;
 use super::log_axes;
-use super::state::AppState;
-use super::state::estimator::{EstimatorPoint, seed_point_uses_scene};
+use crate::app::colors;
+use crate::app::state::AppState;
+use crate::app::state::estimator::{EstimatorPoint, seed_point_uses_scene};
+use crate::numbers;
 
 /// The relative standard error the table's sample counts aim at.
 const TARGET_RELATIVE_ERROR: f64 = 0.01;
@@ -154,13 +154,13 @@ fn point_sentence_ui(
     ui: &mut Ui,
     point: EstimatorPoint,
     estimator: &PointEstimator,
-    built: &super::state::Built,
+    built: &crate::app::state::built::Built,
     dark: bool,
 ) {
     let f = estimator.contributions();
     let text = match point {
         EstimatorPoint::Seed => {
-            let listed: Vec<String> = f.iter().map(|v| fractions::short(*v)).collect();
+            let listed: Vec<String> = f.iter().map(|v| numbers::short(*v)).collect();
             let whose = if seed_point_uses_scene(built) {
                 "the scene's three lights, f_i = Φ_i·g_i with g = 1/2, 2/5, 3/4"
             } else {
@@ -169,7 +169,7 @@ fn point_sentence_ui(
             format!(
                 "The seed's shading point: contributions f = {} ({whose}); exact total F = {}.",
                 listed.join(", "),
-                fractions::short(estimator.exact())
+                numbers::short(estimator.exact())
             )
         }
         EstimatorPoint::Pixel(pixel) => format!(
@@ -177,7 +177,7 @@ fn point_sentence_ui(
             pixel[0],
             pixel[1],
             f.len(),
-            fractions::short(estimator.exact())
+            numbers::short(estimator.exact())
         ),
     };
     ui.label(RichText::new(text).color(colors::foreground(dark)));
@@ -231,13 +231,13 @@ fn figures_ui(ui: &mut Ui, estimator: &PointEstimator) {
                 } else {
                     ui.label(format!(
                         "{} ± {}",
-                        fractions::short_scaled(w.mean_scaled()),
-                        fractions::short_scaled(w.std_error_scaled().mul_f64(2.0))
+                        numbers::short_scaled(w.mean_scaled()),
+                        numbers::short_scaled(w.std_error_scaled().mul_f64(2.0))
                     ));
                     ui.label(if w.count() < 2 {
                         "–".to_owned()
                     } else {
-                        fractions::short_scaled(w.variance_scaled())
+                        numbers::short_scaled(w.variance_scaled())
                     });
                 }
                 let variance = lane.analytic.variance_scaled;
@@ -251,7 +251,7 @@ fn figures_ui(ui: &mut Ui, estimator: &PointEstimator) {
                 ui.label(if exact_pick {
                     "0 (exact)".to_owned()
                 } else {
-                    fractions::short_scaled(variance)
+                    numbers::short_scaled(variance)
                 });
                 let n = needed(variance);
                 ui.label(if exact_pick {
@@ -261,7 +261,7 @@ fn figures_ui(ui: &mut Ui, estimator: &PointEstimator) {
                 });
                 ui.label(match uniform_needed {
                     _ if exact_pick => "∞ (zero variance)".to_owned(),
-                    Some(u) => format!("{}×", fractions::short(u / n)),
+                    Some(u) => format!("{}×", numbers::short(u / n)),
                     None => "–".to_owned(),
                 });
                 ui.end_row();
@@ -289,7 +289,7 @@ fn plot_ui(ui: &mut Ui, estimator: &PointEstimator, dark: bool) {
         .show(ui, |plot_ui| {
             plot_ui.line(
                 Line::new(
-                    format!("exact F = {}", fractions::short(exact)),
+                    format!("exact F = {}", numbers::short(exact)),
                     PlotPoints::new(vec![[0.0, exact], [last_x, exact]]),
                 )
                 .color(colors::foreground(dark))

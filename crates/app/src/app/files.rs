@@ -1,0 +1,156 @@
+//! Files in and out of the app: opening a scene (File → Open, a dropped file, `lightpick
+//! FILE`), saving it, and exporting the images and the alias-table diagram as PNGs; a
+//! failure says why and keeps the current scene.
+
+use std::path::Path;
+
+use super::images::Published;
+use super::state::file_dialog::FileAction;
+use super::state::{AppState, MessageKind};
+use super::{LightpickApp, scene_io};
+
+impl LightpickApp {
+    /// Opens the scene file at `path` (any format the loader reads, the receiver at the
+    /// Floor control's height reset to the file's ground) and says what came in; on failure
+    /// says why in the status bar and keeps the current scene.
+    pub fn open_path(&mut self, path: &Path) {
+        match self.open_scene(path) {
+            Ok(message) => self.state.message(message, MessageKind::Success),
+            Err(e) => self.state.message(
+                format!("Open scene: {e} — nothing changed"),
+                MessageKind::Error,
+            ),
+        }
+    }
+
+    /// Loads the scene at `path`: the status line ("opened level.glb: 402 lights: 362
+    /// points, 40 spots; skipped 1 directional light 'Sun'"), or why not.
+    fn open_scene(&mut self, path: &Path) -> Result<String, String> {
+        let loaded = scene_io::load(path, None)?;
+        let summary = loaded.report.summary();
+        self.state.load_scene(loaded.scene);
+        Ok(format!("opened {}: {summary}", path.display()))
+    }
+
+    /// Shows a scene read from `what` and says what came in.
+    pub fn open_loaded(&mut self, what: &str, loaded: lightpick_core::scene::Loaded) {
+        let summary = loaded.report.summary();
+        self.state.load_scene(loaded.scene);
+        self.state
+            .message(format!("opened {what}: {summary}"), MessageKind::Success);
+    }
+
+    /// Opens a file dropped on the window (the first, when several are).
+    pub(super) fn open_dropped(&mut self, ctx: &egui::Context) {
+        if let Some(file) = ctx.input(|i| i.raw.dropped_files.first().cloned()) {
+            self.open_path(file.path());
+        }
+    }
+
+    /// Carries out a confirmed file action; on failure the message is shown in the dialog
+    /// and the status bar, and the current scene is kept.
+    pub fn file_action(&mut self, action: FileAction, path: &str, published: Option<&Published>) {
+        let result = match action {
+            FileAction::OpenScene => self.open_scene(Path::new(path)),
+            FileAction::SaveScene => scene_io::save(Path::new(path), &self.state.built.scene)
+                .map(|()| format!("saved {path}")),
+            FileAction::ExportImages => {
+                // GPU images are native textures: read them back first.
+                let exposure = self.state.settings.exposure;
+                let from_gpu = if self.uses_gpu() {
+                    self.gpu.as_mut().map(|gpu| gpu.frame_with_images(exposure))
+                } else {
+                    None
+                };
+                match from_gpu {
+                    Some(Ok(frame)) => Ok(frame),
+                    Some(Err(e)) => Err(e),
+                    None => published
+                        .cloned()
+                        .ok_or_else(|| "no image has been rendered yet".to_owned()),
+                }
+                .and_then(|frame| export_images(Path::new(path), &frame))
+                .map(|()| format!("exported {path}"))
+            }
+            FileAction::ExportDiagram => {
+                export_diagram(Path::new(path), &self.state).map(|()| format!("exported {path}"))
+            }
+        };
+        match result {
+            Ok(message) => {
+                self.state.file_dialog.action = None;
+                self.state.file_dialog.error = None;
+                self.state.message(message, MessageKind::Success);
+            }
+            Err(e) => {
+                self.state.file_dialog.error = Some(e.clone());
+                self.state.message(
+                    format!("{}: {e} — nothing changed", action.title()),
+                    MessageKind::Error,
+                );
+            }
+        }
+    }
+}
+
+/// Writes uniform | importance | spatial | reference side by side as one PNG, with the
+/// three error maps in a second row when there is a reference image.
+fn export_images(path: &Path, p: &Published) -> Result<(), String> {
+    let pixels = p.width as usize * p.height as usize * 4;
+    if [&p.uniform, &p.importance, &p.spatial]
+        .iter()
+        .any(|s| s.rgba.len() != pixels)
+    {
+        return Err("the images are not ready yet".into());
+    }
+    let (w, h) = (p.width as usize, p.height as usize);
+    let schemes = [&p.uniform, &p.importance, &p.spatial];
+    let mut top: Vec<&[u8]> = schemes.iter().map(|s| s.rgba.as_slice()).collect();
+    if let Some(r) = &p.reference_rgba {
+        top.push(r);
+    }
+    let errors: Option<Vec<&[u8]>> = schemes.iter().map(|s| s.error_rgba.as_deref()).collect();
+    let columns = top.len();
+    let rows = if errors.is_some() { 2 } else { 1 };
+    let total_w = w * columns;
+    // Opaque black where a row has no image (under the reference).
+    let mut out: Vec<u8> = [0, 0, 0, 255].repeat(total_w * h * rows);
+    let mut place = |row: usize, column: usize, part: &[u8]| {
+        for y in 0..h {
+            let src = &part[y * w * 4..(y + 1) * w * 4];
+            let dst = ((row * h + y) * total_w + column * w) * 4;
+            out[dst..dst + w * 4].copy_from_slice(src);
+        }
+    };
+    for (k, part) in top.iter().enumerate() {
+        place(0, k, part);
+    }
+    for (k, part) in errors.iter().flatten().enumerate() {
+        place(1, k, part);
+    }
+    image::save_buffer(
+        path,
+        &out,
+        total_w as u32,
+        (h * rows) as u32,
+        image::ExtendedColorType::Rgba8,
+    )
+    .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Writes the alias-table diagram as a PNG (the headless drawing of `lightpick plot table`).
+fn export_diagram(path: &Path, state: &AppState) -> Result<(), String> {
+    let theme = if state.dark() {
+        lightpick_core::draw::Theme::Dark
+    } else {
+        lightpick_core::draw::Theme::Light
+    };
+    let style = lightpick_core::draw::Style {
+        theme,
+        ..Default::default()
+    };
+    let pixmap =
+        lightpick_core::draw::table_diagram(&state.built.table, state.built.denominator, &style)
+            .map_err(|e| e.to_string())?;
+    lightpick_core::draw::write_png(&pixmap, path).map_err(|e| e.to_string())
+}

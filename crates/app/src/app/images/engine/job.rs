@@ -1,0 +1,222 @@
+//! One scene's CPU rendering: a [`Job`] holds the three lanes (uniform, importance,
+//! spatial), each a `CpuRenderer` over the scene's shared samplers with its totals and
+//! convergence series, and the exact reference; it advances a frame (or the worker's batch)
+//! and publishes what the panels show.
+
+use std::time::Instant;
+
+use lightpick_core::render::{
+    CpuRenderer, Reference, mean_variance_scaled, normalized_variance_per_sample,
+    pool_core_seconds, tonemap_rgba8,
+};
+use lightpick_core::{SceneSamplers, Scheme};
+
+use crate::app::images::published::{
+    ConvergencePoint, EngineConfig, Published, RendererBytes, SchemeImage,
+};
+use crate::app::images::reference::{error_map, error_scale, reference, thin};
+use crate::app::state::settings::BudgetMode;
+
+/// Compute time each scheme gets per frame in equal-time mode.
+const EQUAL_TIME_SLICE_S: f64 = 0.012;
+
+/// The worker renders passes of every scheme for about this long per frame the window shows.
+pub(super) const WORKER_BATCH_S: f64 = 0.012;
+
+/// Virtual seconds per pixel sample in inline mode (deterministic timings for tests).
+const VIRTUAL_SECONDS_PER_SAMPLE: f64 = 1.0e-8;
+
+/// The device note of the threaded engine.
+pub(super) const CPU_NOTE: &str = "CPU renderer";
+/// The device note of the inline (test) engine, whose timings are virtual.
+pub(super) const INLINE_NOTE: &str = "CPU renderer (inline, virtual time)";
+
+/// Whether a frame published with `device_note` has virtual timings.
+fn virtual_time_note(device_note: &str) -> bool {
+    device_note == INLINE_NOTE
+}
+
+/// One scheme's renderer and totals.
+struct Lane {
+    renderer: CpuRenderer,
+    seconds: f64,
+    last_frame_seconds: f64,
+    series: Vec<ConvergencePoint>,
+}
+
+impl Lane {
+    fn new(samplers: &SceneSamplers, scheme: Scheme, seed: u64) -> Self {
+        Self {
+            renderer: CpuRenderer::from_samplers(samplers, scheme, seed),
+            seconds: 0.0,
+            last_frame_seconds: 0.0,
+            series: Vec::new(),
+        }
+    }
+
+    /// Adds `spp` samples per pixel; returns the core seconds spent: the CPU time of the
+    /// render threads in the pass ([`pool_core_seconds`]), which neither the window sharing
+    /// the cores nor the pool's size changes (virtual in tests).
+    fn run(&mut self, spp: u32, virtual_time: bool, pixels: usize) -> f64 {
+        if virtual_time {
+            self.renderer.accumulate(spp);
+            f64::from(spp) * pixels as f64 * VIRTUAL_SECONDS_PER_SAMPLE
+        } else {
+            pool_core_seconds(|| self.renderer.accumulate(spp)).1
+        }
+    }
+}
+
+/// The state of one scene's rendering.
+pub(super) struct Job {
+    pub(super) generation: u64,
+    pub(super) samplers: SceneSamplers,
+    uniform: Lane,
+    importance: Lane,
+    spatial: Lane,
+    reference: Reference,
+    reference_note: Option<String>,
+    frame: u64,
+}
+
+impl Job {
+    pub(super) fn new(generation: u64, samplers: SceneSamplers, seed: u64) -> Self {
+        let (reference, reference_note) = reference(samplers.scene());
+        Self {
+            generation,
+            uniform: Lane::new(&samplers, Scheme::Uniform, seed),
+            importance: Lane::new(&samplers, Scheme::Alias, seed),
+            spatial: Lane::new(&samplers, Scheme::Spatial, seed),
+            samplers,
+            reference,
+            reference_note,
+            frame: 0,
+        }
+    }
+
+    fn pixels(&self) -> usize {
+        self.samplers.scene().plane.pixel_count()
+    }
+
+    /// What the three lanes and the reference hold.
+    pub(super) fn bytes(&self) -> RendererBytes {
+        let lanes = [&self.uniform, &self.importance, &self.spatial];
+        // Records shared with an earlier lane are held once.
+        let lights = (0..lanes.len())
+            .filter(|&k| {
+                !lanes[..k]
+                    .iter()
+                    .any(|l| lanes[k].renderer.shares_lights_with(&l.renderer))
+            })
+            .map(|k| lanes[k].renderer.light_bytes())
+            .sum();
+        RendererBytes {
+            lights,
+            pixels: lanes
+                .iter()
+                .map(|l| l.renderer.pixel_bytes())
+                .sum::<usize>()
+                + self.reference.heap_bytes(),
+        }
+    }
+
+    /// The worker's frame: [`Job::advance`] again while the batch took less than
+    /// [`WORKER_BATCH_S`] (equal samples; an equal-time frame is one advance), so cheap
+    /// scenes gain several samples per pixel for each frame the window shows. Returns the
+    /// seconds the batch took.
+    pub(super) fn advance_batch(&mut self, config: &EngineConfig) -> f64 {
+        let started = Instant::now();
+        loop {
+            self.advance(config, false);
+            let elapsed = started.elapsed().as_secs_f64();
+            if config.budget == BudgetMode::EqualTime || elapsed >= WORKER_BATCH_S {
+                return elapsed;
+            }
+        }
+    }
+
+    /// Accumulates one frame of every scheme.
+    pub(super) fn advance(&mut self, config: &EngineConfig, virtual_time: bool) {
+        let pixels = self.pixels();
+        let reference = &self.reference;
+        // Rotate which scheme goes first, so none is always timed right after the window's
+        // own frame work (a bias in the time per frame on a loaded machine).
+        let mut lanes = [&mut self.uniform, &mut self.importance, &mut self.spatial];
+        lanes.rotate_left((self.frame % 3) as usize);
+        for lane in lanes {
+            let spent = match config.budget {
+                BudgetMode::EqualSamples => {
+                    lane.run(config.spp_per_frame.max(1), virtual_time, pixels)
+                }
+                BudgetMode::EqualTime => {
+                    let mut spent = 0.0;
+                    loop {
+                        spent += lane.run(1, virtual_time, pixels);
+                        if virtual_time || spent >= EQUAL_TIME_SLICE_S {
+                            break;
+                        }
+                    }
+                    spent
+                }
+            };
+            lane.seconds += spent;
+            lane.last_frame_seconds = spent;
+            let acc = lane.renderer.accumulator();
+            lane.series.push(ConvergencePoint {
+                spp: acc.samples_per_pixel,
+                seconds: lane.seconds,
+                rmse: lightpick_core::render::rmse(acc, reference),
+            });
+            thin(&mut lane.series);
+        }
+    }
+
+    pub(super) fn publish(&mut self, config: &EngineConfig, device_note: &str) -> Published {
+        self.frame += 1;
+        let reference = &self.reference;
+        let full = reference.image();
+        let exposure = config.exposure;
+        let error_scale = full.map(error_scale);
+        let scheme_image = |lane: &Lane| {
+            let acc = lane.renderer.accumulator();
+            let image = acc.image();
+            SchemeImage {
+                rgba: tonemap_rgba8(&image, exposure),
+                error_rgba: full
+                    .zip(error_scale)
+                    .map(|(r, scale)| error_map(&image, r, scale)),
+                spp: acc.samples_per_pixel,
+                pass_progress: 0.0,
+                seconds: lane.seconds,
+                last_frame_seconds: lane.last_frame_seconds,
+                rmse: Some(lightpick_core::render::rmse(acc, reference)),
+                variance: mean_variance_scaled(acc),
+                normalized_variance: normalized_variance_per_sample(acc),
+                series: lane.series.clone(),
+            }
+        };
+        Published {
+            generation: self.generation,
+            frame: self.frame,
+            width: self.samplers.scene().plane.width,
+            height: self.samplers.scene().plane.height,
+            light_count: self.samplers.scene().light_count(),
+            uniform: scheme_image(&self.uniform),
+            importance: scheme_image(&self.importance),
+            spatial: scheme_image(&self.spatial),
+            reference_rgba: full.map(|r| tonemap_rgba8(r, exposure)),
+            reference_note: self.reference_note.clone(),
+            device_note: device_note.to_owned(),
+            time_source: if virtual_time_note(device_note) {
+                "virtual time (inline test engine: 10 ns per pixel sample)".to_owned()
+            } else {
+                format!(
+                    "CPU core time per pixel sample: the CPU time of the {} render thread(s) in \
+                     each scheme's pass (not the window's), excluding tonemap and error maps; \
+                     `lightpick bench`'s \"core ns\"",
+                    rayon::current_num_threads()
+                )
+            },
+        }
+    }
+}

@@ -1,0 +1,108 @@
+//! The panels and windows, one `*_ui.rs` each, over the [`AppState`] (which imports no
+//! panel): [`lights_ui`], [`table_ui`] (table, over the [`diagram_ui`]), [`histogram_ui`] (sampling),
+//! [`render_ui`] (images), [`convergence_ui`], and the windows [`trade_ui`] (speed against
+//! accuracy), [`precision_ui`], [`walkthrough_ui`] and [`stepper_ui`] (the classroom),
+//! [`inspector_ui`] (a clicked pixel), [`estimator_ui`], [`animation_export_ui`]; the
+//! [`controls_ui`] (menu, run controls, status bar) and the [`file_dialog_ui`]. [`layout`]
+//! decides where the five main panels go at the window's size (pure logic) and
+//! [`layout_ui`] draws them there; [`log_axes`] is the plots' log-log paper.
+
+pub mod animation_export_ui;
+pub mod controls_ui;
+pub mod convergence_ui;
+pub mod diagram_ui;
+pub mod estimator_ui;
+pub mod file_dialog_ui;
+pub mod histogram_ui;
+pub mod inspector_ui;
+pub mod layout;
+pub mod layout_ui;
+pub mod lights_ui;
+pub mod log_axes;
+pub mod panel_kind;
+pub mod precision_ui;
+pub mod render_ui;
+pub mod stepper_ui;
+pub mod table_ui;
+pub mod trade_ui;
+pub mod walkthrough_ui;
+
+use egui::Ui;
+
+pub use panel_kind::PanelKind;
+
+use crate::app::images::Published;
+use crate::app::state::AppState;
+use convergence_ui::ConvergenceAxis;
+use render_ui::ImageTextures;
+
+/// The panels' contents, drawn by the layout (and by
+/// [`crate::app::LightpickApp::panel_ui`]) over the app's state for one frame.
+pub(crate) struct MainPanes<'a> {
+    pub(crate) state: &'a mut AppState,
+    pub(crate) textures: &'a ImageTextures,
+    pub(crate) axis: &'a mut ConvergenceAxis,
+    pub(crate) published: Option<&'a Published>,
+}
+
+impl layout_ui::PaneContents for MainPanes<'_> {
+    fn pane_ui(&mut self, ui: &mut Ui, pane: PanelKind) {
+        let state = &mut *self.state;
+        match pane {
+            PanelKind::Lights => lights_ui::lights_ui(ui, state),
+            PanelKind::Table => table_ui::table_panel_ui(ui, state),
+            PanelKind::Sampling => {
+                // A little room on the left for the plot's rotated axis label.
+                egui::Frame::NONE
+                    .inner_margin(egui::Margin {
+                        left: 4,
+                        ..egui::Margin::ZERO
+                    })
+                    .show(ui, |ui| histogram_ui::sampling_ui(ui, state));
+            }
+            PanelKind::Images => {
+                render_ui::images_ui(ui, state, self.published, self.textures);
+            }
+            PanelKind::Convergence => {
+                convergence_ui::convergence_ui(ui, state, self.published, self.axis);
+            }
+            PanelKind::Controls => {
+                ui.horizontal_wrapped(|ui| controls_ui::controls_ui(ui, state));
+            }
+            PanelKind::Trade => trade_ui::trade_ui(ui, state),
+            PanelKind::Precision => precision_ui::precision_ui(ui, state),
+            PanelKind::Inspector => inspector_ui::inspector_ui(ui, state),
+            PanelKind::Estimator => estimator_ui::estimator_ui(ui, state),
+        }
+    }
+
+    fn wanted_height(&self, ui: &Ui, pane: PanelKind, width: f32) -> Option<f32> {
+        // The images take the height their width allows (every frame, so a resized window
+        // keeps them as large as it can); the panel under them fills the rest.
+        (pane == PanelKind::Images)
+            .then(|| render_ui::wanted_height(ui, width, self.state, self.textures))
+    }
+}
+
+/// The optional windows: speed against accuracy and precision (View menu), the pixel
+/// inspector (a click on an image), the walkthrough, the stepper and the estimator.
+pub fn windows_ui(ctx: &egui::Context, state: &mut AppState) {
+    let mut open = state.settings.show_trade;
+    egui::Window::new("Speed against accuracy")
+        .open(&mut open)
+        .default_size([620.0, 520.0])
+        .default_pos([760.0, 60.0])
+        .show(ctx, |ui| trade_ui::trade_ui(ui, state));
+    state.settings.show_trade = open;
+    let mut open = state.settings.show_precision;
+    egui::Window::new("Precision")
+        .open(&mut open)
+        .default_size([640.0, 420.0])
+        .default_pos([20.0, 400.0])
+        .show(ctx, |ui| precision_ui::precision_ui(ui, state));
+    state.settings.show_precision = open;
+    inspector_ui::inspector_window(ctx, state);
+    walkthrough_ui::walkthrough_window(ctx, state);
+    stepper_ui::stepper_window(ctx, state);
+    estimator_ui::estimator_window(ctx, state);
+}

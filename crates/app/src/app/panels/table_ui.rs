@@ -1,0 +1,178 @@
+//! The alias-table panel: the interactive diagram ([`super::diagram_ui`]) over the live
+//! table (i, power, pmf, threshold, alias), and the sentences that explain a column and a
+//! single draw in the seed example's words.
+
+use egui::{Rect, Sense, Stroke, StrokeKind, Ui, vec2};
+
+use lightpick_core::walkthrough::{Highlight, TableField};
+
+use crate::app::colors;
+use crate::app::state::AppState;
+use crate::app::state::sampling::OneDraw;
+use crate::numbers;
+
+/// Rows of the table shown without scrolling when the table is small.
+pub(super) const ROW_HEIGHT: f32 = 18.0;
+
+/// The whole panel: heading, diagram, then the table.
+pub fn table_panel_ui(ui: &mut Ui, state: &mut AppState) {
+    let built = std::sync::Arc::clone(&state.built);
+    ui.horizontal_wrapped(|ui| {
+        ui.label(format!(
+            "N = {}   ΣΦ = {}",
+            built.len(),
+            numbers::short(built.total_power)
+        ))
+        .on_hover_text("Number of lights and their total power");
+        if state.is_building() {
+            ui.spinner();
+            ui.label("rebuilding…");
+        }
+        ui.toggle_value(&mut state.settings.show_walkthrough, "Walkthrough")
+            .on_hover_text("The classic explanation (lights 2, 5, 20) step by step");
+        ui.toggle_value(&mut state.settings.show_stepper, "Construction")
+            .on_hover_text("Watch Vose's algorithm build this table, one pairing at a time");
+    });
+    super::diagram_ui::diagram_ui(ui, state, None);
+    ui.add_space(4.0);
+    table_ui(ui, state);
+}
+
+/// The table: one row per light (virtualized for large `N`).
+pub fn table_ui(ui: &mut Ui, state: &AppState) {
+    let built = &state.built;
+    let den = built.denominator;
+    let powers = built.scene.powers.as_slice();
+    let pmf = built.pmf();
+    let table = &built.table;
+    let highlight = state.table_highlight.as_ref();
+    // Column widths at full size, narrowed (down to 55 %) to fit a narrow panel so that the
+    // threshold and alias columns stay visible.
+    // A named scene's first column shows the names too.
+    let names = built.scene.names.as_deref();
+    let first = if names.is_some() { 110.0 } else { 44.0 };
+    let full = [first, 90.0_f32, 90.0, 90.0, 54.0];
+    let room = ui.available_width() - 4.0 * ui.spacing().item_spacing.x;
+    let fit = (room / full.iter().sum::<f32>()).clamp(0.55, 1.0);
+    let widths = full.map(|w| w * fit);
+    let header = ["i", "power Φ", "pmf p", "threshold", "alias"];
+    let tips = [
+        "Light / column number (1-based)",
+        "The light's power Φ_i",
+        "p_i = Φ_i / ΣΦ: the probability the table realizes (exact fraction for integer powers)",
+        "Probability that column i keeps its own light (U2 < threshold)",
+        "The light column i yields when U2 ≥ threshold",
+    ];
+    ui.horizontal(|ui| {
+        for ((w, h), tip) in widths.iter().zip(header).zip(tips) {
+            ui.add_sized(
+                [*w, ROW_HEIGHT],
+                egui::Label::new(egui::RichText::new(h).strong()),
+            )
+            .on_hover_text(tip);
+        }
+    });
+    ui.separator();
+    let n = built.len();
+    let max_height = ui.available_height().max(ROW_HEIGHT * 3.0);
+    egui::ScrollArea::vertical()
+        .id_salt("alias_table_rows")
+        .max_height(max_height)
+        .auto_shrink([false, true])
+        .show_rows(ui, ROW_HEIGHT, n, |ui, rows| {
+            for i in rows {
+                ui.horizontal(|ui| {
+                    let (swatch, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
+                    ui.painter().rect_filled(swatch, 2.0, colors::light(i));
+                    let label = match names.and_then(|n| n.get(i)).filter(|n| !n.is_empty()) {
+                        Some(name) => format!("{} {name}", i + 1),
+                        None => format!("{}", i + 1),
+                    };
+                    ui.add_sized(
+                        [widths[0] - 14.0, ROW_HEIGHT],
+                        egui::Label::new(label).truncate(),
+                    );
+                    let power = ui.add_sized(
+                        [widths[1], ROW_HEIGHT],
+                        egui::Label::new(numbers::short(powers[i])),
+                    );
+                    mark_cell(ui, highlight, i, TableField::Power, power.rect);
+                    let p = ui
+                        .add_sized(
+                            [widths[2], ROW_HEIGHT],
+                            egui::Label::new(numbers::show(pmf[i], den)),
+                        )
+                        .on_hover_text(format!("p = {:.12}", pmf[i]));
+                    mark_cell(ui, highlight, i, TableField::Pmf, p.rect);
+                    let t = ui
+                        .add_sized(
+                            [widths[3], ROW_HEIGHT],
+                            egui::Label::new(numbers::show(table.threshold(i), den)),
+                        )
+                        .on_hover_text(format!("threshold = {:.12}", table.threshold(i)));
+                    mark_cell(ui, highlight, i, TableField::Threshold, t.rect);
+                    let a = ui.add_sized(
+                        [widths[4], ROW_HEIGHT],
+                        egui::Label::new(format!("{}", table.alias(i) + 1)),
+                    );
+                    mark_cell(ui, highlight, i, TableField::Alias, a.rect);
+                });
+            }
+        });
+}
+
+/// Outlines a table cell the walkthrough's current step talks about.
+fn mark_cell(ui: &Ui, highlight: Option<&Highlight>, row: usize, field: TableField, rect: Rect) {
+    if highlight.is_some_and(|h| h.has_cell(row, field)) {
+        let color = colors::highlight(ui.visuals().dark_mode);
+        ui.painter().rect_stroke(
+            rect.shrink2(vec2(8.0, 0.0)),
+            3.0,
+            Stroke::new(2.5, color),
+            StrokeKind::Inside,
+        );
+    }
+}
+
+/// The sentence that explains column `i`, in the seed example's words: "column 1 keeps
+/// light 1 with probability 6/27, else light 3".
+pub fn column_sentence(state: &AppState, i: usize) -> String {
+    let built = &state.built;
+    let t = built.table.threshold(i);
+    let a = built.table.alias(i) as usize;
+    let p = numbers::show(t, built.denominator);
+    if t >= 1.0 || a == i {
+        format!("column {} always keeps light {}", i + 1, i + 1)
+    } else if t <= 0.0 {
+        format!(
+            "column {} always gives light {} (light {} has power 0)",
+            i + 1,
+            a + 1,
+            i + 1
+        )
+    } else {
+        format!(
+            "column {} keeps light {} with probability {p}, else light {}",
+            i + 1,
+            i + 1,
+            a + 1
+        )
+    }
+}
+
+/// The sentence describing a single draw for the Sampling panel.
+pub fn draw_sentence(state: &AppState, draw: &OneDraw) -> String {
+    let den = state.built.denominator;
+    let n = state.built.len();
+    let t = numbers::show(draw.threshold, den);
+    let verdict = if draw.kept {
+        format!("U2 = {:.4} < {t} → keep light {}", draw.u2, draw.column + 1)
+    } else {
+        format!("U2 = {:.4} ≥ {t} → alias light {}", draw.u2, draw.light + 1)
+    };
+    format!(
+        "U1 = {:.4} → column floor(U1·{n}) + 1 = {};  {verdict}",
+        draw.u1,
+        draw.column + 1
+    )
+}
