@@ -3,7 +3,18 @@
 
 use crate::common::{app_harness as harness, click, scratch, shows};
 use egui::accesskit::Role;
+use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
+use lightpick::app::LightpickApp;
+
+/// Types `path` into the open file dialog's Path field and presses OK.
+fn submit_path(harness: &mut Harness<'_, LightpickApp>, path: &std::path::Path) {
+    harness
+        .get_by_role_and_label(Role::TextInput, "Path")
+        .set_text_value_accesskit(path.to_str().expect("utf-8 path"));
+    harness.run();
+    click(harness, "OK");
+}
 
 #[test]
 fn seed_table_is_shown_with_exact_fractions() {
@@ -92,11 +103,7 @@ fn a_malformed_scene_file_is_reported_and_the_scene_kept() {
     let mut harness = harness();
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::O);
     harness.run();
-    harness
-        .get_by_role_and_label(Role::TextInput, "Path")
-        .set_text_value_accesskit(path.to_str().expect("utf-8 path"));
-    harness.run();
-    click(&mut harness, "OK");
+    submit_path(&mut harness, &path);
 
     // The dialog stays open with the reason; the status bar says nothing changed.
     harness.get_by_label_contains("Error: ");
@@ -187,11 +194,7 @@ fn export_writes_png_files_through_the_file_menu() {
         click(&mut harness, "File");
         harness.get_by_label_contains(item).click();
         harness.run();
-        harness
-            .get_by_role_and_label(Role::TextInput, "Path")
-            .set_text_value_accesskit(path.to_str().expect("utf-8 path"));
-        harness.run();
-        click(&mut harness, "OK");
+        submit_path(&mut harness, &path);
         let bytes = std::fs::read(&path).expect("the PNG was written");
         assert_eq!(&bytes[1..4], b"PNG", "{file}");
         harness.get_by_label_contains("exported");
