@@ -44,10 +44,17 @@ pub fn load_scene_file(path: &std::path::Path, floor: Option<f64>) -> anyhow::Re
     Ok(load_file(path, floor)?.scene)
 }
 
-/// [`load_scene_file`] with what the file held.
+/// [`load_scene_file`] with what the file held; errors start `--scene FILE: `.
 pub fn load_file(path: &std::path::Path, floor: Option<f64>) -> anyhow::Result<Loaded> {
     lightpick_core::scene::load(path, &LoadOptions { floor })
         .with_context(|| format!("--scene {}", path.display()))
+}
+
+/// The file of `lightpick FILE` (the app opened on a file given positionally): errors
+/// start `FILE: `, the path as typed, since no `--scene` was.
+pub fn open_file(path: &std::path::Path) -> anyhow::Result<Loaded> {
+    lightpick_core::scene::load(path, &LoadOptions::default())
+        .with_context(|| path.display().to_string())
 }
 
 impl SceneArgs {

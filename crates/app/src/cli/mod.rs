@@ -2,12 +2,10 @@
 //! object for scripts. Any error prints one line `error: …` on stderr and exits with code 2.
 
 pub mod animation;
-mod bandwidth;
 mod bench;
 mod device;
 mod estimate;
 mod input;
-mod machine;
 mod plot;
 mod precision;
 mod render;
@@ -92,7 +90,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                     "'{}' is neither a subcommand nor a file (see `lightpick --help`)",
                     path.display()
                 ),
-                Some(path) => Some((path.clone(), input::load_file(path, None)?)),
+                Some(path) => Some((path.clone(), input::open_file(path)?)),
                 None => None,
             };
             crate::app::run(opened)

@@ -2,10 +2,10 @@
 //! every key step (and after a power changes), the construction stepper's states, and
 //! snapshots of both (goldens in `tests/snapshots/`, `UPDATE_SNAPSHOTS=1` to refresh).
 
-use crate::common::{app_harness as harness, shows};
+use crate::common::{app_harness as harness, click, shows, snapshot_options, wgpu_window};
 use egui::accesskit::Role;
+use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
-use egui_kittest::{Harness, SnapshotOptions};
 use lightpick::app::LightpickApp;
 use lightpick_core::construction::ConstructionEvent;
 use lightpick_core::walkthrough::{ColumnPart, StepKind, TableField};
@@ -14,11 +14,6 @@ fn assert_shows(harness: &Harness<'_, LightpickApp>, labels: &[&str]) {
     for label in labels {
         assert!(shows(harness, label), "{label:?} is not shown");
     }
-}
-
-fn click(harness: &mut Harness<'_, LightpickApp>, label: &str) {
-    harness.get_by_label(label).click();
-    harness.run();
 }
 
 fn open_walkthrough(harness: &mut Harness<'_, LightpickApp>) {
@@ -120,8 +115,7 @@ fn walkthrough_shows_the_classic_numbers_step_by_step() {
         ],
     );
     // The last step: Next is disabled and changes nothing.
-    h.get_by_label("Next →").click();
-    h.run();
+    click(&mut h, "Next →");
     assert_eq!(h.state().state.walkthrough.step, 8);
     // Page Up (a presenter remote) goes back.
     h.key_press(egui::Key::PageUp);
@@ -319,17 +313,10 @@ fn stepper_starts_over_on_a_new_table_and_refuses_huge_ones() {
     h.get_by_label_contains("up to 64 lights; this scene has 65");
 }
 
-fn options() -> SnapshotOptions {
-    SnapshotOptions::new().output_path(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/snapshots"))
-}
-
 fn whole_app(dark: bool) -> Harness<'static, LightpickApp> {
     let mut app = LightpickApp::for_tests();
     app.state.settings.dark = dark;
-    let mut harness = Harness::builder()
-        .with_size([1600.0, 1000.0])
-        .wgpu()
-        .build_ui_state(|ui, app: &mut LightpickApp| app.ui(ui), app);
+    let mut harness = wgpu_window(app, [1600.0, 1000.0]);
     harness.run();
     harness
 }
@@ -342,7 +329,7 @@ fn walkthrough_snapshot() {
         click(&mut h, "Next →");
     }
     assert_shows(&h, &["= 9/27 + 7/27 + 4/27 = 20/27"]);
-    h.snapshot_options("classroom_walkthrough", &options());
+    h.snapshot_options("classroom_walkthrough", &snapshot_options());
 }
 
 #[test]
@@ -353,5 +340,5 @@ fn stepper_snapshot() {
     h.run();
     click(&mut h, "Step →");
     assert_shows(&h, &["event 1 of 3"]);
-    h.snapshot_options("classroom_stepper", &options());
+    h.snapshot_options("classroom_stepper", &snapshot_options());
 }

@@ -3,9 +3,9 @@
 //! analytic ones (366 and 14.85), seeded steps equal to the core's, the powers followed
 //! live, a pixel's point from the inspector, and a snapshot.
 
-use crate::common::{app_harness as harness, shows};
+use crate::common::{app_harness as harness, shows, snapshot_options, wgpu_window};
+use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
-use egui_kittest::{Harness, SnapshotOptions};
 use lightpick::app::LightpickApp;
 use lightpick::app::state::estimator::EstimatorPoint;
 use lightpick_core::SeedExample;
@@ -151,16 +151,9 @@ fn estimator_snapshot() {
     let mut app = LightpickApp::for_tests();
     app.state.settings.dark = false;
     app.state.estimator.open_at(EstimatorPoint::Seed);
-    let mut h = Harness::builder()
-        .with_size([1600.0, 1000.0])
-        .wgpu()
-        .build_ui_state(|ui, app: &mut LightpickApp| app.ui(ui), app);
+    let mut h = wgpu_window(app, [1600.0, 1000.0]);
     h.run();
     h.state_mut().state.estimator.step(30_000);
     h.run();
-    h.snapshot_options(
-        "estimator_seed",
-        &SnapshotOptions::new()
-            .output_path(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/snapshots")),
-    );
+    h.snapshot_options("estimator_seed", &snapshot_options());
 }

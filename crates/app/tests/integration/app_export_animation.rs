@@ -7,8 +7,7 @@
 use egui_kittest::kittest::Queryable as _;
 use lightpick::app::LightpickApp;
 
-use crate::cli_animation::gif_frames;
-use crate::common::{HANG_GUARD, app_harness, lightpick, scratch};
+use crate::common::{HANG_GUARD, app_harness, click, gif_frames, run_ok, scratch};
 
 #[test]
 fn the_export_job_writes_the_cli_animation_of_the_running_state() {
@@ -72,12 +71,7 @@ fn the_export_job_writes_the_cli_animation_of_the_running_state() {
     if state.dark() {
         args.push("--dark");
     }
-    let out = lightpick(&args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    run_ok(&args);
     assert!(
         std::fs::read(&cli).unwrap() == std::fs::read(&path).unwrap(),
         "the app's and the CLI's animations differ"
@@ -100,10 +94,8 @@ fn the_file_menu_exports_an_animation_in_the_background() {
     let dir = scratch("app-animation-menu");
     let path = dir.join("menu.gif");
     let mut harness = app_harness();
-    harness.get_by_label("File").click();
-    harness.run();
-    harness.get_by_label("Export animation…").click();
-    harness.run();
+    click(&mut harness, "File");
+    click(&mut harness, "Export animation…");
     assert!(harness.state().state.animation_export.open);
     {
         let export = &mut harness.state_mut().state.animation_export;
@@ -112,8 +104,7 @@ fn the_file_menu_exports_an_animation_in_the_background() {
         export.max_spp = 2;
     }
     harness.run();
-    harness.get_by_label("Export").click();
-    harness.run();
+    click(&mut harness, "Export");
     // The export runs on its worker thread; the app collects it when it ends.
     let started = std::time::Instant::now();
     while harness.state().state.animation_export.is_running() {

@@ -14,20 +14,11 @@ use lightpick::app::state::FileAction;
 use lightpick_core::Scheme;
 use lightpick_core::render::{CpuRenderer, Reference, rmse};
 
-fn skip() -> bool {
-    let skip = std::env::var("LIGHTPICK_SKIP_GPU_TESTS").as_deref() == Ok("1");
-    if skip {
-        eprintln!("GPU test skipped: LIGHTPICK_SKIP_GPU_TESTS=1");
-    }
-    skip
-}
+use crate::common::{HANG_GUARD, gpu_expected, scratch, step_paused, wgpu_eframe};
 
 /// The whole app on kittest's wgpu device, paused, on the seed scene.
 fn gpu_app() -> Harness<'static, LightpickApp> {
-    let mut harness = Harness::builder()
-        .with_size([1280.0, 800.0])
-        .wgpu()
-        .build_eframe(|_cc| LightpickApp::for_tests());
+    let mut harness = wgpu_eframe([1280.0, 800.0]);
     harness.run();
     harness
 }
@@ -46,12 +37,9 @@ fn running_on_a_costly_scene() -> Harness<'static, LightpickApp> {
 
 /// Steps `frames` frames, then runs until the reference (a worker thread) has arrived and the
 /// latest frame carries every RMSE.
-fn step_until_measured(harness: &mut Harness<'static, LightpickApp>, frames: u32) -> Published {
-    for _ in 0..frames {
-        harness.state_mut().step();
-        harness.run();
-    }
-    let deadline = Instant::now() + crate::common::HANG_GUARD;
+fn step_until_measured(harness: &mut Harness<'static, LightpickApp>, frames: usize) -> Published {
+    step_paused(harness, frames);
+    let deadline = Instant::now() + HANG_GUARD;
     loop {
         harness.state_mut().step();
         harness.run();
@@ -64,23 +52,40 @@ fn step_until_measured(harness: &mut Harness<'static, LightpickApp>, frames: u32
     }
 }
 
-/// The RMSE the CPU renderer reaches with the app's scene, its shared table and tree (the
-/// table the panels show) and seed at `spp`, per scheme.
-fn cpu_rmses(harness: &Harness<'static, LightpickApp>, spp: u32) -> impl Fn(Scheme) -> f64 {
+/// Asserts that each of `schemes`' GPU images has the RMSE the CPU renderer reaches, within
+/// 1e-3 relative, with the app's scene, its shared table and tree (the table the panels
+/// show) and seed at the image's spp.
+fn assert_cpu_rmses(
+    harness: &Harness<'static, LightpickApp>,
+    published: &Published,
+    schemes: &[Scheme],
+) {
     let app = harness.state();
     let samplers = app.state.built.samplers.clone();
     let seed = app.state.settings.seed;
     let reference = Reference::compute(samplers.scene());
-    move |scheme| {
+    let spp = published.uniform.spp;
+    for &scheme in schemes {
+        let image = match scheme {
+            Scheme::Uniform => &published.uniform,
+            Scheme::Alias => &published.importance,
+            Scheme::Spatial => &published.spatial,
+            other => panic!("no GPU image of {other:?}"),
+        };
         let mut r = CpuRenderer::from_samplers(&samplers, scheme, seed);
         r.accumulate(spp);
-        rmse(r.accumulator(), &reference)
+        let cpu = rmse(r.accumulator(), &reference);
+        let gpu = image.rmse.expect("rmse");
+        assert!(
+            (gpu - cpu).abs() <= 1e-3 * cpu,
+            "{scheme:?} at {spp} spp: GPU RMSE {gpu} vs CPU {cpu}"
+        );
     }
 }
 
 #[test]
 fn the_gpu_renders_the_three_images_with_the_cpu_engines_numbers() {
-    if skip() {
+    if !gpu_expected() {
         return;
     }
     let mut harness = gpu_app();
@@ -95,19 +100,9 @@ fn the_gpu_renders_the_three_images_with_the_cpu_engines_numbers() {
     assert_eq!(published.importance.spp, spp);
     assert_eq!(published.spatial.spp, spp);
 
-    let cpu_rmse = cpu_rmses(&harness, spp);
     // Same picks (the RNG and the pick are bit for bit the CPU's); the per-pixel f32
     // estimates and sums differ by ~1e-6 relative, so the RMSEs agree far within 1e-3.
-    for (scheme, image) in [
-        (Scheme::Uniform, &published.uniform),
-        (Scheme::Alias, &published.importance),
-    ] {
-        let (gpu, cpu) = (image.rmse.expect("rmse"), cpu_rmse(scheme));
-        assert!(
-            (gpu - cpu).abs() <= 1e-3 * cpu,
-            "{scheme:?}: GPU RMSE {gpu} vs CPU {cpu}"
-        );
-    }
+    assert_cpu_rmses(&harness, &published, &[Scheme::Uniform, Scheme::Alias]);
     // Three lights: the exact contribution pick, whose only error on the GPU is f32 rounding.
     let uniform = published.uniform.rmse.expect("rmse");
     let spatial = published.spatial.rmse.expect("rmse");
@@ -120,7 +115,7 @@ fn the_gpu_renders_the_three_images_with_the_cpu_engines_numbers() {
 
 #[test]
 fn equal_time_mode_runs_on_the_gpu_too() {
-    if skip() {
+    if !gpu_expected() {
         return;
     }
     let mut harness = gpu_app();
@@ -146,14 +141,13 @@ fn equal_time_mode_runs_on_the_gpu_too() {
 /// (the images are not on the CPU otherwise) and writes the full sheet.
 #[test]
 fn exporting_reads_the_gpu_images_back() {
-    if skip() {
+    if !gpu_expected() {
         return;
     }
     let mut harness = gpu_app();
     let published = step_until_measured(&mut harness, 2);
     assert!(published.uniform.rgba.is_empty(), "native textures only");
-    let path =
-        std::env::temp_dir().join(format!("lightpick-gpu-export-{}.png", std::process::id()));
+    let path = scratch("gpu-export").join("images.png");
     let path_text = path.to_str().expect("utf-8 path").to_owned();
     harness
         .state_mut()
@@ -176,11 +170,11 @@ fn exporting_reads_the_gpu_images_back() {
 /// 14-level tree whose pass costs more than a frame allows on lavapipe, so bands are used.
 #[test]
 fn running_frames_within_the_budget_give_the_cpu_numbers() {
-    if skip() {
+    if !gpu_expected() {
         return;
     }
     let mut harness = running_on_a_costly_scene();
-    let deadline = Instant::now() + crate::common::HANG_GUARD;
+    let deadline = Instant::now() + HANG_GUARD;
     let mut banded = false;
     let published = loop {
         harness.step();
@@ -206,26 +200,18 @@ fn running_frames_within_the_budget_give_the_cpu_numbers() {
     let spp = published.uniform.spp;
     assert_eq!(published.importance.spp, spp);
     assert_eq!(published.spatial.spp, spp);
-    let cpu_rmse = cpu_rmses(&harness, spp);
-    for (scheme, image) in [
-        (Scheme::Uniform, &published.uniform),
-        (Scheme::Alias, &published.importance),
-        (Scheme::Spatial, &published.spatial),
-    ] {
-        let cpu = cpu_rmse(scheme);
-        let gpu = image.rmse.expect("rmse");
-        assert!(
-            (gpu - cpu).abs() <= 1e-3 * cpu,
-            "{scheme:?} at {spp} spp: GPU RMSE {gpu} vs CPU {cpu}"
-        );
-    }
+    assert_cpu_rmses(
+        &harness,
+        &published,
+        &[Scheme::Uniform, Scheme::Alias, Scheme::Spatial],
+    );
 }
 
 /// Exporting while a costly pass is spread over frames (row bands) completes the pass first:
 /// the sums of a pass in progress cannot be read, and an image must have one sample count.
 #[test]
 fn exporting_in_the_middle_of_a_pass_completes_it() {
-    if skip() {
+    if !gpu_expected() {
         return;
     }
     let mut harness = running_on_a_costly_scene();
@@ -245,7 +231,7 @@ fn exporting_in_the_middle_of_a_pass_completes_it() {
     };
     eprintln!("exporting in the middle of a pass: {mid_pass}");
     harness.state_mut().state.settings.paused = true;
-    let path = std::env::temp_dir().join(format!("lightpick-mid-pass-{}.png", std::process::id()));
+    let path = scratch("mid-pass").join("images.png");
     let path_text = path.to_str().expect("utf-8 path").to_owned();
     harness
         .state_mut()

@@ -3,13 +3,15 @@
 //! scheme there, equal to the core's [`PointInspection`]; it follows a power change.
 
 use egui::accesskit::Role;
+use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
-use egui_kittest::{Harness, SnapshotOptions};
 use lightpick::app::{LightpickApp, PanelKind};
 use lightpick::numbers::short;
 use lightpick_core::inspect::PointInspection;
 use lightpick_core::scene::pixel_center;
 use lightpick_core::spatial::SpatialSampler;
+
+use crate::common::{click, panel, shows_containing, snapshot_options, wgpu_panel};
 
 fn whole_app() -> Harness<'static, LightpickApp> {
     let mut harness = crate::common::app_harness();
@@ -38,10 +40,6 @@ fn expected(harness: &Harness<'static, LightpickApp>) -> PointInspection {
     let pixel = state.inspector.pixel.expect("a pixel is selected");
     let scene = &state.built.scene;
     PointInspection::at(scene, pixel_center(&scene.plane, pixel[0], pixel[1]))
-}
-
-fn shows_containing(harness: &Harness<'static, LightpickApp>, text: &str) -> bool {
-    harness.query_all_by_label_contains(text).next().is_some()
 }
 
 #[test]
@@ -133,27 +131,20 @@ fn closing_the_window_clears_the_selection() {
     harness.state_mut().state.inspector.pixel = Some([10, 10]);
     harness.run();
     harness.get_by_label("Pixel inspector");
-    harness.get_by_label("Close window").click();
-    harness.run();
+    click(&mut harness, "Close window");
     assert!(harness.state().state.inspector.pixel.is_none());
 }
 
 #[test]
 fn inspector_snapshot() {
-    let mut harness = Harness::builder()
-        .with_size([520.0, 560.0])
-        .wgpu()
-        .build_ui_state(
-            |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Inspector),
-            LightpickApp::for_tests(),
-        );
+    let mut harness = wgpu_panel(
+        PanelKind::Inspector,
+        LightpickApp::for_tests(),
+        [520.0, 560.0],
+    );
     harness.state_mut().state.inspector.pixel = Some([64, 170]);
     harness.run();
-    harness.snapshot_options(
-        "app_inspector",
-        &SnapshotOptions::new()
-            .output_path(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/snapshots")),
-    );
+    harness.snapshot_options("app_inspector", &snapshot_options());
 }
 
 /// On `equal` (64 lights spread over the plane: a light tree) the inspector adds the spatial
@@ -162,10 +153,7 @@ fn inspector_snapshot() {
 #[test]
 fn the_inspector_shows_the_spatial_pick_and_its_variance() {
     let app = LightpickApp::for_tests_on("equal");
-    let mut harness = Harness::builder().with_size([520.0, 700.0]).build_ui_state(
-        |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Inspector),
-        app,
-    );
+    let mut harness = panel(PanelKind::Inspector, app, [520.0, 700.0]);
     harness.state_mut().state.inspector.pixel = Some([100, 60]);
     harness.run();
     let state = &harness.state().state;
@@ -201,10 +189,7 @@ fn the_inspector_shows_the_spatial_pick_and_its_variance() {
 #[test]
 fn spot_scenes_show_the_cone_term_and_why_power_picking_fails() {
     let app = LightpickApp::for_tests_on("stage");
-    let mut harness = Harness::builder().with_size([620.0, 700.0]).build_ui_state(
-        |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Inspector),
-        app,
-    );
+    let mut harness = panel(PanelKind::Inspector, app, [620.0, 700.0]);
     harness.state_mut().state.inspector.pixel = Some([126, 81]);
     harness.run();
     let state = &harness.state().state;
@@ -229,9 +214,10 @@ fn spot_scenes_show_the_cone_term_and_why_power_picking_fails() {
         "some listed spot is dark here"
     );
 
-    let mut images = Harness::builder().with_size([900.0, 520.0]).build_ui_state(
-        |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Images),
+    let mut images = panel(
+        PanelKind::Images,
         LightpickApp::for_tests_on("stage"),
+        [900.0, 520.0],
     );
     images.state_mut().step();
     images.run();

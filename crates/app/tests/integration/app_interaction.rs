@@ -1,9 +1,20 @@
 //! The app driven through its accessibility tree (`egui_kittest`), as a user would: typing
 //! powers, bad input, a malformed scene file, a single draw, keyboard shortcuts.
 
-use crate::common::{app_harness as harness, shows};
+use crate::common::{app_harness as harness, click, scratch, shows};
 use egui::accesskit::Role;
+use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
+use lightpick::app::LightpickApp;
+
+/// Types `path` into the open file dialog's Path field and presses OK.
+fn submit_path(harness: &mut Harness<'_, LightpickApp>, path: &std::path::Path) {
+    harness
+        .get_by_role_and_label(Role::TextInput, "Path")
+        .set_text_value_accesskit(path.to_str().expect("utf-8 path"));
+    harness.run();
+    click(harness, "OK");
+}
 
 #[test]
 fn seed_table_is_shown_with_exact_fractions() {
@@ -61,8 +72,7 @@ fn nan_typed_in_the_powers_field_is_named_and_kept() {
         .get_by_role_and_label(Role::TextInput, "Powers")
         .set_text_value_accesskit("2, NaN, 20");
     harness.run();
-    harness.get_by_label("Apply").click();
-    harness.run();
+    click(&mut harness, "Apply");
     eprintln!(
         "{:?} / {:?}",
         harness.state().state.input_error,
@@ -76,15 +86,13 @@ fn nan_typed_in_the_powers_field_is_named_and_kept() {
         .get_by_role_and_label(Role::TextInput, "Powers")
         .set_text_value_accesskit("2, five, 20");
     harness.run();
-    harness.get_by_label("Apply").click();
-    harness.run();
+    click(&mut harness, "Apply");
     harness.get_by_label_contains("light 2: 'five' is not a number");
 }
 
 #[test]
 fn a_malformed_scene_file_is_reported_and_the_scene_kept() {
-    let dir = std::env::temp_dir().join(format!("lightpick-app-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = scratch("app-open");
     let path = dir.join("broken.json");
     std::fs::write(
         &path,
@@ -95,12 +103,7 @@ fn a_malformed_scene_file_is_reported_and_the_scene_kept() {
     let mut harness = harness();
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::O);
     harness.run();
-    harness
-        .get_by_role_and_label(Role::TextInput, "Path")
-        .set_text_value_accesskit(path.to_str().expect("utf-8 path"));
-    harness.run();
-    harness.get_by_label("OK").click();
-    harness.run();
+    submit_path(&mut harness, &path);
 
     // The dialog stays open with the reason; the status bar says nothing changed.
     harness.get_by_label_contains("Error: ");
@@ -120,8 +123,7 @@ fn a_malformed_scene_file_is_reported_and_the_scene_kept() {
             "lights": [{"position": [0, 0, 1], "power": 1}, {"position": [0.5, 0, 1], "power": 3}]}"#,
     )
     .expect("write");
-    harness.get_by_label("OK").click();
-    harness.run();
+    click(&mut harness, "OK");
     let state = &harness.state().state;
     assert_eq!(state.edit.name, "pair");
     assert!(shows(&harness, "3/4"));
@@ -131,8 +133,7 @@ fn a_malformed_scene_file_is_reported_and_the_scene_kept() {
 #[test]
 fn draw_one_sample_explains_the_pick() {
     let mut harness = harness();
-    harness.get_by_label("Draw one sample").click();
-    harness.run();
+    click(&mut harness, "Draw one sample");
     let draw = harness
         .state()
         .state
@@ -171,11 +172,9 @@ fn space_toggles_pause_and_r_resets() {
 #[test]
 fn adding_and_removing_lights_keeps_table_and_rows_in_step() {
     let mut harness = harness();
-    harness.get_by_label("+ Add").click();
-    harness.run();
+    click(&mut harness, "+ Add");
     assert_eq!(harness.state().state.built.len(), 4);
-    harness.get_by_label("remove light 1").click();
-    harness.run();
+    click(&mut harness, "remove light 1");
     let state = &harness.state().state;
     assert_eq!(state.built.scene.powers.as_slice(), &[5.0, 20.0, 1.0]);
     assert_eq!(state.edit.positions.len(), 3);
@@ -183,8 +182,7 @@ fn adding_and_removing_lights_keeps_table_and_rows_in_step() {
 
 #[test]
 fn export_writes_png_files_through_the_file_menu() {
-    let dir = std::env::temp_dir().join(format!("lightpick-export-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = scratch("app-export");
     let mut harness = harness();
     harness.state_mut().step();
     harness.run();
@@ -193,16 +191,10 @@ fn export_writes_png_files_through_the_file_menu() {
         ("Export images", "images.png"),
     ] {
         let path = dir.join(file);
-        harness.get_by_label("File").click();
-        harness.run();
+        click(&mut harness, "File");
         harness.get_by_label_contains(item).click();
         harness.run();
-        harness
-            .get_by_role_and_label(Role::TextInput, "Path")
-            .set_text_value_accesskit(path.to_str().expect("utf-8 path"));
-        harness.run();
-        harness.get_by_label("OK").click();
-        harness.run();
+        submit_path(&mut harness, &path);
         let bytes = std::fs::read(&path).expect("the PNG was written");
         assert_eq!(&bytes[1..4], b"PNG", "{file}");
         harness.get_by_label_contains("exported");

@@ -11,11 +11,10 @@ use egui_kittest::kittest::Queryable as _;
 use lightpick::app::state::{SYNC_BUILD_LIMIT, SliderScale};
 use lightpick::app::{LightpickApp, PanelKind};
 
+use crate::common::{HANG_GUARD, click, panel};
+
 fn lights_panel() -> Harness<'static, LightpickApp> {
-    let mut harness = Harness::builder().with_size([460.0, 600.0]).build_ui_state(
-        |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Lights),
-        LightpickApp::for_tests(),
-    );
+    let mut harness = panel(PanelKind::Lights, LightpickApp::for_tests(), [460.0, 600.0]);
     harness.run();
     harness
 }
@@ -25,9 +24,9 @@ fn powers(harness: &Harness<'static, LightpickApp>) -> Vec<f64> {
 }
 
 /// Runs frames until the table has `n` lights (a background build), or fails after
-/// [`crate::common::HANG_GUARD`].
+/// [`HANG_GUARD`].
 fn run_until_built(harness: &mut Harness<'static, LightpickApp>, n: usize) {
-    let deadline = Instant::now() + crate::common::HANG_GUARD;
+    let deadline = Instant::now() + HANG_GUARD;
     while harness.state().state.built.len() != n {
         assert!(
             Instant::now() < deadline,
@@ -41,8 +40,7 @@ fn run_until_built(harness: &mut Harness<'static, LightpickApp>, n: usize) {
 #[test]
 fn duplicate_inserts_a_copy_after_the_light_and_rebuilds_the_table() {
     let mut harness = lights_panel();
-    harness.get_by_label("duplicate light 2").click();
-    harness.run();
+    click(&mut harness, "duplicate light 2");
     assert_eq!(powers(&harness), [2.0, 5.0, 5.0, 20.0]);
     let state = &harness.state().state;
     assert_eq!(state.edit.positions[1], state.edit.positions[2]);
@@ -54,8 +52,7 @@ fn duplicate_inserts_a_copy_after_the_light_and_rebuilds_the_table() {
 fn randomize_draws_new_valid_powers_for_every_light() {
     let mut harness = lights_panel();
     let before = powers(&harness);
-    harness.get_by_label("Randomize").click();
-    harness.run();
+    click(&mut harness, "Randomize");
     let after = powers(&harness);
     assert_eq!(after.len(), before.len());
     assert_ne!(after, before);
@@ -71,8 +68,7 @@ fn generate_makes_count_lights_and_shows_only_the_visible_rows() {
         .get_by_role_and_label(Role::SpinButton, "Count")
         .set_value_accesskit(5000.0);
     harness.run();
-    harness.get_by_label("Generate").click();
-    harness.run();
+    click(&mut harness, "Generate");
     run_until_built(&mut harness, 5000);
     assert_eq!(harness.state().state.edit.powers.len(), 5000);
     // A virtualized list: a few dozen rows exist as widgets, not 5000.
@@ -105,8 +101,7 @@ fn generating_past_the_synchronous_limit_keeps_the_table_until_the_new_one_is_bu
 #[test]
 fn the_log_slider_sets_small_powers() {
     let mut harness = lights_panel();
-    harness.get_by_label("log").click();
-    harness.run();
+    click(&mut harness, "log");
     assert_eq!(
         harness.state().state.settings.slider_scale,
         SliderScale::Log

@@ -9,6 +9,8 @@ use std::time::{Duration, Instant};
 use egui_kittest::Harness;
 use lightpick::app::LightpickApp;
 
+use crate::common::{HANG_GUARD, gpu_expected, wgpu_eframe, window};
+
 /// The lights of the generated scene.
 const LIGHTS: usize = 1_000_000;
 
@@ -41,7 +43,7 @@ fn total(parts: &[(&'static str, usize)]) -> usize {
 
 /// Renders one frame (stepped) until the images of the current scene have been published.
 fn step_until_published(harness: &mut Harness<'static, LightpickApp>) {
-    let deadline = Instant::now() + crate::common::HANG_GUARD;
+    let deadline = Instant::now() + HANG_GUARD;
     loop {
         harness.state_mut().step();
         harness.step();
@@ -65,7 +67,7 @@ fn seed_and_generated(mut harness: Harness<'static, LightpickApp>) -> (Parts, Pa
     step_until_published(&mut harness);
     let seed = harness.state().memory_by_part();
     harness.state_mut().state.generate(LIGHTS);
-    let deadline = Instant::now() + crate::common::HANG_GUARD;
+    let deadline = Instant::now() + HANG_GUARD;
     while harness.state().state.built.len() != LIGHTS {
         assert!(Instant::now() < deadline, "the table never arrived");
         std::thread::sleep(Duration::from_millis(20));
@@ -115,12 +117,7 @@ fn check(seed: &[(&'static str, usize)], large: &[(&'static str, usize)], bound:
 /// The CPU renderer (kittest without a GPU: the images render inline on the CPU).
 #[test]
 fn a_million_generated_lights_cost_what_the_accounting_bounds_on_the_cpu() {
-    let harness = Harness::builder()
-        .with_size([1560.0, 960.0])
-        .build_ui_state(
-            |ui, app: &mut LightpickApp| app.ui(ui),
-            LightpickApp::for_tests(),
-        );
+    let harness = window(LightpickApp::for_tests(), [1560.0, 960.0]);
     let (seed, large) = seed_and_generated(harness);
     let part = |name: &str| large.iter().find(|(n, _)| *n == name).map(|p| p.1);
     // The CPU lanes render (their sums exist) and read the scene's own positions and powers:
@@ -135,14 +132,10 @@ fn a_million_generated_lights_cost_what_the_accounting_bounds_on_the_cpu() {
 /// The GPU lanes on kittest's wgpu device (lavapipe here), whose buffers count as uploaded.
 #[test]
 fn a_million_generated_lights_cost_what_the_accounting_bounds_on_the_gpu() {
-    if std::env::var("LIGHTPICK_SKIP_GPU_TESTS").as_deref() == Ok("1") {
-        eprintln!("GPU test skipped: LIGHTPICK_SKIP_GPU_TESTS=1");
+    if !gpu_expected() {
         return;
     }
-    let harness = Harness::builder()
-        .with_size([1560.0, 960.0])
-        .wgpu()
-        .build_eframe(|_cc| LightpickApp::for_tests());
+    let harness = wgpu_eframe([1560.0, 960.0]);
     let (seed, large) = seed_and_generated(harness);
     let gpu = large
         .iter()

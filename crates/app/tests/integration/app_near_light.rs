@@ -3,7 +3,6 @@
 //! `10^-590`, beyond `f64` and shown as `1.234e-590` — never 0, `inf` or NaN, with the
 //! efficiency and variance ratios between schemes of the same scene `10^150` times larger.
 
-use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
 use glam::{dvec2, dvec3};
 use lightpick::app::state::trade::{TradeMeasurement, measure, scheme_label};
@@ -12,6 +11,8 @@ use lightpick::numbers as fractions;
 use lightpick_core::render::{Efficiency, is_zero_variance_scaled};
 use lightpick_core::scene::{ReceiverPlane, Scene};
 use lightpick_core::{Scaled, Scheme};
+
+use crate::common::{app_harness, bench_json, json, lightpick, panel, scratch_file, step_paused};
 
 /// Two lights over 8×8 pixels, the geometry scaled by `z`: the first light `z` above the
 /// centre of pixel (2, 2), the other at `(6, 2, 1)·z`. Every irradiance is `z^-2` times that
@@ -29,6 +30,20 @@ fn similar(z: f64) -> Scene {
         vec![1.0, 3.0],
     )
     .expect("valid scene")
+}
+
+/// A scene file of two equal lights over 4×4 pixels, the first `z` above the centre of
+/// pixel (1, 2), written to the scratch directory `dir`.
+fn near_scene_file(dir: &str, z: &str) -> std::path::PathBuf {
+    scratch_file(
+        dir,
+        &format!("near_{z}.json"),
+        format!(
+            r#"{{"name": "near", "plane": {{"min": [0, 0], "max": [4, 4], "width": 4, "height": 4}},
+                "lights": [{{"position": [1.5, 2.5, {z}], "power": 1}},
+                           {{"position": [3, 1, 1], "power": 1}}]}}"#
+        ),
+    )
 }
 
 fn app_on(scene: Scene) -> LightpickApp {
@@ -89,10 +104,7 @@ fn trade_panel_gives_an_efficiency_in_every_row() {
     }
 
     // The panel shows each efficiency as its value beyond f64 (`1.234e-590`).
-    let mut harness = Harness::builder().with_size([660.0, 560.0]).build_ui_state(
-        |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Trade),
-        app_on(similar(1e-150)),
-    );
+    let mut harness = panel(PanelKind::Trade, app_on(similar(1e-150)), [660.0, 560.0]);
     harness.run();
     let shown = harness
         .state()
@@ -119,15 +131,9 @@ fn trade_panel_gives_an_efficiency_in_every_row() {
 #[test]
 fn convergence_table_gives_an_efficiency_and_its_ratios() {
     let run = |z: f64| {
-        let mut harness = Harness::builder().with_size([620.0, 380.0]).build_ui_state(
-            |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Convergence),
-            app_on(similar(z)),
-        );
+        let mut harness = panel(PanelKind::Convergence, app_on(similar(z)), [620.0, 380.0]);
         harness.run();
-        for _ in 0..8 {
-            harness.state_mut().step();
-            harness.run();
-        }
+        step_paused(&mut harness, 8);
         let published = harness.state_mut().published().expect("a frame");
         (harness, published)
     };
@@ -179,12 +185,9 @@ fn convergence_table_gives_an_efficiency_and_its_ratios() {
 
 #[test]
 fn the_whole_app_draws_the_scene() {
-    let mut harness = super::common::app_harness();
+    let mut harness = app_harness();
     harness.state_mut().state.load_scene(similar(1e-150));
-    for _ in 0..4 {
-        harness.state_mut().step();
-        harness.run();
-    }
+    step_paused(&mut harness, 4);
     let published = harness.state_mut().published().expect("a frame");
     assert!(published.importance.spp > 0);
     assert!(
@@ -204,25 +207,15 @@ fn the_whole_app_draws_the_scene() {
 /// `1.234e-400`, never `0.000e0`.
 #[test]
 fn render_reports_rel_mse_and_efficiency_at_every_height() {
-    let dir = super::common::scratch("near-light");
     let mut rows = Vec::new();
     for z in ["1e-3", "1e-50", "1e-100", "1e-140", "1e-150"] {
-        let path = dir.join(format!("near_{z}.json"));
-        std::fs::write(
-            &path,
-            format!(
-                r#"{{"name": "near", "plane": {{"min": [0, 0], "max": [4, 4], "width": 4, "height": 4}},
-                    "lights": [{{"position": [1.5, 2.5, {z}], "power": 1}},
-                               {{"position": [3, 1, 1], "power": 1}}]}}"#
-            ),
-        )
-        .expect("write scene");
+        let path = near_scene_file("near-light", z);
         let scene = path.to_str().expect("utf-8");
         let args = [
             "render", "--scene", scene, "--scheme", "alias", "--spp", "4", "--device", "cpu",
         ];
-        let v = super::common::json(&[&args[..], &["--json"]].concat());
-        let out = super::common::lightpick(&args);
+        let v = json(&[&args[..], &["--json"]].concat());
+        let out = lightpick(&args);
         assert!(out.status.success(), "{z}");
         let text = String::from_utf8_lossy(&out.stdout).into_owned();
         rows.push((z, v, text));
@@ -290,28 +283,14 @@ fn render_reports_rel_mse_and_efficiency_at_every_height() {
 /// The renders at 64×64 put it between centres, where every figure is an ordinary number.
 #[test]
 fn bench_reports_efficiencies_beyond_f64_by_their_log10() {
-    let dir = super::common::scratch("near-light-bench");
-    let path = dir.join("near.json");
-    std::fs::write(
-        &path,
-        r#"{"name": "near", "plane": {"min": [0, 0], "max": [4, 4], "width": 4, "height": 4},
-           "lights": [{"position": [1.5, 2.5, 1e-150], "power": 1},
-                      {"position": [3, 1, 1], "power": 1}]}"#,
-    )
-    .expect("write scene");
-    let v = super::common::json(&[
-        "bench",
-        "--quick",
-        "--no-gpu",
-        "--sizes",
-        "3",
+    let path = near_scene_file("near-light-bench", "1e-150");
+    let v = bench_json(&[
         "--presets",
         "none",
         "--scene",
         path.to_str().expect("utf-8"),
         "--spp",
         "16",
-        "--json",
     ]);
     let f = |x: &serde_json::Value| x.as_f64().unwrap_or(f64::NAN);
     let app_rows = v["app_renders"][0]["schemes"].as_array().expect("app rows");

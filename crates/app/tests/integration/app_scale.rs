@@ -9,7 +9,7 @@ use lightpick_core::scene::Scene;
 use lightpick_core::{Construction, LightPowers, Sampler, Scaled, Scheme};
 use proptest::prelude::*;
 
-use super::common::{json, lightpick};
+use crate::common::{json, lightpick, scratch};
 
 fn pow2(x: f64, k: i32) -> f64 {
     Scaled::new(x, k).to_f64()
@@ -114,7 +114,7 @@ fn estimate_prints_every_figure_for_huge_contributions() {
 /// a light `10^-160` above a pixel centre: exit 2 naming the pixel and the light.
 #[test]
 fn render_reports_huge_powers_and_names_an_overflowing_pixel() {
-    let dir = super::common::scratch("scale-render");
+    let dir = scratch("scale-render");
     let huge = dir.join("huge.json");
     std::fs::write(
         &huge,

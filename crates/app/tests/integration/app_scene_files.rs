@@ -5,14 +5,10 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use crate::common::app_harness as harness;
+use crate::common::{app_harness as harness, click, fixtures, scratch};
 use egui::accesskit::Role;
 use egui_kittest::kittest::Queryable as _;
 use lightpick::app::state::MessageKind;
-
-fn fixtures() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/fixtures/lights")
-}
 
 fn status(
     harness: &egui_kittest::Harness<'static, lightpick::app::LightpickApp>,
@@ -68,8 +64,7 @@ fn the_file_chooser_browses_to_a_gltf_and_opens_it() {
     harness.get_by_label_contains("hierarchy.glb").click();
     harness.run();
     assert_eq!(harness.state().state.file_dialog.path, "hierarchy.glb");
-    harness.get_by_label("OK").click();
-    harness.run();
+    click(&mut harness, "OK");
     let (message, kind) = status(&harness);
     assert_eq!(kind, MessageKind::Success, "{message}");
     assert!(
@@ -103,8 +98,7 @@ fn a_dropped_file_opens_and_a_bad_one_keeps_the_scene() {
         &[800.0, 450.0, 120.0]
     );
     // A file that is not a scene: named in the status bar, the CSV scene stays.
-    let dir = std::env::temp_dir().join(format!("lightpick-drop-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("dir");
+    let dir = scratch("app-drop");
     let bad = dir.join("broken.glb");
     std::fs::write(&bad, b"glTF\x02\0\0\0\x08\0\0\0").expect("write");
     drop_file(&mut harness, bad);
@@ -138,8 +132,7 @@ fn the_floor_control_moves_the_receiver_and_edits_keep_cones_and_names() {
     assert_eq!(state.edit.floor, 1.5);
     // Duplicate the spot (light 2), then change a power: the copy keeps its cone and name,
     // and every light keeps its own.
-    harness.get_by_label("duplicate light 2").click();
-    harness.run();
+    click(&mut harness, "duplicate light 2");
     harness
         .get_by_role_and_label(Role::SpinButton, "power of light 1")
         .set_value_accesskit(300.0);

@@ -1,44 +1,36 @@
 //! Snapshots of every panel on the seed scene (goldens in `tests/snapshots/`), rendered
 //! with wgpu (lavapipe without a GPU). Update with `UPDATE_SNAPSHOTS=1`.
 
+use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
-use egui_kittest::{Harness, SnapshotOptions};
 use lightpick::app::panels::layout;
 use lightpick::app::{LightpickApp, PanelKind};
 
-fn options() -> SnapshotOptions {
-    SnapshotOptions::new().output_path(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/snapshots"))
-}
+use crate::common::{click, snapshot_options, step_paused, wgpu_panel, wgpu_window};
 
 /// One panel of the seed scene after `steps` paused single steps.
 fn panel(kind: PanelKind, size: [f32; 2], steps: usize) -> Harness<'static, LightpickApp> {
-    let mut harness = Harness::builder().with_size(size).wgpu().build_ui_state(
-        move |ui, app: &mut LightpickApp| app.panel_ui(ui, kind),
-        LightpickApp::for_tests(),
-    );
+    let mut harness = wgpu_panel(kind, LightpickApp::for_tests(), size);
     harness.run();
-    for _ in 0..steps {
-        harness.state_mut().step();
-        harness.run();
-    }
+    step_paused(&mut harness, steps);
     harness
 }
 
 #[test]
 fn lights_panel() {
-    panel(PanelKind::Lights, [460.0, 320.0], 0).snapshot_options("app_lights", &options());
+    panel(PanelKind::Lights, [460.0, 320.0], 0).snapshot_options("app_lights", &snapshot_options());
 }
 
 #[test]
 fn table_panel() {
-    panel(PanelKind::Table, [620.0, 420.0], 0).snapshot_options("app_table", &options());
+    panel(PanelKind::Table, [620.0, 420.0], 0).snapshot_options("app_table", &snapshot_options());
 }
 
 #[test]
 fn sampling_panel() {
     let mut harness = panel(PanelKind::Sampling, [620.0, 400.0], 5);
     assert_eq!(harness.state().state.sampling.picks, 1000);
-    harness.snapshot_options("app_sampling", &options());
+    harness.snapshot_options("app_sampling", &snapshot_options());
 }
 
 #[test]
@@ -57,45 +49,34 @@ fn images_panel() {
     assert_eq!(published.spatial.spp, 64);
     let s = published.spatial.rmse.expect("rmse");
     assert!(s <= 1e-12 * a, "spatial RMSE {s}");
-    harness.snapshot_options("app_images", &options());
+    harness.snapshot_options("app_images", &snapshot_options());
 }
 
 #[test]
 fn convergence_panel() {
     panel(PanelKind::Convergence, [620.0, 380.0], 8)
-        .snapshot_options("app_convergence", &options());
+        .snapshot_options("app_convergence", &snapshot_options());
 }
 
 #[test]
 fn controls_bar() {
-    panel(PanelKind::Controls, [900.0, 40.0], 0).snapshot_options("app_controls", &options());
+    panel(PanelKind::Controls, [900.0, 40.0], 0)
+        .snapshot_options("app_controls", &snapshot_options());
 }
 
 #[test]
 fn whole_app() {
-    let mut harness = Harness::builder()
-        .with_size([1280.0, 800.0])
-        .wgpu()
-        .build_ui_state(
-            |ui, app: &mut LightpickApp| app.ui(ui),
-            LightpickApp::for_tests(),
-        );
+    let mut harness = wgpu_window(LightpickApp::for_tests(), [1280.0, 800.0]);
     harness.run();
-    harness.snapshot_options("app_whole", &options());
+    harness.snapshot_options("app_whole", &snapshot_options());
 }
 
 /// The whole window at `size` on the seed scene after eight paused steps (images, curves
 /// and histograms drawn).
 fn window(size: [f32; 2]) -> Harness<'static, LightpickApp> {
-    let mut harness = Harness::builder().with_size(size).wgpu().build_ui_state(
-        |ui, app: &mut LightpickApp| app.ui(ui),
-        LightpickApp::for_tests(),
-    );
+    let mut harness = wgpu_window(LightpickApp::for_tests(), size);
     harness.run();
-    for _ in 0..8 {
-        harness.state_mut().step();
-        harness.run();
-    }
+    step_paused(&mut harness, 8);
     harness
 }
 
@@ -159,12 +140,10 @@ fn window_1024x768() {
         assert!(harness.query_by_label(tab).is_some(), "no {tab} tab");
     }
     // Choosing a tab shows that panel, readable too.
-    harness.get_by_label("Convergence").click();
-    harness.run();
+    click(&mut harness, "Convergence");
     assert!(assert_readable(&harness).contains(&PanelKind::Convergence));
-    harness.get_by_label("Images").click();
-    harness.run();
-    harness.snapshot_options("app_window_1024x768", &options());
+    click(&mut harness, "Images");
+    harness.snapshot_options("app_window_1024x768", &snapshot_options());
 }
 
 #[test]
@@ -185,12 +164,10 @@ fn window_1280x720() {
         ]
     );
     assert_table_whole(&harness);
-    harness.get_by_label("Convergence").click();
-    harness.run();
+    click(&mut harness, "Convergence");
     assert!(assert_readable(&harness).contains(&PanelKind::Convergence));
-    harness.get_by_label("Images").click();
-    harness.run();
-    harness.snapshot_options("app_window_1280x720", &options());
+    click(&mut harness, "Images");
+    harness.snapshot_options("app_window_1280x720", &snapshot_options());
 }
 
 #[test]
@@ -198,14 +175,13 @@ fn window_1920x1080() {
     let mut harness = window([1920.0, 1080.0]);
     assert_eq!(assert_readable(&harness).len(), 5);
     assert_table_whole(&harness);
-    harness.snapshot_options("app_window_1920x1080", &options());
+    harness.snapshot_options("app_window_1920x1080", &snapshot_options());
 }
 
 #[test]
 fn window_table_maximized() {
     let mut harness = window([1024.0, 768.0]);
-    harness.get_by_label("Maximize Alias table").click();
-    harness.run();
+    click(&mut harness, "Maximize Alias table");
     let layout = &harness.state().layout;
     assert_eq!(layout.maximized, Some(PanelKind::Table));
     let drawn = assert_readable(&harness);
@@ -217,17 +193,15 @@ fn window_table_maximized() {
         .expect("drawn");
     assert!(table.width() > 950.0, "{table:?}");
     assert_table_whole(&harness);
-    harness.snapshot_options("app_window_table_maximized", &options());
+    harness.snapshot_options("app_window_table_maximized", &snapshot_options());
     // Escape restores every panel; Restore does too.
     harness.key_press(egui::Key::Escape);
     harness.run();
     assert_eq!(harness.state().layout.maximized, None);
     assert_eq!(assert_readable(&harness).len(), 3);
-    harness.get_by_label("Maximize Images").click();
-    harness.run();
+    click(&mut harness, "Maximize Images");
     assert_eq!(harness.state().layout.maximized, Some(PanelKind::Images));
-    harness.get_by_label("Restore").click();
-    harness.run();
+    click(&mut harness, "Restore");
     assert_eq!(harness.state().layout.maximized, None);
 }
 

@@ -3,24 +3,20 @@
 //! convergence curve and a trade row, and it ends closer to the reference than power
 //! sampling.
 
-use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
 use lightpick::app::{LightpickApp, PanelKind};
 
+use crate::common::{step_paused, wgpu_panel};
+
 #[test]
 fn spatial_is_a_third_image_and_curve_and_wins_on_spread_out_lights() {
-    let mut harness = Harness::builder()
-        .with_size([620.0, 380.0])
-        .wgpu()
-        .build_ui_state(
-            |ui, app: &mut LightpickApp| app.panel_ui(ui, PanelKind::Convergence),
-            LightpickApp::for_tests_on("equal"),
-        );
+    let mut harness = wgpu_panel(
+        PanelKind::Convergence,
+        LightpickApp::for_tests_on("equal"),
+        [620.0, 380.0],
+    );
     harness.run();
-    for _ in 0..16 {
-        harness.state_mut().step();
-        harness.run();
-    }
+    step_paused(&mut harness, 16);
     let published = harness.state_mut().published().expect("a frame");
     assert_eq!(published.spatial.spp, 16);
     assert_eq!(published.spatial.series.len(), 16);

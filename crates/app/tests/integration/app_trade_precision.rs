@@ -1,21 +1,16 @@
 //! The speed-against-accuracy and precision panels: a snapshot of each on the seed scene
 //! (goldens in `tests/snapshots/`, update with `UPDATE_SNAPSHOTS=1`) and what they must say.
 
+use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
-use egui_kittest::{Harness, SnapshotOptions};
 use lightpick::app::state::trade::{TRADE_SCHEMES, scheme_label};
 use lightpick::app::{LightpickApp, PanelKind};
 
-fn options() -> SnapshotOptions {
-    SnapshotOptions::new().output_path(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/snapshots"))
-}
+use crate::common::{click, snapshot_options, wgpu_panel, window};
 
 /// One panel over `app`, after a couple of frames (the measurement runs inline in tests).
 fn panel(kind: PanelKind, size: [f32; 2], app: LightpickApp) -> Harness<'static, LightpickApp> {
-    let mut harness = Harness::builder().with_size(size).wgpu().build_ui_state(
-        move |ui, app: &mut LightpickApp| app.panel_ui(ui, kind),
-        app,
-    );
+    let mut harness = wgpu_panel(kind, app, size);
     harness.run();
     harness
 }
@@ -23,7 +18,7 @@ fn panel(kind: PanelKind, size: [f32; 2], app: LightpickApp) -> Harness<'static,
 #[test]
 fn trade_panel() {
     panel(PanelKind::Trade, [660.0, 560.0], LightpickApp::for_tests())
-        .snapshot_options("app_trade", &options());
+        .snapshot_options("app_trade", &snapshot_options());
 }
 
 #[test]
@@ -33,14 +28,13 @@ fn precision_panel() {
         [720.0, 460.0],
         LightpickApp::for_tests(),
     )
-    .snapshot_options("app_precision", &options());
+    .snapshot_options("app_precision", &snapshot_options());
 }
 
 #[test]
 fn trade_panel_lists_every_scheme_after_measuring() {
     let mut harness = panel(PanelKind::Trade, [660.0, 560.0], LightpickApp::for_tests());
-    harness.get_by_label("Measure").click();
-    harness.run();
+    click(&mut harness, "Measure");
     for scheme in TRADE_SCHEMES {
         // In the figures table and in the plot's legend.
         let label = scheme_label(scheme);
@@ -106,19 +100,12 @@ fn precision_panel_shows_no_leak_for_the_f64_build_on_zeros() {
 
 #[test]
 fn view_menu_windows_open_over_the_whole_app() {
-    let mut harness = Harness::builder()
-        .with_size([1440.0, 900.0])
-        .build_ui_state(
-            |ui, app: &mut LightpickApp| app.ui(ui),
-            LightpickApp::for_tests(),
-        );
+    let mut harness = window(LightpickApp::for_tests(), [1440.0, 900.0]);
     harness.run();
     // Closed by default: the seed layout stays uncluttered.
     assert!(harness.query_by_label("Precision of the table").is_none());
-    harness.get_by_label("View").click();
-    harness.run();
-    harness.get_by_label("Precision").click();
-    harness.run();
+    click(&mut harness, "View");
+    click(&mut harness, "Precision");
     harness.get_by_label("Precision of the table");
     assert!(harness.state().state.settings.show_precision);
     let m = harness

@@ -5,28 +5,11 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-use std::io::Cursor;
 use std::path::Path;
 
-use egui_kittest::SnapshotOptions;
-use image::AnimationDecoder as _;
-use image::codecs::gif::GifDecoder;
-
-use crate::common::{assert_error, json, lightpick_with_env, scratch};
-
-/// Decodes every frame of a GIF file.
-pub fn gif_frames(path: &Path) -> Vec<image::Frame> {
-    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    GifDecoder::new(Cursor::new(bytes))
-        .unwrap()
-        .into_frames()
-        .collect_frames()
-        .unwrap()
-}
-
-fn options() -> SnapshotOptions {
-    SnapshotOptions::new().output_path(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/snapshots"))
-}
+use crate::common::{
+    assert_error, gif_frames, json, lightpick_with_env, scratch, snapshot_options,
+};
 
 /// The tiny animation of these tests: the zeros preset (64 lights, half of power 0: every
 /// scheme, the spatial light tree included, is noisy, and each beats the one before), 16×12
@@ -129,12 +112,12 @@ fn animation_frames_are_deterministic_and_converge() {
     egui_kittest::image_snapshot_options(
         &frames[0].clone().into_buffer(),
         "animation_first_frame",
-        &options(),
+        &snapshot_options(),
     );
     egui_kittest::image_snapshot_options(
         &frames[4].clone().into_buffer(),
         "animation_last_frame",
-        &options(),
+        &snapshot_options(),
     );
 }
 

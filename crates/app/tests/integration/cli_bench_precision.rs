@@ -2,11 +2,7 @@
 //! `lightpick precision` and `lightpick bench`: JSON shape, the default path within its
 //! documented bounds, and one-line errors with exit code 2. Timings are never asserted.
 
-use crate::common::{assert_error, json, lightpick};
-
-fn f(v: &serde_json::Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
-}
+use crate::common::{assert_error, json, lightpick, num, run_ok, scratch};
 
 #[test]
 fn precision_json_reports_every_distribution_within_the_documented_bounds() {
@@ -17,26 +13,32 @@ fn precision_json_reports_every_distribution_within_the_documented_bounds() {
         assert_eq!(r["n"], 4099);
         let name = r["distribution"].as_str().unwrap();
         assert_eq!(
-            f(&r["construction"]["f64_build"]["zero_leak"]),
+            num(&r["construction"]["f64_build"]["zero_leak"]),
             0.0,
             "{name}"
         );
         assert!(
-            f(&r["construction"]["f64_build"]["max_rel_error"]) < 1e-9,
+            num(&r["construction"]["f64_build"]["max_rel_error"]) < 1e-9,
             "{name}"
         );
         assert!(
-            f(&r["thresholds"]["u32_error_over_bound"]) <= 1.0 + 1e-6,
+            num(&r["thresholds"]["u32_error_over_bound"]) <= 1.0 + 1e-6,
             "{name}"
         );
         assert!(
-            f(&r["thresholds"]["f32_error_over_bound"]) <= 1.0 + 1e-6,
+            num(&r["thresholds"]["f32_error_over_bound"]) <= 1.0 + 1e-6,
             "{name}"
         );
         assert_eq!(r["thresholds"]["u32_lost_lights"], 0, "{name}");
-        assert!(f(&r["one_random"]["one_error_over_bound"]) < 1.0, "{name}");
-        assert!(f(&r["one_random"]["two_error_over_bound"]) < 1.0, "{name}");
-        assert_eq!(f(&r["one_random"]["two_zero_leak"]), 0.0, "{name}");
+        assert!(
+            num(&r["one_random"]["one_error_over_bound"]) < 1.0,
+            "{name}"
+        );
+        assert!(
+            num(&r["one_random"]["two_error_over_bound"]) < 1.0,
+            "{name}"
+        );
+        assert_eq!(num(&r["one_random"]["two_zero_leak"]), 0.0, "{name}");
         assert_eq!(r["one_random"]["fraction_step"], 4099);
     }
     let sweep = v["column_pick"].as_array().unwrap();
@@ -52,7 +54,7 @@ fn precision_json_reports_every_distribution_within_the_documented_bounds() {
             assert!(f32_unreachable >= n - (1 << 24), "{n}: {f32_unreachable}");
         }
     }
-    assert_eq!(f(&v["u32_split_error"]), 2f64.powi(-32));
+    assert_eq!(num(&v["u32_split_error"]), 2f64.powi(-32));
 }
 
 #[test]
@@ -135,7 +137,10 @@ fn bench_json_has_every_case_and_the_peers() {
         if c["method"] == "alias-1t" {
             assert_eq!(threads, 1, "{c}");
         }
-        assert!(f(&c["build_ns"]) > 0.0 && f(&c["sample_ns"]) > 0.0, "{c}");
+        assert!(
+            num(&c["build_ns"]) > 0.0 && num(&c["sample_ns"]) > 0.0,
+            "{c}"
+        );
         // The tables that can be rebuilt in place say how long it takes (the peer alias
         // table, which cannot, reports its build); the others carry no rebuild figure.
         let rebuilds = [
@@ -152,14 +157,14 @@ fn bench_json_has_every_case_and_the_peers() {
             "{c}"
         );
         if let Some(r) = c.get("rebuild_ns") {
-            assert!(f(r) > 0.0, "{c}");
+            assert!(num(r) > 0.0, "{c}");
         }
     }
     let memory = &v["memory_bandwidth"];
-    assert!(f(&memory["copy_gb_per_s"]) > 0.0, "{memory}");
+    assert!(num(&memory["copy_gb_per_s"]) > 0.0, "{memory}");
     assert_eq!(memory["build_floors"][0]["n"], 1000);
     assert!(
-        f(&memory["build_floors"][0]["build_floor_ns"]) > 0.0,
+        num(&memory["build_floors"][0]["build_floor_ns"]) > 0.0,
         "{memory}"
     );
     let ratios = v["ratios"].as_array().unwrap();
@@ -176,7 +181,7 @@ fn bench_json_has_every_case_and_the_peers() {
         "sample_vs_alias",
         "sample_vs_alias_batch",
     ] {
-        assert!(f(&peer[key]) > 0.0, "{key}: {peer}");
+        assert!(num(&peer[key]) > 0.0, "{key}: {peer}");
     }
     assert!(v["gpu"]["adapter"].is_null());
     assert!(v["gpu"]["note"].as_str().unwrap().contains("--no-gpu"));
@@ -184,24 +189,24 @@ fn bench_json_has_every_case_and_the_peers() {
     assert_eq!(render["preset"], "seed");
     let schemes = render["schemes"].as_array().unwrap();
     assert_eq!(schemes.len(), 5);
-    let uniform_var = f(&schemes[0]["variance_per_sample"]);
+    let uniform_var = num(&schemes[0]["variance_per_sample"]);
     for s in schemes {
-        let var = f(&s["variance_per_sample"]);
+        let var = num(&s["variance_per_sample"]);
         if s["scheme"] == "spatial" {
             // Three lights: the exact contribution pick, zero variance up to rounding (its
             // efficiency is infinite, `null` in JSON, or huge).
             assert!(var >= 0.0 && var <= 1e-12 * uniform_var, "{s}");
             assert!(
-                s["efficiency"].is_null() || f(&s["efficiency"]) > 0.0,
+                s["efficiency"].is_null() || num(&s["efficiency"]) > 0.0,
                 "{s}"
             );
         } else {
-            let eff = f(&s["efficiency"]);
+            let eff = num(&s["efficiency"]);
             assert!(var.is_finite() && var > 0.0, "{s}");
             assert!(eff.is_finite() && eff > 0.0, "{s}");
         }
-        assert!(f(&s["rmse_at_equal_time"]).is_finite(), "{s}");
-        assert!(f(&s["build_seconds"]) >= 0.0, "{s}");
+        assert!(num(&s["rmse_at_equal_time"]).is_finite(), "{s}");
+        assert!(num(&s["build_seconds"]) >= 0.0, "{s}");
         // 1, 2, 4, 8 spp.
         assert_eq!(s["series"].as_array().unwrap().len(), 4);
     }
@@ -209,10 +214,9 @@ fn bench_json_has_every_case_and_the_peers() {
 
 #[test]
 fn bench_writes_the_plot_and_reports_the_gpu() {
-    let dir = std::env::temp_dir().join(format!("lightpick-bench-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("bench");
     let png = dir.join("bench.png");
-    let out = lightpick(&[
+    let out = run_ok(&[
         "bench",
         "--quick",
         "--sizes",
@@ -224,11 +228,6 @@ fn bench_writes_the_plot_and_reports_the_gpu() {
         "--plot",
         png.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("GPU: "), "{text}");
     assert!(text.contains("rand_distr::WeightedAliasIndex"), "{text}");

@@ -8,10 +8,8 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-use crate::common;
-
 use crate::common::{
-    assert_error, assert_error_with_env, gpu_expected, lightpick_with_env, scratch,
+    assert_error, assert_error_with_env, gpu_expected, json, lightpick_with_env, scratch_file,
 };
 
 /// An adapter name no machine has: the GPU context then finds no adapter.
@@ -72,15 +70,13 @@ fn the_default_device_falls_back_to_the_cpu_with_one_notice() {
 
 /// A scene whose light 1 sits at `z = 1e39`: a finite `f64`, `+inf` as an `f32`.
 fn beyond_f32_scene() -> std::path::PathBuf {
-    let file = scratch("beyond-f32").join("far.json");
-    std::fs::write(
-        &file,
+    scratch_file(
+        "beyond-f32",
+        "far.json",
         r#"{ "name": "far", "plane": { "min": [-1, -1], "max": [1, 1], "width": 8, "height": 8 },
             "lights": [ { "position": [0, 0, 1], "power": 1 },
                         { "position": [0, 0, 1e39], "power": 1 } ] }"#,
     )
-    .unwrap();
-    file
 }
 
 #[test]
@@ -88,7 +84,7 @@ fn a_scene_beyond_f32_is_refused_on_the_gpu_and_rendered_on_the_cpu_by_default()
     let file = beyond_f32_scene();
     let scene = file.to_str().unwrap();
     // The CPU works in f64: the far light contributes ~1e-78 of the near one, nothing NaN.
-    let v = common::json(&[
+    let v = json(&[
         "render", "--scene", scene, "--spp", "2", "--device", "cpu", "--json",
     ]);
     assert!(v["rmse"].as_f64().unwrap().is_finite(), "{v}");

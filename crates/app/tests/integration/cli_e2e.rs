@@ -2,27 +2,17 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-use std::process::Command;
-
-use crate::common::{assert_error, json, lightpick};
-
-fn as_f64s(v: &serde_json::Value) -> Vec<f64> {
-    v.as_array()
-        .expect("array")
-        .iter()
-        .map(|x| x.as_f64().expect("number"))
-        .collect()
-}
+use crate::common::{assert_error, json, lightpick, lightpick_headless, numbers, scratch};
 
 #[test]
 fn table_json_is_the_seed_table() {
     let v = json(&["table", "--powers", "2,5,20", "--json"]);
     assert_eq!(v["n"], 3);
     assert_eq!(v["total_power"], 27.0);
-    assert_eq!(as_f64s(&v["threshold"]), vec![6.0 / 27.0, 15.0 / 27.0, 1.0]);
+    assert_eq!(numbers(&v["threshold"]), vec![6.0 / 27.0, 15.0 / 27.0, 1.0]);
     assert_eq!(v["alias"], serde_json::json!([2, 2, 2]));
     assert_eq!(
-        as_f64s(&v["pmf"]),
+        numbers(&v["pmf"]),
         vec![2.0 / 27.0, 5.0 / 27.0, 20.0 / 27.0]
     );
 }
@@ -39,8 +29,7 @@ fn table_text_shows_the_seed_fractions() {
 
 #[test]
 fn table_reads_a_powers_file() {
-    let dir = std::env::temp_dir().join(format!("lightpick-e2e-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("e2e");
     let file = dir.join("powers.txt");
     std::fs::write(&file, "2\n5, 20\n").unwrap();
     let v = json(&["table", "--powers-file", file.to_str().unwrap(), "--json"]);
@@ -187,11 +176,7 @@ fn bad_inputs_exit_2_with_one_error_line() {
 
 #[test]
 fn no_subcommand_without_a_display_exits_2_pointing_to_the_subcommands() {
-    let out = Command::new(env!("CARGO_BIN_EXE_lightpick"))
-        .env_remove("DISPLAY")
-        .env_remove("WAYLAND_DISPLAY")
-        .output()
-        .expect("run lightpick");
+    let out = lightpick_headless(&[]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert_eq!(stderr.lines().count(), 1, "{stderr:?}");
@@ -226,8 +211,7 @@ fn clap_errors_name_what_is_wrong_on_one_line() {
 
 #[test]
 fn powers_files_refuse_empty_items_like_powers_lists() {
-    let dir = std::env::temp_dir().join(format!("lightpick-e2e-empty-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("e2e-empty");
     let file = dir.join("powers.txt");
     std::fs::write(&file, "2,,20\n").unwrap();
     let path = file.to_str().unwrap();
@@ -247,7 +231,7 @@ fn powers_files_refuse_empty_items_like_powers_lists() {
 fn a_total_power_beyond_f64_is_reported_honestly() {
     let max = "1.7976931348623157e308,1.7976931348623157e308";
     let v = json(&["table", "--powers", max, "--json"]);
-    assert_eq!(as_f64s(&v["pmf"]), vec![0.5, 0.5]);
+    assert_eq!(numbers(&v["pmf"]), vec![0.5, 0.5]);
     // JSON has no infinity: the total is null, its log10 (2·f64::MAX ≈ 10^308.5557) a number.
     assert!(v["total_power"].is_null(), "{v}");
     let log10 = v["total_power_log10"].as_f64().unwrap();

@@ -8,11 +8,10 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-use crate::common::{gpu_expected, json as ok_json, lightpick, scratch};
+use crate::common::{gpu_expected, json as ok_json, run_ok, scratch, scratch_file};
 
 /// A scene file generating `count` lights in `[-2, 2]² × [0.2, 1]` over a 16×16 image.
 fn generated_scene(count: u64) -> std::path::PathBuf {
-    let path = scratch("gpu-scale").join(format!("generated-{count}.json"));
     let text = format!(
         r#"{{
   "name": "generated-{count}",
@@ -25,8 +24,7 @@ fn generated_scene(count: u64) -> std::path::PathBuf {
   }}
 }}"#
     );
-    std::fs::write(&path, text).unwrap();
-    path
+    scratch_file("gpu-scale", &format!("generated-{count}.json"), text)
 }
 
 #[test]
@@ -82,7 +80,6 @@ fn sample_on_the_gpu_takes_two_to_the_25_lights_and_counts_what_the_cpu_counts()
         return;
     }
     let n = 1usize << 25;
-    let path = scratch("gpu-scale").join("powers-2-25.txt");
     // Odd lights zero (but the last), the others 1..5: half the table's columns alias away.
     let mut text = String::with_capacity(2 * n);
     for i in 0..n {
@@ -94,9 +91,9 @@ fn sample_on_the_gpu_takes_two_to_the_25_lights_and_counts_what_the_cpu_counts()
         text.push_str(&p.to_string());
         text.push(' ');
     }
-    std::fs::write(&path, text).unwrap();
+    let path = scratch_file("gpu-scale", "powers-2-25.txt", text);
     let sample = |device: &str| {
-        let out = lightpick(&[
+        let out = run_ok(&[
             "sample",
             "--powers-file",
             path.to_str().unwrap(),
@@ -109,11 +106,6 @@ fn sample_on_the_gpu_takes_two_to_the_25_lights_and_counts_what_the_cpu_counts()
             "--device",
             device,
         ]);
-        assert!(
-            out.status.success(),
-            "{device}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         String::from_utf8(out.stdout).unwrap()
     };
     let (cpu, gpu) = (sample("cpu"), sample("gpu"));

@@ -6,7 +6,7 @@
 
 use std::path::Path;
 
-use crate::common::{assert_error, gpu_expected, json as ok_json, lightpick, scratch};
+use crate::common::{assert_error, gpu_expected, json as ok_json, run_ok, scratch};
 
 fn png_size(path: &Path) -> (u32, u32) {
     let img = image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
@@ -71,7 +71,7 @@ fn render_on_the_cpu_writes_png_exr_and_stats() {
 fn error_map_needs_a_complete_reference() {
     let dir = scratch("errmap");
     let png = dir.join("e.png");
-    let out = lightpick(&[
+    run_ok(&[
         "render",
         "--preset",
         "seed",
@@ -88,11 +88,6 @@ fn error_map_needs_a_complete_reference() {
         "--out",
         png.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     assert_eq!(png_size(&png), (32, 32));
     assert_error(
         &[
@@ -213,12 +208,7 @@ fn plots_are_written() {
         let mut args = vec!["plot", kind];
         args.extend_from_slice(extra);
         args.extend_from_slice(&["--out", out_path.to_str().unwrap()]);
-        let out = lightpick(&args);
-        assert!(
-            out.status.success(),
-            "{kind}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        run_ok(&args);
         assert_eq!(png_size(&out_path), (800, 500), "{kind}");
     }
     let out_path = dir.join("bad.png");
@@ -285,12 +275,7 @@ fn convergence_plots_the_chosen_schemes_and_the_sheet_has_a_spatial_column() {
     ] {
         let mut args = vec!["plot", "convergence", "--spp", "4", "--out", out];
         args.extend_from_slice(extra);
-        let run = lightpick(&args);
-        assert!(
-            run.status.success(),
-            "{extra:?}: {}",
-            String::from_utf8_lossy(&run.stderr)
-        );
+        run_ok(&args);
         assert_eq!(png_size(&png), (800, 500), "{extra:?}");
     }
     assert_error(
@@ -316,7 +301,7 @@ fn convergence_plots_the_chosen_schemes_and_the_sheet_has_a_spatial_column() {
         "--schemes: item 1 ('alias') is already in the list",
     );
     let sheet = dir.join("s.png");
-    let run = lightpick(&[
+    run_ok(&[
         "plot",
         "sheet",
         "--preset",
@@ -328,11 +313,6 @@ fn convergence_plots_the_chosen_schemes_and_the_sheet_has_a_spatial_column() {
         "--out",
         sheet.to_str().unwrap(),
     ]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
     assert_eq!(png_size(&sheet), (800, 500));
 }
 

@@ -4,19 +4,9 @@
 
 #![allow(clippy::unwrap_used)] // Tests unwrap: a failure is the test failing.
 
-use std::path::PathBuf;
-use std::process::Command;
-
-use crate::common::{assert_error, json, lightpick, scratch};
-
-fn fixture(name: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../tests/fixtures/lights")
-        .join(name)
-        .to_str()
-        .unwrap()
-        .to_owned()
-}
+use crate::common::{
+    assert_error, bench_json, fixture, json, lightpick_headless, run_ok, scratch, scratch_file,
+};
 
 #[test]
 fn scene_prints_the_json_contract() {
@@ -70,18 +60,13 @@ fn scene_prints_the_json_contract() {
 fn scene_text_and_out_round_trip() {
     let dir = scratch("scene-out");
     let out = dir.join("hierarchy.json");
-    let run = lightpick(&[
+    let run = run_ok(&[
         "scene",
         "--scene",
         &fixture("hierarchy.gltf"),
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
     let text = String::from_utf8_lossy(&run.stdout);
     assert!(
         text.contains("5 lights: 3 points, 2 spots; skipped 1 directional light 'Sun' (gltf)"),
@@ -112,7 +97,7 @@ fn every_command_reads_every_format_and_takes_a_floor() {
     assert_eq!(table["n"], 3);
     let dir = scratch("scene-plot");
     let png = dir.join("sheet.png");
-    let plot = lightpick(&[
+    run_ok(&[
         "plot",
         "sheet",
         "--scene",
@@ -124,18 +109,8 @@ fn every_command_reads_every_format_and_takes_a_floor() {
         "--out",
         png.to_str().unwrap(),
     ]);
-    assert!(
-        plot.status.success(),
-        "{}",
-        String::from_utf8_lossy(&plot.stderr)
-    );
     assert!(image::open(&png).is_ok());
-    let bench = json(&[
-        "bench",
-        "--quick",
-        "--no-gpu",
-        "--sizes",
-        "3",
+    let bench = bench_json(&[
         "--presets",
         "none",
         "--scene",
@@ -144,7 +119,6 @@ fn every_command_reads_every_format_and_takes_a_floor() {
         "0.25",
         "--spp",
         "8",
-        "--json",
     ]);
     assert_eq!(bench["renders"][0]["preset"], "hierarchy.glb");
     let _ = std::fs::remove_dir_all(&dir);
@@ -185,23 +159,37 @@ fn bad_scene_files_are_one_error_line() {
 fn lightpick_file_parses_as_a_file_to_open() {
     // Without a display the app cannot open, but the file is read first: a bad one is named,
     // a good one reaches the display check; a word that is no file and no subcommand says so.
-    let run = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_lightpick"))
-            .args(args)
-            .env_remove("DISPLAY")
-            .env_remove("WAYLAND_DISPLAY")
-            .output()
-            .unwrap()
-    };
-    let good = run(&[&fixture("lamps.csv")]);
+    let good = lightpick_headless(&[&fixture("lamps.csv")]);
     let stderr = String::from_utf8_lossy(&good.stderr);
     assert_eq!(good.status.code(), Some(2));
     assert!(stderr.contains("no display found"), "{stderr}");
-    let missing = run(&["frobnicate"]);
+    let missing = lightpick_headless(&["frobnicate"]);
     let stderr = String::from_utf8_lossy(&missing.stderr);
     assert_eq!(missing.status.code(), Some(2));
     assert!(
         stderr.starts_with("error: 'frobnicate' is neither a subcommand nor a file"),
         "{stderr}"
+    );
+}
+
+#[test]
+fn lightpick_file_names_a_bad_file_as_typed() {
+    // `lightpick FILE` typed no `--scene`: the error names the file alone.
+    let bad = scratch_file("open-bad", "bad.csv", "x,y\n1,2,3\n");
+    let path = bad.to_str().unwrap();
+    let out = lightpick_headless(&[path]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr:?}");
+    assert!(
+        stderr.starts_with(&format!("error: {path}: line 1: ")),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("--scene"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    // `--scene FILE` keeps the flag it was given.
+    assert_error(
+        &["scene", "--scene", path],
+        &format!("error: --scene {path}: line 1: "),
     );
 }

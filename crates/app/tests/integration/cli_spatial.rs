@@ -6,11 +6,7 @@
 
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
-use crate::common::{assert_error, json as ok_json, scratch};
-
-fn f(v: &serde_json::Value) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
-}
+use crate::common::{assert_error, bench_json, json as ok_json, num, scratch};
 
 fn render(preset: &str, scheme: &str, device: &str, extra: &[&str]) -> serde_json::Value {
     let mut args = vec![
@@ -39,7 +35,7 @@ fn render_spatial_on_the_cpu_writes_the_png_and_beats_power_on_spread_lights() {
     assert_eq!(v["scheme"], "spatial");
     assert_eq!(v["device"], "cpu");
     assert_eq!(v["spp"], 16);
-    assert!(f(&v["samples_per_second"]) > 0.0);
+    assert!(num(&v["samples_per_second"]) > 0.0);
     assert_eq!(v["series"].as_array().unwrap().len(), 5);
     let img = image::open(&png).unwrap();
     assert_eq!((img.width(), img.height()), (48, 48));
@@ -48,7 +44,7 @@ fn render_spatial_on_the_cpu_writes_the_png_and_beats_power_on_spread_lights() {
     // picks uniformly. Measured ≈ 16× lower variance, so ≈ 4× lower RMSE; demand 2×.
     let power = render("equal", "power", "cpu", &[]);
     assert!(
-        f(&v["rmse"]) * 2.0 < f(&power["rmse"]),
+        num(&v["rmse"]) * 2.0 < num(&power["rmse"]),
         "spatial {} vs power {}",
         v["rmse"],
         power["rmse"]
@@ -60,7 +56,11 @@ fn render_spatial_on_few_lights_is_exact() {
     let v = render("seed", "spatial", "cpu", &[]);
     let power = render("seed", "power", "cpu", &[]);
     // Three lights: the exact contribution pick has zero variance; what is left is rounding.
-    assert!(f(&v["rmse"]) <= 1e-12 * f(&power["rmse"]), "{}", v["rmse"]);
+    assert!(
+        num(&v["rmse"]) <= 1e-12 * num(&power["rmse"]),
+        "{}",
+        v["rmse"]
+    );
 }
 
 #[test]
@@ -73,10 +73,10 @@ fn render_spatial_on_the_gpu_agrees_with_the_cpu() {
         let cpu = render(preset, "spatial", "cpu", &[]);
         let gpu = render(preset, "spatial", "gpu", &[]);
         assert_eq!(gpu["device"], "gpu");
-        let (a, b) = (f(&cpu["rmse"]), f(&gpu["rmse"]));
+        let (a, b) = (num(&cpu["rmse"]), num(&gpu["rmse"]));
         if preset == "seed" {
             // Both exact: f32 rounding of the sum (≈ 1e-6 of the irradiance) is all there is.
-            let power = f(&render(preset, "power", "cpu", &[])["rmse"]);
+            let power = num(&render(preset, "power", "cpu", &[])["rmse"]);
             assert!(b <= 1e-4 * power, "{preset}: gpu rmse {b}");
         } else {
             // Same picks but for rare f32/f64 branch flips (see gpu_spatial.rs): same RMSE.
@@ -115,18 +115,7 @@ fn sample_and_estimate_refuse_spatial_with_one_error_line() {
 
 #[test]
 fn bench_rows_include_spatial() {
-    let v = ok_json(&[
-        "bench",
-        "--quick",
-        "--sizes",
-        "3",
-        "--presets",
-        "equal",
-        "--spp",
-        "8",
-        "--no-gpu",
-        "--json",
-    ]);
+    let v = bench_json(&["--presets", "equal", "--spp", "8"]);
     let schemes = v["renders"][0]["schemes"].as_array().unwrap();
     let spatial = schemes.iter().find(|s| s["scheme"] == "spatial").unwrap();
     let alias = schemes.iter().find(|s| s["scheme"] == "alias").unwrap();
@@ -138,25 +127,14 @@ fn bench_rows_include_spatial() {
         "rmse_at_equal_time",
         "build_seconds",
     ] {
-        assert!(f(&spatial[key]).is_finite(), "{key}: {spatial}");
+        assert!(num(&spatial[key]).is_finite(), "{key}: {spatial}");
     }
-    assert!(f(&spatial["variance_per_sample"]) * 4.0 < f(&alias["variance_per_sample"]));
+    assert!(num(&spatial["variance_per_sample"]) * 4.0 < num(&alias["variance_per_sample"]));
 }
 
 #[test]
 fn bench_reports_the_exact_pick_as_zero_variance_with_infinite_efficiency() {
-    let v = ok_json(&[
-        "bench",
-        "--quick",
-        "--sizes",
-        "3",
-        "--presets",
-        "seed",
-        "--spp",
-        "8",
-        "--no-gpu",
-        "--json",
-    ]);
+    let v = bench_json(&["--presets", "seed", "--spp", "8"]);
     let schemes = v["renders"][0]["schemes"].as_array().unwrap();
     for s in schemes {
         let exact = s["scheme"] == "spatial";
@@ -166,7 +144,7 @@ fn bench_reports_the_exact_pick_as_zero_variance_with_infinite_efficiency() {
             assert!(s["efficiency"].is_null(), "{s}");
             assert!(s["efficiency_vs_uniform"].is_null(), "{s}");
         } else {
-            assert!(f(&s["efficiency"]) > 0.0, "{s}");
+            assert!(num(&s["efficiency"]) > 0.0, "{s}");
         }
     }
 }
