@@ -1,6 +1,6 @@
 //! Where the app's bytes go: [`AppState::memory_by_part`](super::state::AppState) and what
 //! the renderers hold beside it, by part, from capacities and uploaded sizes (see the
-//! README's table of bytes per light).
+//! table of bytes per light in docs/numbers.md).
 
 use super::LightpickApp;
 use super::images::{Engine, GpuImages, RendererBytes};

@@ -8,8 +8,8 @@
 use std::path::Path;
 
 use glam::{DVec3, dvec2, dvec3};
+use lightpick_core::Rng;
 use lightpick_core::scene::{LoadOptions, Loaded, ReceiverPlane, Scene};
-use lightpick_core::{LightPowers, Rng};
 
 /// The preset names, in menu order.
 pub fn preset_names() -> Vec<&'static str> {
@@ -28,24 +28,21 @@ pub fn seed_scene() -> Scene {
 
 /// A seed scene made here, used only if the preset cannot be built.
 fn fallback_seed_scene() -> Scene {
-    Scene {
-        name: "seed".to_owned(),
-        plane: ReceiverPlane {
+    Scene::new(
+        "seed",
+        ReceiverPlane {
             min: dvec2(-2.0, -2.0),
             max: dvec2(2.0, 2.0),
             width: 256,
             height: 256,
         },
-        positions: vec![
+        vec![
             dvec3(-1.2, 0.8, 0.8),
             dvec3(1.0, 1.0, 1.0),
             dvec3(0.0, -1.0, 1.5),
-        ]
-        .into(),
-        powers: lightpick_core::SeedExample::powers(),
-        emission: None,
-        names: None,
-    }
+        ],
+        lightpick_core::SeedExample::powers(),
+    )
 }
 
 /// Parses scene JSON, or says (in one line) why the text is not a scene.
@@ -144,22 +141,4 @@ pub fn random_positions(count: usize, plane: &ReceiverPlane, seed: u64) -> Vec<D
             dvec3(x, y, z)
         })
         .collect()
-}
-
-/// A scene with `positions` (shared, not copied, when given as an `Arc`) and validated
-/// `powers` over `plane`.
-pub fn assemble(
-    name: &str,
-    plane: ReceiverPlane,
-    positions: impl Into<std::sync::Arc<[DVec3]>>,
-    powers: LightPowers,
-) -> Scene {
-    Scene {
-        name: name.to_owned(),
-        plane,
-        positions: positions.into(),
-        powers,
-        emission: None,
-        names: None,
-    }
 }

@@ -1,7 +1,7 @@
-//! Memory per light (issue 24): the app's own accounting of the heap bytes each part holds
+//! Memory per light: the app's own accounting of the heap bytes each part holds
 //! ([`LightpickApp::memory_by_part`], from capacities and uploaded sizes), on a generated
 //! scene of 10^6 lights against the seed scene. The bound is what the code holds by
-//! construction (a sum of capacities), not a measurement of the process: the README's table
+//! construction (a sum of capacities), not a measurement of the process: docs/numbers.md
 //! gives both.
 
 use std::time::{Duration, Instant};
@@ -80,7 +80,7 @@ fn seed_and_generated(mut harness: Harness<'static, LightpickApp>) -> (Parts, Pa
     (seed, harness.state().memory_by_part())
 }
 
-/// Prints the table (for the README) and checks every part is reported, the growing ones
+/// Prints the table (for docs/numbers.md) and checks every part is reported, the growing ones
 /// non-empty, and the total per light above the seed scene within `bound`.
 fn check(seed: &[(&'static str, usize)], large: &[(&'static str, usize)], bound: f64) {
     let names: Vec<_> = seed.iter().map(|(name, _)| *name).collect();

@@ -24,7 +24,7 @@
 //!
 //! The implied pmf then matches `p_i` to a few ulps for every light (the precision tests
 //! bound it by `10^-12` relative on integer, exponential, log-uniform and log-normal
-//! powers; the README gives the measured worst cases).
+//! powers; docs/numbers.md § Guarantees gives the measured worst cases).
 //!
 //! Instead of Vose's two work lists, two cursors sweep the array for the next small and the
 //! next large column (no allocation beyond the outputs, sequential memory access).

@@ -21,7 +21,7 @@
 //!   relative (a few ulps in practice) — the seed powers `2, 5, 20` give thresholds
 //!   `6/27, 15/27, 1` and aliases `2, 2, 2` exactly, which the classroom views show — and
 //!   its packed form is that table quantized (within `(1 + a_i)·2^-32/N`). Several times
-//!   slower to build (README § Numbers) and 28 bytes per light.
+//!   slower to build (docs/numbers.md) and 28 bytes per light.
 //!
 //! Both sample through the same packed form, on the CPU and in WGSL.
 //!

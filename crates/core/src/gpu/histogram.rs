@@ -59,12 +59,12 @@ struct HistogramParams {
 /// [`crate::Rng::new`]`(seed, k)` and picks with exactly the draws of
 /// [`Sampler::pick_light`], so the counts equal the CPU loop's counts, bin for bin.
 ///
-/// Counts are `u32` atomics on the GPU (in workgroup memory first when there are at most
-/// 2048 lights); the table (8 bytes per light) and the counts (4) are split over as many
-/// storage bindings as the device's binding limit requires (`crate::gpu` § Limits); the work is split into dispatches of at most `2^31` samples so no bin can
-/// wrap, and the dispatches are summed in `u64`. The 64-bit sample index is
-/// `base + local` with the carry propagated in WGSL. [`Sampler::Cdf`] is refused with
-/// [`GpuError::UnsupportedScheme`].
+/// Counts are `u32` atomics on the GPU (in workgroup memory first when there are at most 2048
+/// lights); the table (8 bytes per light) and the counts (4) are split over as many storage
+/// bindings as the device's binding limit requires (`crate::gpu` § Limits); the work is split into
+/// dispatches of at most `2^31` samples so no bin can wrap, and the dispatches are summed in `u64`.
+/// The 64-bit sample index is `base + local` with the carry propagated in WGSL. [`Sampler::Cdf`] is
+/// refused with [`GpuError::UnsupportedScheme`].
 pub fn histogram(
     ctx: &GpuContext,
     sampler: &Sampler,

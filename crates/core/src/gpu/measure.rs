@@ -37,10 +37,11 @@ pub struct GpuPassMeasurement {
 }
 
 /// Renders `scene` with `scheme` on `ctx`: one untimed warm-up pass (pipeline and light tree
-/// upload), then passes of `spp_per_pass` samples per pixel (one dispatch each, as the app
-/// adds its samples per frame: 1 by default) until they took `min_seconds` or reached
-/// `max_spp`, with at least two samples per pixel (for the variance). Each pass's fixed cost (submission, completion) is part of `T`,
-/// spread over `spp_per_pass` samples. The variance comes from the same passes' sums.
+/// upload), then passes of `spp_per_pass` samples per pixel (one dispatch each, as the app adds its
+/// samples per frame: 1 by default) until they took `min_seconds` or reached `max_spp`, with at
+/// least two samples per pixel (for the variance). Each pass's fixed cost (submission, completion)
+/// is part of `T`, spread over `spp_per_pass` samples. The variance comes from the same passes'
+/// sums.
 pub fn measure_passes(
     ctx: &GpuContext,
     scene: &Scene,

@@ -1,6 +1,6 @@
 //! The built-in scenes of `assets/scenes/` (stored in the core crate, `crates/core/assets/scenes`,
-//! so that the published crate has them; the root path links there), compiled into the binary so it runs from any
-//! directory.
+//! so that the published crate has them; the root path links there), compiled into the binary so it
+//! runs from any directory.
 
 use super::Scene;
 use super::error::SceneError;

@@ -1,4 +1,4 @@
-//! The alias table's accuracy guarantees (README § Numerical guarantees) on 10^5+ lights of
+//! The alias table's accuracy guarantees (docs/numbers.md § Guarantees) on 10^5+ lights of
 //! every shape, heavy-tailed log-normal powers with a wide spread included, for both
 //! constructions: what the `f64` table implies, what the packed table realizes, and which
 //! lights can be sampled.

@@ -1,6 +1,6 @@
-//! Throughput measurements on the `million` preset, ignored by default (they assert nothing
-//! about time). Run with
-//! `cargo test --release -p lightpick-core --test integration render_speed -- --ignored --nocapture`.
+//! Throughput measurements on the `million` preset, ignored by default (they assert nothing about
+//! time). Run with `cargo test --release -p lightpick-core --test integration render_speed --
+//! --ignored --nocapture`.
 
 #![allow(clippy::unwrap_used)] // Tests unwrap: a failure is the test failing.
 

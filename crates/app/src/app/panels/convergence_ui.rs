@@ -1,8 +1,8 @@
-//! The convergence panel: log-log RMSE against samples per pixel and against seconds for
-//! the three schemes (uniform, importance, spatial), the `−1/2` slope of Monte Carlo
-//! convergence, efficiency `1/(V̂·T)` (`V̂ = Var/Φ²`) and the speed-ups of importance and spatial sampling
-//! over uniform selection. The exact spatial pick (few lights) has zero variance: its RMSE
-//! is rounding only, its efficiency infinite (shown as "∞").
+//! The convergence panel: log-log RMSE against samples per pixel and against seconds for the three
+//! schemes (uniform, importance, spatial), the `−1/2` slope of Monte Carlo convergence, efficiency
+//! `1/(V̂·T)` (`V̂ = Var/Φ²`) and the speed-ups of importance and spatial sampling over uniform
+//! selection. The exact spatial pick (few lights) has zero variance: its RMSE is rounding only, its
+//! efficiency infinite (shown as "∞").
 
 use egui::Ui;
 use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints};

@@ -1,11 +1,11 @@
-//! The panels and windows, one `*_ui.rs` each, over the [`AppState`] (which imports no
-//! panel): [`lights_ui`], [`table_ui`] (table, over the [`diagram_ui`]), [`histogram_ui`] (sampling),
+//! The panels and windows, one `*_ui.rs` each, over the [`AppState`] (which imports no panel):
+//! [`lights_ui`], [`table_ui`] (table, over the [`diagram_ui`]), [`histogram_ui`] (sampling),
 //! [`render_ui`] (images), [`convergence_ui`], and the windows [`trade_ui`] (speed against
 //! accuracy), [`precision_ui`], [`walkthrough_ui`] and [`stepper_ui`] (the classroom),
 //! [`inspector_ui`] (a clicked pixel), [`estimator_ui`], [`animation_export_ui`]; the
-//! [`controls_ui`] (menu, run controls, status bar) and the [`file_dialog_ui`]. [`layout`]
-//! decides where the five main panels go at the window's size (pure logic) and
-//! [`layout_ui`] draws them there; [`log_axes`] is the plots' log-log paper.
+//! [`controls_ui`] (menu, run controls, status bar) and the [`file_dialog_ui`]. [`layout`] decides
+//! where the five main panels go at the window's size (pure logic) and [`layout_ui`] draws them
+//! there; [`log_axes`] is the plots' log-log paper.
 
 pub mod animation_export_ui;
 pub mod controls_ui;

@@ -1,6 +1,6 @@
-//! The trade-off panel: for the current scene, what each sampling scheme costs and buys —
-//! time per sample `T`, variance per sample `V`, efficiency `1/(V̂·T)` (`V̂ = V/Φ²`) — and where each
-//! scheme and each samples-per-pixel count sits on the error-against-time plane.
+//! The trade-off panel: for the current scene, what each sampling scheme costs and buys — time per
+//! sample `T`, variance per sample `V`, efficiency `1/(V̂·T)` (`V̂ = V/Φ²`) — and where each scheme
+//! and each samples-per-pixel count sits on the error-against-time plane.
 //!
 //! The figures come from a small copy of the scene (at most [`TRADE_SIDE`] pixels a side),
 //! one fresh [`CpuRenderer`](lightpick_core::render::CpuRenderer) per scheme run to

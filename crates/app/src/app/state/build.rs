@@ -83,7 +83,7 @@ impl AppState {
             Ok(powers) => {
                 self.input_error = None;
                 self.sync_positions(powers.len());
-                let mut scene = scene_io::assemble(
+                let mut scene = Scene::new(
                     &self.edit.name,
                     self.edit.plane.clone(),
                     Arc::clone(&self.edit.positions),

@@ -224,8 +224,8 @@ impl AppState {
         let positions = scene_io::random_positions(count, &self.edit.plane, seed);
         match LightPowers::new(powers) {
             Ok(powers) => {
-                let scene = scene_io::assemble(
-                    &format!("generated-{count}"),
+                let scene = Scene::new(
+                    format!("generated-{count}"),
                     self.edit.plane.clone(),
                     positions,
                     powers,

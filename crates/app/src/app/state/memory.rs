@@ -1,6 +1,6 @@
 //! Where the state's bytes go: the heap bytes each part holds, from capacities (what is
-//! allocated, not what is used), for the README's table of bytes per light and the test
-//! that holds it.
+//! allocated, not what is used), for the table of bytes per light in docs/numbers.md and
+//! the test that holds it.
 
 use std::mem::size_of;
 

@@ -6,6 +6,7 @@ use crate::app::scene_io;
 use crate::app::state::{AppState, Settings};
 
 use glam::DVec3;
+use lightpick_core::scene::Scene;
 use lightpick_core::spatial::LightTree;
 use lightpick_core::{LightPowers, Rng};
 
@@ -74,7 +75,7 @@ fn time_app_repower(
     reps: usize,
 ) -> f64 {
     let plane = scene_io::seed_scene().plane;
-    let scene = scene_io::assemble("bench", plane, positions.to_vec(), powers.clone());
+    let scene = Scene::new("bench", plane, positions.to_vec(), powers.clone());
     let mut state = AppState::new(scene, Settings::default());
     let inputs = [other.as_slice(), powers.as_slice()];
     median_ns(reps.min(5), 1, |rep| {

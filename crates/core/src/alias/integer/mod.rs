@@ -3,22 +3,20 @@
 //! the packed table realizes exactly the quantized pmf `m_i / (N·2^32)`.
 //!
 //! # Quantization (cumulative rounding, anchored per chunk)
-//! With `C = 2^32` (one column's capacity) and `k = N·C / S` (`S = Σ w_i`, a double-double
-//! sum of the powers scaled by a power of two), the ideal mass of light `i` is
-//! `x_i = w_i·k`. It is computed in `f64` (`k` carried as `k_hi + k_lo`) in fixed point,
-//! `X_i = x_i·2^f` rounded to the nearest integer (one `cvtsd2si`), with
-//! `f = 30 − ⌊log2 N⌋` fractional bits so that every running sum fits a `u64`. The masses
-//! are the increments of the rounded running sums, `m_i = round(P_i) − round(P_{i−1})`
-//! with `P_i = Z_c + Σ X_j` over chunk `c`'s lights up to `i`: each chunk of [`CHUNK`](units::CHUNK)
-//! lights starts from its *anchor* `Z_c = round(k·S_{<c}·2^f)`, the ideal running sum at its
-//! start from the chunks' double-double sums, so no chunk waits for another and rounding
-//! errors do not carry from chunk to chunk. `m_i` is `⌊x_i⌋` or `⌈x_i⌉` (the increment of a
-//! rounded running sum by an `X_i` whose integer part is `⌊x_i⌋`, or which is an integer),
-//! so `|m_i − x_i| < 1`. A chunk's masses add up to
-//! `round(Z_{c+1}) − round(Z_c)` unless the products' roundings moved its sum across a
-//! rounding boundary (rare); then the difference is given one unit each to its lights
-//! whose `x_i − m_i` has its sign, which keeps them within one unit too. The last anchor is
-//! `N·C·2^f`, so `Σ m_i = N·C` exactly.
+//! With `C = 2^32` (one column's capacity) and `k = N·C / S` (`S = Σ w_i`, a double-double sum of
+//! the powers scaled by a power of two), the ideal mass of light `i` is `x_i = w_i·k`. It is
+//! computed in `f64` (`k` carried as `k_hi + k_lo`) in fixed point, `X_i = x_i·2^f` rounded to the
+//! nearest integer (one `cvtsd2si`), with `f = 30 − ⌊log2 N⌋` fractional bits so that every running
+//! sum fits a `u64`. The masses are the increments of the rounded running sums, `m_i = round(P_i) −
+//! round(P_{i−1})` with `P_i = Z_c + Σ X_j` over chunk `c`'s lights up to `i`: each chunk of
+//! [`CHUNK`](units::CHUNK) lights starts from its *anchor* `Z_c = round(k·S_{<c}·2^f)`, the ideal
+//! running sum at its start from the chunks' double-double sums, so no chunk waits for another and
+//! rounding errors do not carry from chunk to chunk. `m_i` is `⌊x_i⌋` or `⌈x_i⌉` (the increment of
+//! a rounded running sum by an `X_i` whose integer part is `⌊x_i⌋`, or which is an integer), so
+//! `|m_i − x_i| < 1`. A chunk's masses add up to `round(Z_{c+1}) − round(Z_c)` unless the products'
+//! roundings moved its sum across a rounding boundary (rare); then the difference is given one unit
+//! each to its lights whose `x_i − m_i` has its sign, which keeps them within one unit too. The
+//! last anchor is `N·C·2^f`, so `Σ m_i = N·C` exactly.
 //!
 //! # The sweep (Hübschle-Schneider & Sanders, "Parallel Weighted Random Sampling", 2019)
 //! A light is *small* if `m < C`, else *large*; the quantization marks the large ones in a
