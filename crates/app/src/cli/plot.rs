@@ -157,40 +157,13 @@ impl OutputArgs {
 /// Draws the requested picture.
 pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
     match &args.kind {
-        PlotKind::Table { powers, output } => {
-            let style = output.style()?;
-            let powers = powers.load()?;
-            let table = AliasTable::build_exact(&powers);
-            output.write(&draw::table_diagram(
-                &table,
-                draw::fraction_denominator(&powers),
-                &style,
-            )?)
-        }
+        PlotKind::Table { powers, output } => table(powers, output),
         PlotKind::Histogram {
             powers,
             count,
             seed,
             output,
-        } => {
-            let style = output.style()?;
-            check_count(*count)?;
-            let powers = powers.load()?;
-            let mut schemes = Vec::new();
-            for scheme in [Scheme::Uniform, Scheme::Alias] {
-                let sampler = Sampler::build(scheme, &powers);
-                let expected = (0..sampler.light_count())
-                    .map(|i| sampler.probability(i))
-                    .collect();
-                let counts = count_cpu(&sampler, *count, *seed);
-                schemes.push(SchemeCounts::new(scheme, counts, expected)?);
-            }
-            let data = HistogramData {
-                pmf: powers.pmf(),
-                schemes,
-            };
-            output.write(&draw::histogram(&data, &style)?)
-        }
+        } => histogram(powers, *count, *seed, output),
         PlotKind::Convergence {
             scene,
             schemes,
@@ -198,82 +171,138 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
             seed,
             axis,
             output,
-        } => {
-            let style = output.style()?;
-            check_spp(*spp)?;
-            check_schemes(schemes)?;
-            let scene = scene_or_seed(scene, "plot convergence")?;
-            let reference = Reference::compute(&scene);
-            let series: Vec<ConvergenceSeries> =
-                cpu_convergence(&scene, &reference, schemes, *seed, *spp)
-                    .into_iter()
-                    .map(|s| {
-                        let points = s
-                            .series
-                            .iter()
-                            .map(|p| ConvergencePoint {
-                                spp: u64::from(p.spp),
-                                rmse: p.rmse,
-                                seconds: p.seconds,
-                            })
-                            .collect();
-                        ConvergenceSeries::for_scheme(s.scheme, points)
-                    })
-                    .collect();
-            let axis = match axis {
-                Axis::Spp => ConvergenceAxis::Spp,
-                Axis::Seconds => ConvergenceAxis::Seconds,
-            };
-            output.write(&draw::convergence(&series, axis, &style)?)
-        }
+        } => convergence(scene, schemes, *spp, *seed, *axis, output),
         PlotKind::Sheet {
             scene,
             spp,
             seed,
             image_width,
             output,
-        } => {
-            let style = output.style()?;
-            check_spp(*spp)?;
-            let mut scene = scene_or_seed(scene, "plot sheet")?;
-            let width = image_width.unwrap_or(scene.plane.width.min(160));
-            if !(8..=1024).contains(&width) {
-                bail!("--image-width must be between 8 and 1024 (got {width})");
-            }
-            let aspect = f64::from(scene.plane.height) / f64::from(scene.plane.width);
-            scene.plane.height = ((f64::from(width) * aspect).round() as u32).max(1);
-            scene.plane.width = width;
-            let reference = Reference::compute(&scene);
-            let Some(exact) = reference.image() else {
-                bail!(
-                    "the image sheet needs a reference over every pixel; {} lights × {} pixels \
-                     exceed its budget (lower --image-width)",
-                    scene.light_count(),
-                    scene.plane.pixel_count()
-                );
-            };
-            let render = |scheme| {
-                let mut r = CpuRenderer::new(&scene, scheme, *seed);
-                r.accumulate(*spp);
-                r.accumulator().image()
-            };
-            let uniform = render(Scheme::Uniform);
-            let importance = render(Scheme::Alias);
-            let spatial = render(Scheme::Spatial);
-            let images = SheetImages {
-                width: scene.plane.width as usize,
-                height: scene.plane.height as usize,
-                uniform: &uniform,
-                importance: &importance,
-                spatial: &spatial,
-                reference: exact,
-                spp: u64::from(*spp),
-                exposure: None,
-            };
-            output.write(&draw::image_sheet(&images, &style)?)
-        }
+        } => sheet(scene, *spp, *seed, *image_width, output),
         PlotKind::Animation(args) => super::animation::run(args),
     }
+}
+
+/// `plot table`: the exact construction's diagram of the given powers.
+fn table(powers: &PowersArgs, output: &OutputArgs) -> anyhow::Result<()> {
+    let style = output.style()?;
+    let powers = powers.load()?;
+    let table = AliasTable::build_exact(&powers);
+    output.write(&draw::table_diagram(
+        &table,
+        draw::fraction_denominator(&powers),
+        &style,
+    )?)
+}
+
+/// `plot histogram`: `count` picks of uniform and alias sampling against the pmf.
+fn histogram(
+    powers: &PowersArgs,
+    count: u64,
+    seed: u64,
+    output: &OutputArgs,
+) -> anyhow::Result<()> {
+    let style = output.style()?;
+    check_count(count)?;
+    let powers = powers.load()?;
+    let mut schemes = Vec::new();
+    for scheme in [Scheme::Uniform, Scheme::Alias] {
+        let sampler = Sampler::build(scheme, &powers);
+        let expected = (0..sampler.light_count())
+            .map(|i| sampler.probability(i))
+            .collect();
+        let counts = count_cpu(&sampler, count, seed);
+        schemes.push(SchemeCounts::new(scheme, counts, expected)?);
+    }
+    let data = HistogramData {
+        pmf: powers.pmf(),
+        schemes,
+    };
+    output.write(&draw::histogram(&data, &style)?)
+}
+
+/// `plot convergence`: each scheme's RMSE against the exact reference, up to `spp`.
+fn convergence(
+    scene: &PositionedArgs,
+    schemes: &[Scheme],
+    spp: u32,
+    seed: u64,
+    axis: Axis,
+    output: &OutputArgs,
+) -> anyhow::Result<()> {
+    let style = output.style()?;
+    check_spp(spp)?;
+    check_schemes(schemes)?;
+    let scene = scene_or_seed(scene, "plot convergence")?;
+    let reference = Reference::compute(&scene);
+    let series: Vec<ConvergenceSeries> = cpu_convergence(&scene, &reference, schemes, seed, spp)
+        .into_iter()
+        .map(|s| {
+            let points = s
+                .series
+                .iter()
+                .map(|p| ConvergencePoint {
+                    spp: u64::from(p.spp),
+                    rmse: p.rmse,
+                    seconds: p.seconds,
+                })
+                .collect();
+            ConvergenceSeries::for_scheme(s.scheme, points)
+        })
+        .collect();
+    let axis = match axis {
+        Axis::Spp => ConvergenceAxis::Spp,
+        Axis::Seconds => ConvergenceAxis::Seconds,
+    };
+    output.write(&draw::convergence(&series, axis, &style)?)
+}
+
+/// `plot sheet`: uniform, importance and spatial images beside the reference, at `spp`.
+fn sheet(
+    scene: &PositionedArgs,
+    spp: u32,
+    seed: u64,
+    image_width: Option<u32>,
+    output: &OutputArgs,
+) -> anyhow::Result<()> {
+    let style = output.style()?;
+    check_spp(spp)?;
+    let mut scene = scene_or_seed(scene, "plot sheet")?;
+    let width = image_width.unwrap_or(scene.plane.width.min(160));
+    if !(8..=1024).contains(&width) {
+        bail!("--image-width must be between 8 and 1024 (got {width})");
+    }
+    let aspect = f64::from(scene.plane.height) / f64::from(scene.plane.width);
+    scene.plane.height = ((f64::from(width) * aspect).round() as u32).max(1);
+    scene.plane.width = width;
+    let reference = Reference::compute(&scene);
+    let Some(exact) = reference.image() else {
+        bail!(
+            "the image sheet needs a reference over every pixel; {} lights × {} pixels \
+             exceed its budget (lower --image-width)",
+            scene.light_count(),
+            scene.plane.pixel_count()
+        );
+    };
+    let render = |scheme| {
+        let mut r = CpuRenderer::new(&scene, scheme, seed);
+        r.accumulate(spp);
+        r.accumulator().image()
+    };
+    let uniform = render(Scheme::Uniform);
+    let importance = render(Scheme::Alias);
+    let spatial = render(Scheme::Spatial);
+    let images = SheetImages {
+        width: scene.plane.width as usize,
+        height: scene.plane.height as usize,
+        uniform: &uniform,
+        importance: &importance,
+        spatial: &spatial,
+        reference: exact,
+        spp: u64::from(spp),
+        exposure: None,
+    };
+    output.write(&draw::image_sheet(&images, &style)?)
 }
 
 fn check_spp(spp: u32) -> anyhow::Result<()> {

@@ -90,8 +90,18 @@ fn measure(args: &PrecisionArgs) -> anyhow::Result<Vec<PrecisionReport>> {
         .collect()
 }
 
+/// The text report of `lightpick precision`, its four sections in order.
 fn text(reports: &[PrecisionReport], sweep: &[ColumnPickComparison]) -> String {
     let mut out = String::new();
+    construction_text(&mut out, reports);
+    thresholds_text(&mut out, reports);
+    column_pick_text(&mut out, sweep);
+    one_random_text(&mut out, reports);
+    out
+}
+
+/// Section 1: each construction's worst pmf error and its leak onto zero-power lights.
+fn construction_text(out: &mut String, reports: &[PrecisionReport]) {
     let _ = writeln!(
         out,
         "1. Table construction: max relative error of the implied pmf, leak onto zero lights; \
@@ -126,6 +136,10 @@ fn text(reports: &[PrecisionReport], sweep: &[ColumnPickComparison]) -> String {
             b.leaking_lights
         );
     }
+}
+
+/// Section 2: the u32 and f32 thresholds' pmf errors against their bounds, and lost lights.
+fn thresholds_text(out: &mut String, reports: &[PrecisionReport]) {
     let _ = writeln!(
         out,
         "\n2. Thresholds: measured pmf error / bound (u32 bound (1+a_i)·2^-32/N, f32 bound \
@@ -150,6 +164,10 @@ fn text(reports: &[PrecisionReport], sweep: &[ColumnPickComparison]) -> String {
             t.f32_lost_lights
         );
     }
+}
+
+/// Section 3: unreachable columns and column frequencies of each column pick.
+fn column_pick_text(out: &mut String, sweep: &[ColumnPickComparison]) {
     let _ = writeln!(
         out,
         "\n3. Column pick: unreachable share and max/min column frequency, over every input"
@@ -172,6 +190,10 @@ fn text(reports: &[PrecisionReport], sweep: &[ColumnPickComparison]) -> String {
             c.exact.max_min_ratio
         );
     }
+}
+
+/// Section 4: the one-random variant's realized pmf against the two-random picks.
+fn one_random_text(out: &mut String, reports: &[PrecisionReport]) {
     let _ = writeln!(
         out,
         "\n4. One random vs two (exact realized pmfs): relative errors against p ('two' is the \
@@ -211,7 +233,6 @@ fn text(reports: &[PrecisionReport], sweep: &[ColumnPickComparison]) -> String {
             o.exact_total_variation
         );
     }
-    out
 }
 
 fn name(r: &PrecisionReport) -> &'static str {

@@ -18,8 +18,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use lightpick_core::draw::{auto_exposure, error_color};
 use lightpick_core::gpu::{GpuContext, GpuRenderer};
 use lightpick_core::render::{
-    Accumulator, CpuRenderer, ErrorMetrics, Reference, SeriesPoint, efficiency, error_metrics,
-    rmse, series_spp, tonemap_rgba8,
+    Accumulator, CpuRenderer, Efficiency, ErrorMetrics, Reference, SeriesPoint, efficiency,
+    error_metrics, rmse, series_spp, tonemap_rgba8,
 };
 use lightpick_core::scene::{MAX_PIXELS, MAX_PLANE_SIDE, Scene};
 use lightpick_core::{Scaled, Scheme};
@@ -87,34 +87,12 @@ pub struct RenderArgs {
 
 /// Renders and writes the requested outputs.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    if args.spp == 0 || args.spp > MAX_SPP {
-        bail!("--spp must be between 1 and {MAX_SPP} (got {})", args.spp);
-    }
-    if let Some(e) = args.exposure
-        && !(e.is_finite() && e > 0.0)
-    {
-        bail!("--exposure must be a positive finite number (got {e})");
-    }
+    check_numbers(args)?;
     let Some(mut scene) = args.scene.load("render")? else {
         bail!("no scene given: use --scene FILE or --preset NAME");
     };
     resize(&mut scene, args.width, args.height)?;
-    // What keeps the GPU from rendering this, known before opening it: the default device
-    // then takes the CPU with a notice; an explicit `--device gpu` opens the GPU and gets
-    // the renderer's refusal as its error.
-    let gpu_refusal = if args.scheme == Scheme::Cdf {
-        Some("the cdf scheme renders on the CPU".to_owned())
-    } else {
-        GpuRenderer::check_scene(&scene)
-            .err()
-            .map(|e| format!("{e}; using the CPU"))
-    };
-    let ctx = choose(args.device, gpu_refusal.is_none())?;
-    if args.device.is_none()
-        && let Some(refusal) = &gpu_refusal
-    {
-        eprintln!("notice: {refusal}");
-    }
+    let ctx = open_device(args, &scene)?;
 
     let started = Instant::now();
     let reference = Reference::compute(&scene);
@@ -133,57 +111,140 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         None => Progressive::Cpu(Box::new(CpuRenderer::new(&scene, args.scheme, args.seed))),
     };
     let (series, acc) = render_series(&mut renderer, &reference, args.spp)?;
-    let seconds = series.last().map_or(0.0, |p| p.seconds);
-    let metrics = error_metrics(&acc, &reference);
-    let eff = efficiency(&acc, seconds);
-    let samples = f64::from(acc.samples_per_pixel) * scene.plane.pixel_count() as f64;
     let exposure = args
         .exposure
         .unwrap_or_else(|| auto_exposure(reference.values()));
-
     if let Some(path) = &args.out {
         write_png(path, &acc, &reference, args.map, exposure)?;
     }
     if let Some(path) = &args.hdr {
         write_exr(path, &acc)?;
     }
-    let stats = json!({
-        "scene": scene.name,
-        "lights": scene.light_count(),
-        "scheme": args.scheme.name(),
-        "device": if ctx.is_some() { "gpu" } else { "cpu" },
-        "adapter": ctx.as_ref().map(GpuContext::description),
-        "seed": args.seed,
-        "spp": acc.samples_per_pixel,
-        "width": acc.width,
-        "height": acc.height,
-        "rmse": metrics.rmse,
-        "rmse_log10": metrics.rmse_log10,
-        "rel_mse": metrics.rel_mse,
-        "seconds": seconds,
-        "samples_per_second": samples / seconds,
-        "variance_per_sample": eff.variance_per_sample,
-        "variance_log10": eff.variance_log10,
-        "normalized_variance": eff.normalized_variance,
-        "normalized_variance_log10": eff.normalized_variance_log10,
-        "seconds_per_sample": eff.seconds_per_sample,
-        "efficiency": eff.efficiency,
-        "efficiency_log10": eff.efficiency_log10,
-        "exposure": exposure,
-        "reference": {
-            "pixels": reference.pixels().len(),
-            "complete": reference.is_complete(),
-            "seconds": reference_seconds,
-        },
-        "series": series,
-    });
-    if let Some(path) = &args.stats {
-        std::fs::write(path, serde_json::to_string_pretty(&stats)?)
-            .with_context(|| format!("--stats {}", path.display()))?;
+    let seconds = series.last().map_or(0.0, |p| p.seconds);
+    let rendered = Rendered {
+        scene: &scene,
+        ctx: ctx.as_ref(),
+        reference: &reference,
+        reference_seconds,
+        acc: &acc,
+        metrics: error_metrics(&acc, &reference),
+        efficiency: efficiency(&acc, seconds),
+        seconds,
+        series,
+        exposure,
+    };
+    rendered.report(args)
+}
+
+/// Refuses a `--spp` or `--exposure` the renderer cannot use.
+fn check_numbers(args: &RenderArgs) -> anyhow::Result<()> {
+    if args.spp == 0 || args.spp > MAX_SPP {
+        bail!("--spp must be between 1 and {MAX_SPP} (got {})", args.spp);
     }
-    if args.json {
-        super::print_json(&stats)?;
+    if let Some(e) = args.exposure
+        && !(e.is_finite() && e > 0.0)
+    {
+        bail!("--exposure must be a positive finite number (got {e})");
+    }
+    Ok(())
+}
+
+/// The GPU to render on, or `None` for the CPU. What keeps the GPU from rendering `scene`
+/// is known before opening it: the default device then takes the CPU with a notice; an
+/// explicit `--device gpu` opens the GPU and gets the renderer's refusal as its error.
+fn open_device(args: &RenderArgs, scene: &Scene) -> anyhow::Result<Option<GpuContext>> {
+    let gpu_refusal = if args.scheme == Scheme::Cdf {
+        Some("the cdf scheme renders on the CPU".to_owned())
     } else {
+        GpuRenderer::check_scene(scene)
+            .err()
+            .map(|e| format!("{e}; using the CPU"))
+    };
+    let ctx = choose(args.device, gpu_refusal.is_none())?;
+    if args.device.is_none()
+        && let Some(refusal) = &gpu_refusal
+    {
+        eprintln!("notice: {refusal}");
+    }
+    Ok(ctx)
+}
+
+/// A finished render and what it was measured against, for the report.
+struct Rendered<'a> {
+    scene: &'a Scene,
+    ctx: Option<&'a GpuContext>,
+    reference: &'a Reference,
+    reference_seconds: f64,
+    acc: &'a Accumulator,
+    metrics: ErrorMetrics,
+    efficiency: Efficiency,
+    /// Seconds of rendering (the last series point's).
+    seconds: f64,
+    series: Vec<SeriesPoint>,
+    exposure: f64,
+}
+
+impl Rendered<'_> {
+    /// Writes `--stats`, then prints the JSON (`--json`) or the text report.
+    fn report(&self, args: &RenderArgs) -> anyhow::Result<()> {
+        let stats = self.stats_json(args);
+        if let Some(path) = &args.stats {
+            std::fs::write(path, serde_json::to_string_pretty(&stats)?)
+                .with_context(|| format!("--stats {}", path.display()))?;
+        }
+        if args.json {
+            super::print_json(&stats)?;
+        } else {
+            self.print_text(args);
+        }
+        Ok(())
+    }
+
+    /// Pixel samples taken: spp × pixels.
+    fn samples(&self) -> f64 {
+        f64::from(self.acc.samples_per_pixel) * self.scene.plane.pixel_count() as f64
+    }
+
+    /// The statistics object of `--json` and `--stats`.
+    fn stats_json(&self, args: &RenderArgs) -> serde_json::Value {
+        let (scene, acc, reference) = (self.scene, self.acc, self.reference);
+        let (metrics, eff, seconds) = (&self.metrics, &self.efficiency, self.seconds);
+        json!({
+            "scene": scene.name,
+            "lights": scene.light_count(),
+            "scheme": args.scheme.name(),
+            "device": if self.ctx.is_some() { "gpu" } else { "cpu" },
+            "adapter": self.ctx.map(GpuContext::description),
+            "seed": args.seed,
+            "spp": acc.samples_per_pixel,
+            "width": acc.width,
+            "height": acc.height,
+            "rmse": metrics.rmse,
+            "rmse_log10": metrics.rmse_log10,
+            "rel_mse": metrics.rel_mse,
+            "seconds": seconds,
+            "samples_per_second": self.samples() / seconds,
+            "variance_per_sample": eff.variance_per_sample,
+            "variance_log10": eff.variance_log10,
+            "normalized_variance": eff.normalized_variance,
+            "normalized_variance_log10": eff.normalized_variance_log10,
+            "seconds_per_sample": eff.seconds_per_sample,
+            "efficiency": eff.efficiency,
+            "efficiency_log10": eff.efficiency_log10,
+            "exposure": self.exposure,
+            "reference": {
+                "pixels": reference.pixels().len(),
+                "complete": reference.is_complete(),
+                "seconds": self.reference_seconds,
+            },
+            "series": self.series,
+        })
+    }
+
+    /// The text report: what was rendered, its error, speed and efficiency.
+    fn print_text(&self, args: &RenderArgs) {
+        let (scene, acc, reference) = (self.scene, self.acc, self.reference);
+        let (metrics, eff, seconds) = (&self.metrics, &self.efficiency, self.seconds);
         println!(
             "{} ({} lights), {}×{}, {} spp, scheme {}, {}",
             scene.name,
@@ -192,15 +253,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             acc.height,
             acc.samples_per_pixel,
             args.scheme,
-            ctx.as_ref()
+            self.ctx
                 .map_or_else(|| "CPU".to_owned(), |c| format!("GPU {}", c.description()))
         );
         println!(
             "RMSE {:.4}  relMSE {:.4e}  {:.3} s  {:.3e} samples/s  efficiency {:.3}",
-            rmse_scaled(&metrics),
+            rmse_scaled(metrics),
             metrics.rel_mse,
             seconds,
-            samples / seconds,
+            self.samples() / seconds,
             eff.efficiency
         );
         if !reference.is_complete() {
@@ -210,7 +271,6 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             );
         }
     }
-    Ok(())
 }
 
 /// The RMSE at any magnitude: its `f64` value, or the value of its `log10` beyond `f64`.
