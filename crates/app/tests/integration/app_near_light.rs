@@ -7,7 +7,7 @@ use egui_kittest::kittest::Queryable as _;
 use glam::{dvec2, dvec3};
 use lightpick::app::state::trade::{TradeMeasurement, measure, scheme_label};
 use lightpick::app::{LightpickApp, PanelKind};
-use lightpick::numbers as fractions;
+use lightpick::numbers;
 use lightpick_core::render::{Efficiency, is_zero_variance_scaled};
 use lightpick_core::scene::{ReceiverPlane, Scene};
 use lightpick_core::{Scaled, Scheme};
@@ -114,7 +114,7 @@ fn trade_panel_gives_an_efficiency_in_every_row() {
         .clone()
         .expect("measured on load (a small scene)");
     for row in shown.rows.iter().filter(|r| !exact(&r.efficiency, &shown)) {
-        let text = fractions::short_scaled(row.efficiency.efficiency);
+        let text = numbers::short_scaled(row.efficiency.efficiency);
         assert!(
             text.contains("e-5") && !text.contains("inf"),
             "{}: {text}",
@@ -154,7 +154,7 @@ fn convergence_table_gives_an_efficiency_and_its_ratios() {
             "{e:?}"
         );
         assert!((e.log10() - efficiency(b).log10() + 600.0).abs() < 1e-8);
-        let text = fractions::short_scaled(e);
+        let text = numbers::short_scaled(e);
         assert!(
             harness.query_all_by_label(&text).next().is_some(),
             "efficiency {text} is not shown"
@@ -171,8 +171,8 @@ fn convergence_table_gives_an_efficiency_and_its_ratios() {
     };
     let text = format!(
         "{}× (variance {}×)",
-        fractions::short(speedup(&near)),
-        fractions::short(variance_ratio(&near))
+        numbers::short(speedup(&near)),
+        numbers::short(variance_ratio(&near))
     );
     assert!(
         harness.query_all_by_label(&text).next().is_some(),
