@@ -1,5 +1,10 @@
-//! The geometry of the table panel's columns: a unit column split at its threshold, the
-//! summary's bins and their whole-pixel edges.
+//! The geometry of the table panel's columns: a unit column split at its threshold (and
+//! how it is painted), the summary's bins and their whole-pixel edges.
+
+use tiny_skia::Pixmap;
+
+use crate::draw::canvas;
+use crate::draw::palette::Rgba8;
 
 /// One drawn column (or bin of columns) of the alias-table panel, in pixels.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -13,6 +18,22 @@ pub(crate) struct ColumnRects {
     /// Top of the alias part (the column top) and its height.
     pub alias_top: f32,
     pub alias_height: f32,
+}
+
+impl ColumnRects {
+    /// Paints the own-light part in `own` and the alias part above it in `alias`.
+    pub(crate) fn fill(&self, pixmap: &mut Pixmap, own: Rgba8, alias: Rgba8) {
+        canvas::fill_rect(
+            pixmap,
+            self.x,
+            self.own_top,
+            self.width,
+            self.own_height,
+            own,
+        );
+        let (top, height) = (self.alias_top, self.alias_height);
+        canvas::fill_rect(pixmap, self.x, top, self.width, height, alias);
+    }
 }
 
 /// Splits a unit column of `unit_px` pixels standing on `baseline` at `threshold`.

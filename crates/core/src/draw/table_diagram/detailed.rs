@@ -140,17 +140,8 @@ fn draw_unit_column(
     let threshold = table.thresholds()[i];
     let alias = table.aliases()[i] as usize;
     let c = split_column(cx - col_w / 2.0, col_w, threshold, right.bottom(), unit_px);
-    let color = palette::light_color(i);
-    canvas::fill_rect(pixmap, c.x, c.own_top, c.width, c.own_height, color);
-    let alias_color = palette::light_color(alias);
-    canvas::fill_rect(
-        pixmap,
-        c.x,
-        c.alias_top,
-        c.width,
-        c.alias_height,
-        alias_color,
-    );
+    let (color, alias_color) = (palette::light_color(i), palette::light_color(alias));
+    c.fill(pixmap, color, alias_color);
     canvas::stroke_rect(
         pixmap,
         (c.x, c.alias_top, c.width, unit_px),

@@ -42,22 +42,7 @@ pub(super) fn draw_summary(
         );
         let (x0, x1) = (edges_r[b], edges_r[b + 1]);
         let c = split_column(x0, x1 - x0, threshold, right.bottom(), unit_px);
-        canvas::fill_rect(
-            pixmap,
-            c.x,
-            c.own_top,
-            c.width,
-            c.own_height,
-            palette::TABLE_OWN,
-        );
-        canvas::fill_rect(
-            pixmap,
-            c.x,
-            c.alias_top,
-            c.width,
-            c.alias_height,
-            palette::TABLE_ALIAS,
-        );
+        c.fill(pixmap, palette::TABLE_OWN, palette::TABLE_ALIAS);
     }
     let tick = TextStyle::new(TICK_SIZE, colors.foreground);
     for (f, what) in [(left, "light"), (right, "column")] {
