@@ -60,6 +60,12 @@ impl<T: Send + 'static> Worker<T> {
     }
 }
 
+/// A background result that says which scene generation it measures.
+pub trait OfGeneration {
+    /// The scene generation the result was computed for.
+    fn generation(&self) -> u64;
+}
+
 /// The latest finished result of a background job and the one being computed, keyed by the
 /// scene generation it measures.
 #[derive(Debug)]
@@ -121,5 +127,15 @@ impl<T: Send + 'static> Background<T> {
             }
             Polled::Lost => self.pending = None,
         }
+    }
+}
+
+impl<T: OfGeneration> Background<T> {
+    /// Whether there is no result for scene `generation`: none yet, or one of an earlier
+    /// scene.
+    pub fn is_stale(&self, generation: u64) -> bool {
+        self.result
+            .as_ref()
+            .is_none_or(|m| m.generation() != generation)
     }
 }

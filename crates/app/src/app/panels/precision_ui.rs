@@ -53,11 +53,7 @@ pub fn precision_ui(ui: &mut Ui, state: &mut AppState) {
 fn measure_ui(ui: &mut Ui, state: &mut AppState) {
     state.precision.poll();
     let generation = state.built.generation;
-    let stale = state
-        .precision
-        .result
-        .as_ref()
-        .is_none_or(|m| m.generation != generation);
+    let stale = state.precision.is_stale(generation);
     // Small tables are measured as soon as they change; large ones on request.
     if stale && !state.precision.is_measuring() && state.built.len() <= SYNC_BUILD_LIMIT {
         let scene = Arc::clone(&state.built.scene);

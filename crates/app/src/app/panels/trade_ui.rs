@@ -29,11 +29,7 @@ use crate::numbers;
 pub fn trade_ui(ui: &mut Ui, state: &mut AppState) {
     state.trade.poll();
     let generation = state.built.generation;
-    let stale = state
-        .trade
-        .result
-        .as_ref()
-        .is_none_or(|m| m.generation != generation);
+    let stale = state.trade.is_stale(generation);
     // Small scenes are measured as soon as they change; large ones on request.
     if stale && !state.trade.is_measuring() && state.built.len() <= SYNC_BUILD_LIMIT {
         let scene = std::sync::Arc::clone(&state.built.scene);

@@ -23,6 +23,12 @@ pub struct PrecisionMeasurement {
 /// The panel's measurement: the latest result and the one being computed.
 pub type PrecisionRun = crate::app::background::Background<PrecisionMeasurement>;
 
+impl crate::app::background::OfGeneration for PrecisionMeasurement {
+    fn generation(&self) -> u64 {
+        self.generation
+    }
+}
+
 /// Every figure of the panel for `powers`.
 pub fn measure(generation: u64, powers: &LightPowers) -> PrecisionMeasurement {
     let report = PrecisionReport::measure(powers, None);

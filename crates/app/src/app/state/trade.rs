@@ -75,6 +75,12 @@ pub struct TradeMeasurement {
 /// uses virtual timings).
 pub type TradeRun = crate::app::background::Background<TradeMeasurement>;
 
+impl crate::app::background::OfGeneration for TradeMeasurement {
+    fn generation(&self) -> u64 {
+        self.generation
+    }
+}
+
 /// The scene at most [`TRADE_SIDE`] pixels a side (same plane extent, coarser pixels).
 fn small_scene(scene: &Scene) -> Scene {
     let mut small = scene.clone();
