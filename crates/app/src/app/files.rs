@@ -78,6 +78,18 @@ impl LightpickApp {
         };
         match result {
             Ok(message) => {
+                // The next dialog starts in this file's folder, in this session and the next.
+                let folder = self
+                    .state
+                    .file_dialog
+                    .folder()
+                    .join(path)
+                    .parent()
+                    .map(Path::to_path_buf);
+                if let Some(folder) = folder.filter(|f| f.is_dir()) {
+                    self.state.file_dialog.folder = Some(folder.clone());
+                    self.state.settings.last_folder = Some(folder);
+                }
                 self.state.file_dialog.action = None;
                 self.state.file_dialog.error = None;
                 self.state.message(message, MessageKind::Success);
@@ -103,7 +115,7 @@ fn export_images(path: &Path, p: &Published) -> Result<(), String> {
     {
         return Err("the images are not ready yet".into());
     }
-    let (w, h) = (p.width as usize, p.height as usize);
+    let (w, h0) = (p.width as usize, p.height as usize);
     let schemes = [&p.uniform, &p.importance, &p.spatial];
     let mut top: Vec<&[u8]> = schemes.iter().map(|s| s.rgba.as_slice()).collect();
     if let Some(r) = &p.reference_rgba {
@@ -113,12 +125,16 @@ fn export_images(path: &Path, p: &Published) -> Result<(), String> {
     let columns = top.len();
     let rows = if errors.is_some() { 2 } else { 1 };
     let total_w = w * columns;
+    // A caption band above the images: each scheme's name, spp and RMSE, as the GIF has.
+    let caption = caption_style(w);
+    let band = (2.6 * caption.size).ceil() as usize;
+    let h_total = band + h0 * rows;
     // Opaque black where a row has no image (under the reference).
-    let mut out: Vec<u8> = [0, 0, 0, 255].repeat(total_w * h * rows);
+    let mut out: Vec<u8> = [0, 0, 0, 255].repeat(total_w * h_total);
     let mut place = |row: usize, column: usize, part: &[u8]| {
-        for y in 0..h {
+        for y in 0..h0 {
             let src = &part[y * w * 4..(y + 1) * w * 4];
-            let dst = ((row * h + y) * total_w + column * w) * 4;
+            let dst = ((band + row * h0 + y) * total_w + column * w) * 4;
             out[dst..dst + w * 4].copy_from_slice(src);
         }
     };
@@ -128,14 +144,84 @@ fn export_images(path: &Path, p: &Published) -> Result<(), String> {
     for (k, part) in errors.iter().flatten().enumerate() {
         place(1, k, part);
     }
+    let out = captioned(out, [total_w, h_total], w, &captions(p), &caption)?;
     image::save_buffer(
         path,
         &out,
         total_w as u32,
-        (h * rows) as u32,
+        h_total as u32,
         image::ExtendedColorType::Rgba8,
     )
     .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The captions of the exported columns: scheme, samples per pixel and RMSE; "exact
+/// reference" over the reference.
+fn captions(p: &Published) -> Vec<[String; 2]> {
+    let mut out: Vec<[String; 2]> = [
+        ("uniform", &p.uniform),
+        ("importance (alias)", &p.importance),
+        ("spatial", &p.spatial),
+    ]
+    .into_iter()
+    .map(|(name, image)| {
+        let rmse = image.rmse.map_or_else(
+            || "no reference".to_owned(),
+            |r| format!("RMSE {}", crate::numbers::short(r)),
+        );
+        [name.to_owned(), format!("{} spp · {rmse}", image.spp)]
+    })
+    .collect();
+    if p.reference_rgba.is_some() {
+        out.push(["exact reference".to_owned(), "(errors below)".to_owned()]);
+    }
+    out
+}
+
+/// The captions' text style for columns `width` pixels wide: readable, and two lines of it
+/// fit the band.
+fn caption_style(width: usize) -> lightpick_core::draw::text::TextStyle {
+    let size = (width as f32 / 14.0).clamp(11.0, 18.0);
+    lightpick_core::draw::text::TextStyle::new(
+        size,
+        lightpick_core::draw::Rgba8::rgb(235, 235, 235),
+    )
+}
+
+/// `rgba` (`size`, opaque) with `captions[k]` written in the top band over column `k`.
+fn captioned(
+    rgba: Vec<u8>,
+    [width, height]: [usize; 2],
+    column: usize,
+    captions: &[[String; 2]],
+    style: &lightpick_core::draw::text::TextStyle,
+) -> Result<Vec<u8>, String> {
+    use lightpick_core::draw::text::{HAlign, VAlign, draw_text};
+    let mut pixmap = lightpick_core::draw::Pixmap::new(width as u32, height as u32)
+        .ok_or("the images are empty")?;
+    // Opaque pixels are their own premultiplied form.
+    pixmap.data_mut().copy_from_slice(&rgba);
+    for (k, [name, figures]) in captions.iter().enumerate() {
+        let x = (k * column) as f32 + 0.5 * style.size;
+        let bold = style.bold();
+        draw_text(
+            &mut pixmap,
+            name,
+            (x, 0.3 * style.size),
+            (HAlign::Left, VAlign::Top),
+            &bold,
+        )
+        .map_err(|e| e.to_string())?;
+        draw_text(
+            &mut pixmap,
+            figures,
+            (x, 1.4 * style.size),
+            (HAlign::Left, VAlign::Top),
+            style,
+        )
+        .map_err(|e| e.to_string())?;
+    }
+    Ok(lightpick_core::draw::to_rgba8(&pixmap))
 }
 
 /// Writes the alias-table diagram as a PNG (the headless drawing of `lightpick plot table`).

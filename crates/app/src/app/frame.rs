@@ -45,9 +45,11 @@ impl LightpickApp {
     pub(super) fn begin_frame(&mut self, ctx: &egui::Context) -> Option<Arc<Published>> {
         if self.state.frame == 0 {
             install_fonts(ctx);
+            super::text_size::apply_minimum_text_size(ctx);
         }
         self.state.frame += 1;
         self.state.poll_build();
+        self.state.update_scene_sentence();
         self.state.prepare_walkthrough();
         self.open_dropped(ctx);
         self.shortcuts(ctx);
@@ -138,8 +140,9 @@ impl LightpickApp {
                 Engine::inline()
             }
         });
+        let trade_measuring = self.state.trade_pauses_images();
         let s = &self.state.settings;
-        let running = !s.paused;
+        let running = !s.paused && !trade_measuring;
         let config = EngineConfig {
             spp_per_frame: s.spp_per_frame,
             budget: s.budget,

@@ -25,6 +25,7 @@ pub mod panels;
 mod persist;
 pub mod scene_io;
 pub mod state;
+pub mod text_size;
 pub mod window;
 
 use std::fmt::Write as _;
@@ -75,6 +76,7 @@ impl LightpickApp {
     pub fn with_state(mut state: AppState, threaded: bool) -> Self {
         state.trade.inline = !threaded;
         state.precision.inline = !threaded;
+        state.scene_sentence.inline = !threaded;
         Self {
             state,
             layout: layout::Layout::default(),
@@ -201,7 +203,7 @@ impl LightpickApp {
             published: published.as_deref(),
         };
         layout_ui::panes_ui(ui, &mut self.layout, &mut panes, frame);
-        panels::windows_ui(ui.ctx(), &mut self.state);
+        panels::windows_ui(ui.ctx(), &mut self.state, &self.layout.placed);
         self.end_frame(ui, published.as_deref());
         self.measure(started);
     }

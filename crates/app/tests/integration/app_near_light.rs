@@ -170,9 +170,9 @@ fn convergence_table_gives_an_efficiency_and_its_ratios() {
         (p.uniform.normalized_variance / p.importance.normalized_variance).to_f64()
     };
     let text = format!(
-        "{}× (variance {}×)",
-        numbers::short(speedup(&near)),
-        numbers::short(variance_ratio(&near))
+        "efficiency {} (variance {})",
+        numbers::compare(speedup(&near), 1.0, "higher", "lower"),
+        numbers::compare(1.0, variance_ratio(&near), "higher", "lower")
     );
     assert!(
         harness.query_all_by_label(&text).next().is_some(),

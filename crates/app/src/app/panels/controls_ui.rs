@@ -59,10 +59,10 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
                 state.settings.dark = false;
             }
             ui.separator();
-            ui.checkbox(&mut state.settings.show_trade, "Speed against accuracy")
+            ui.checkbox(&mut state.settings.show_trade, "Trade")
                 .on_hover_text(
-                    "Time per sample, variance and efficiency of every scheme, and the \
-                     error-against-time plot",
+                    "Speed against accuracy: time per sample, variance and efficiency of every \
+                     scheme, and the error-against-time plot",
                 );
             ui.checkbox(&mut state.settings.show_precision, "Precision")
                 .on_hover_text(
@@ -89,7 +89,9 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
 /// Opens the path dialog for `action` with a sensible default path.
 pub fn open_dialog(state: &mut AppState, action: FileAction) {
     let default = match action {
-        FileAction::OpenScene | FileAction::SaveScene => format!("{}.json", state.edit.name),
+        // Open names no file of its own: the dialog lists the last folder's scenes.
+        FileAction::OpenScene => String::new(),
+        FileAction::SaveScene => format!("{}.json", state.edit.name),
         FileAction::ExportImages => format!("{}-images.png", state.edit.name),
         FileAction::ExportDiagram => format!("{}-alias-table.png", state.edit.name),
     };
@@ -172,7 +174,12 @@ pub fn status_ui(ui: &mut Ui, state: &AppState, device_note: &str, frame_ms: Opt
     let dark = state.dark();
     // Wrapped: a long message (what a file held) takes a second line rather than being cut.
     ui.horizontal_wrapped(|ui| {
-        let timing = frame_ms.map_or_else(|| "inline".to_owned(), |ms| format!("{ms:.1} ms/frame"));
+        // Paused, frames come only with input: their spacing is no frame time.
+        let timing = match frame_ms {
+            None => "inline".to_owned(),
+            Some(_) if state.settings.paused => "paused".to_owned(),
+            Some(ms) => format!("{ms:.1} ms/frame"),
+        };
         ui.label(format!("{device_note} · {timing}"))
             .on_hover_text("Where the images are rendered, and the UI's time per frame");
         ui.separator();

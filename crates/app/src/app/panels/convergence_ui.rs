@@ -181,8 +181,9 @@ fn figures_ui(
                 ),
                 (
                     "vs uniform",
-                    "Efficiency over uniform selection: how much less time the scheme needs for \
-                     the same error (the variance ratio in parentheses)",
+                    "Efficiency against uniform selection: how many times less (or more) time \
+                     the scheme needs for the same error, and its variance per sample against \
+                     uniform's",
                 ),
             ] {
                 ui.strong(text).on_hover_text(tip);
@@ -210,7 +211,7 @@ fn figures_ui(
                             .map_or("–".to_owned(), numbers::short_scaled),
                     );
                     ui.label(if scheme == Scheme::Uniform {
-                        "1×".to_owned()
+                        "baseline".to_owned()
                     } else {
                         speedup_text(u, image, pixels)
                     });
@@ -229,8 +230,8 @@ fn figures_ui(
     );
 }
 
-/// "E× (variance V×)": the efficiency and variance ratios of `image` over uniform, "–"
-/// before any sample.
+/// "efficiency 6.91× higher (variance 24.6× lower)": `image` against uniform, each factor
+/// `≥ 1` with its direction word ([`numbers::compare`]); "–" before any sample.
 fn speedup_text(u: &SchemeImage, image: &SchemeImage, pixels: usize) -> String {
     let speedup = u
         .efficiency(pixels)
@@ -238,10 +239,14 @@ fn speedup_text(u: &SchemeImage, image: &SchemeImage, pixels: usize) -> String {
         .map(|(eu, e)| (e / eu).to_f64());
     // V̂ ratios are V ratios (same scene, same Φ_total), finite whatever the powers and
     // the geometry (each V̂ may lie beyond f64: divided as Scaled).
-    let variance_ratio = (image.normalized_variance > Scaled::ZERO)
-        .then(|| (u.normalized_variance / image.normalized_variance).to_f64());
+    let variance_ratio = (u.normalized_variance > Scaled::ZERO)
+        .then(|| (image.normalized_variance / u.normalized_variance).to_f64());
     match (speedup, variance_ratio) {
-        (Some(s), Some(v)) => format!("{}× (variance {}×)", numbers::short(s), numbers::short(v)),
+        (Some(s), Some(v)) => format!(
+            "efficiency {} (variance {})",
+            numbers::compare(s, 1.0, "higher", "lower"),
+            numbers::compare(v, 1.0, "higher", "lower")
+        ),
         _ => "–".to_owned(),
     }
 }

@@ -65,7 +65,8 @@ pub fn diagram_ui(ui: &mut Ui, state: &mut AppState, height: Option<f32>) {
         ui.allocate_painter(vec2(ui.available_width(), height), Sense::hover());
     let outer = response.rect;
     // Labels grow with the diagram (up to 16 points), for the back of a classroom.
-    let font = FontId::proportional((height / 24.0).clamp(12.0, 16.0));
+    let body = crate::app::text_size::body_size(ui);
+    let font = FontId::proportional((height / 24.0).clamp(body, 16.0_f32.max(body)));
     // Plot area: leave room for the axis labels.
     let plot = Rect::from_min_max(outer.min + vec2(36.0, 8.0), outer.max - vec2(8.0, 22.0));
     // The plot area is outlined, not filled: on a software rasterizer (lavapipe) every
@@ -99,7 +100,7 @@ pub fn diagram_ui(ui: &mut Ui, state: &mut AppState, height: Option<f32>) {
         && draw.column >= first
         && draw.column < first + shown
     {
-        draw_pick(&painter, &geometry, &draw, dark);
+        draw_pick(&painter, &geometry, &draw, &font, dark);
     }
     hover_ui(&painter, &geometry, response, state, &built);
 }
@@ -206,8 +207,11 @@ fn axis_ui(painter: &egui::Painter, g: &Geometry, font: &FontId, dark: bool) {
         6.0,
         4.0,
     ));
+    // On one-sided scenes the 1/N line sits near the bottom: its label stays above the "0"
+    // (a line of text apart), never on or below it.
+    let label_y = y_avg.min(plot.bottom() - 1.5 * font.size);
     painter.text(
-        pos2(plot.left() - 4.0, y_avg),
+        pos2(plot.left() - 4.0, label_y),
         Align2::RIGHT_CENTER,
         "1/N",
         font.clone(),
@@ -292,7 +296,7 @@ fn mark_column(
 
 /// Replays a single draw: `U1` picks the column (a marker on the axis), `U2` is a level in
 /// that column compared with the threshold.
-fn draw_pick(painter: &egui::Painter, g: &Geometry, draw: &OneDraw, dark: bool) {
+fn draw_pick(painter: &egui::Painter, g: &Geometry, draw: &OneDraw, font: &FontId, dark: bool) {
     let (plot, col_w, first, y_top) = (g.plot, g.col_w, g.first, g.y_top());
     let hi = colors::pick(dark);
     let n_shown_x = plot.left() + (draw.column - first) as f32 * col_w;
@@ -313,7 +317,7 @@ fn draw_pick(painter: &egui::Painter, g: &Geometry, draw: &OneDraw, dark: bool) 
         pos2(n_shown_x + col_w + 8.0, y),
         Align2::LEFT_CENTER,
         format!("U2 = {:.3}", draw.u2),
-        FontId::proportional(12.0),
+        font.clone(),
         hi,
     );
     // U1 marker under the axis.

@@ -31,11 +31,18 @@ pub fn estimator_window(ctx: &egui::Context, state: &mut AppState) {
         return;
     }
     let mut open = true;
-    egui::Window::new("Estimator at one point")
+    let shown = egui::Window::new("Estimator at one point")
         .open(&mut open)
         .default_size([620.0, 560.0])
         .default_pos([super::walkthrough_ui::right_edge(ctx) - 640.0, 60.0])
         .show(ctx, |ui| estimator_ui(ui, state));
+    // Opened by a click (the inspector's "Watch the estimate converge here", the
+    // walkthrough): in front of the window the click came from.
+    if std::mem::take(&mut state.estimator.raise)
+        && let Some(shown) = shown
+    {
+        ctx.move_to_top(shown.response.layer_id);
+    }
     if !open {
         state.estimator.open = false;
         state.estimator.running = false;
@@ -215,8 +222,9 @@ fn figures_ui(ui: &mut Ui, estimator: &PointEstimator) {
                     "Samples until the standard error is 1 % of F: Var/(0.01·F)² (analytic)",
                 ),
                 (
-                    "fewer than uniform",
-                    "How many times fewer samples than uniform picking need for the same error",
+                    "samples vs uniform",
+                    "How many times fewer (or more) samples this scheme needs than uniform \
+                     picking for the same error",
                 ),
             ] {
                 ui.strong(text).on_hover_text(tip);
@@ -261,7 +269,7 @@ fn figures_ui(ui: &mut Ui, estimator: &PointEstimator) {
                 });
                 ui.label(match uniform_needed {
                     _ if exact_pick => "∞ (zero variance)".to_owned(),
-                    Some(u) => format!("{}×", numbers::short(u / n)),
+                    Some(u) => numbers::compare(n, u, "more", "fewer"),
                     None => "–".to_owned(),
                 });
                 ui.end_row();

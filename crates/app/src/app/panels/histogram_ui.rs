@@ -121,8 +121,13 @@ fn histogram_plot_ui(ui: &mut Ui, state: &AppState) {
         .enumerate()
         .map(|(b, &p)| [x(b, -1.0), p])
         .collect();
+    let n = state.built.len();
+    // The last bar holds what is left: fewer lights, so a shorter bar. Said in the label.
+    let last = n - per * n.div_ceil(per.max(1)).saturating_sub(1);
     let x_label = if per == 1 {
         "light".to_owned()
+    } else if last != per && last > 0 {
+        format!("lights, {per} per bar (the last bar {last}: shorter by as much)")
     } else {
         format!("lights, {per} per bar")
     };

@@ -59,11 +59,16 @@ pub fn inspector_window(ctx: &egui::Context, state: &mut AppState) {
         return;
     }
     let mut open = true;
-    egui::Window::new("Pixel inspector")
+    let shown = egui::Window::new("Pixel inspector")
         .open(&mut open)
         .default_size([520.0, 560.0])
         .default_pos([780.0, 420.0])
         .show(ctx, |ui| inspector_ui(ui, state));
+    if std::mem::take(&mut state.inspector.raise)
+        && let Some(shown) = shown
+    {
+        ctx.move_to_top(shown.response.layer_id);
+    }
     if !open {
         state.inspector.pixel = None;
     }
@@ -147,7 +152,8 @@ fn variance_ui(ui: &mut Ui, inspection: &PointInspection) {
             ui.strong("scheme");
             ui.strong("Var/E²");
             ui.strong("Var per sample");
-            ui.strong("vs uniform");
+            ui.strong("variance vs uniform")
+                .on_hover_text("This scheme's variance per sample against uniform picking's");
             ui.end_row();
             for (name, color, relative) in rows {
                 ui.colored_label(color, name);
@@ -164,9 +170,11 @@ fn variance_ui(ui: &mut Ui, inspection: &PointInspection) {
                 let ratio = if name.starts_with("uniform") {
                     "baseline".to_owned()
                 } else if relative > 0.0 {
-                    format!(
-                        "{}× lower",
-                        numbers::short(inspection.uniform_relative_variance / relative)
+                    numbers::compare(
+                        relative,
+                        inspection.uniform_relative_variance,
+                        "higher",
+                        "lower",
                     )
                 } else if inspection.uniform_relative_variance > 0.0 {
                     "no noise".to_owned()

@@ -55,7 +55,7 @@ pub fn title(pane: PanelKind) -> &'static str {
         PanelKind::Images => "Images",
         PanelKind::Convergence => "Convergence",
         PanelKind::Controls => "Controls",
-        PanelKind::Trade => "Speed against accuracy",
+        PanelKind::Trade => "Trade",
         PanelKind::Precision => "Precision",
         PanelKind::Inspector => "Inspector",
         PanelKind::Estimator => "Estimator",

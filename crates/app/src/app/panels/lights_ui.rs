@@ -10,7 +10,7 @@ use lightpick_core::scene::MAX_LIGHTS;
 use crate::app::colors;
 use crate::app::scene_io::{self, PowerShape};
 use crate::app::state::AppState;
-use crate::app::state::edit::powers_to_text;
+use crate::app::state::edit::{power_to_text, powers_to_text};
 use crate::app::state::settings::SliderScale;
 
 const ROW_HEIGHT: f32 = 22.0;
@@ -140,13 +140,21 @@ fn generate_cost_text(count: usize) -> String {
 }
 
 fn powers_text_ui(ui: &mut Ui, state: &mut AppState) {
+    // A large scene's powers are not listed; the empty field says so instead of showing
+    // example values that could be taken for the scene's own.
+    let n = state.edit.powers.len();
+    let hint = if n > crate::app::state::edit::POWERS_TEXT_MAX_LIGHTS {
+        format!("{n} lights, too many to list: typed powers replace them all")
+    } else {
+        "type powers, e.g. 2, 5, 20".to_owned()
+    };
     ui.horizontal(|ui| {
         let label = ui.label("Powers");
         let response = ui
             .add(
                 egui::TextEdit::singleline(&mut state.powers_text)
                     .desired_width(ui.available_width() - 60.0)
-                    .hint_text("2, 5, 20"),
+                    .hint_text(hint),
             )
             .labelled_by(label.id)
             .on_hover_text(
@@ -332,9 +340,11 @@ fn power_ui(ui: &mut Ui, state: &mut AppState, i: usize, name: &str) -> bool {
     // finite stand-in, so it stays until the user replaces it.
     let shown = *p;
     let mut stand_in = if shown.is_finite() { shown } else { 0.0 };
+    // Seven significant digits at most, in exponent form for extreme powers (1e30 fits
+    // its row); the exact value is kept until the user changes it.
     let mut drag_value = egui::DragValue::new(&mut stand_in)
         .speed(speed)
-        .max_decimals(6);
+        .custom_formatter(|v, _| power_to_text(v));
     if !shown.is_finite() {
         drag_value = drag_value.custom_formatter(move |_, _| format!("{shown}"));
     }
@@ -353,13 +363,19 @@ fn power_ui(ui: &mut Ui, state: &mut AppState, i: usize, name: &str) -> bool {
     } else {
         0.0
     };
+    let mut slider = egui::Slider::new(&mut slider_value, 0.0..=slider_max)
+        .logarithmic(log)
+        .smallest_positive(slider_max * 1e-6)
+        .show_value(false);
+    if !log {
+        // Snap to the finest round step one point of the slider can hold, instead of
+        // egui's "simplest number under the pointer" (which jumps 2 → 5 → 6 → 7 on 0–50).
+        slider = slider
+            .smart_aim(false)
+            .step_by(linear_slider_step(slider_max, ui.spacing().slider_width));
+    }
     let slider = ui
-        .add(
-            egui::Slider::new(&mut slider_value, 0.0..=slider_max)
-                .logarithmic(log)
-                .smallest_positive(slider_max * 1e-6)
-                .show_value(false),
-        )
+        .add(slider)
         .accessible_name(format!("power slider of {name}"))
         .on_hover_text(format!("Drag to set the power of {name}"));
     if slider.changed() {
@@ -370,4 +386,21 @@ fn power_ui(ui: &mut Ui, state: &mut AppState, i: usize, name: &str) -> bool {
         state.edit.powers_mut()[i] = power;
     }
     changed
+}
+
+/// The step of a linear power slider over `0..=max` that is `width` points long: the
+/// smallest of `1, 2, 5 × 10^k` that is at least `max / width`, so every step lies under
+/// some point of the slider (on `0..=50` over 100 points: 0.5, and every integer power
+/// can be reached by dragging). Arrow keys on a focused slider move by one step.
+pub fn linear_slider_step(max: f64, width: f32) -> f64 {
+    let least = max / f64::from(width.max(1.0));
+    if !(least.is_finite() && least > 0.0) {
+        return 1.0;
+    }
+    let decade = 10f64.powf(least.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * decade)
+        .find(|step| *step >= least * (1.0 - 1e-12))
+        .unwrap_or(10.0 * decade)
 }

@@ -84,25 +84,91 @@ impl layout_ui::PaneContents for MainPanes<'_> {
     }
 }
 
-/// The optional windows: speed against accuracy and precision (View menu), the pixel
-/// inspector (a click on an image), the walkthrough, the stepper and the estimator.
-pub fn windows_ui(ctx: &egui::Context, state: &mut AppState) {
+/// The optional windows: trade and precision (View menu), the pixel inspector (a click on an
+/// image), the walkthrough, the stepper and the estimator. `placed` is where the main panels
+/// stand this frame: a window that explains the table opens beside it, not over it.
+pub fn windows_ui(ctx: &egui::Context, state: &mut AppState, placed: &[(PanelKind, egui::Rect)]) {
+    let table = placed
+        .iter()
+        .find(|(kind, _)| *kind == PanelKind::Table)
+        .map(|(_, rect)| *rect);
     let mut open = state.settings.show_trade;
-    egui::Window::new("Speed against accuracy")
+    egui::Window::new("Trade")
         .open(&mut open)
         .default_size([620.0, 520.0])
         .default_pos([760.0, 60.0])
         .show(ctx, |ui| trade_ui::trade_ui(ui, state));
     state.settings.show_trade = open;
     let mut open = state.settings.show_precision;
-    egui::Window::new("Precision")
+    let place = beside_table(ctx, "Precision", open, table, PRECISION_WIDTH);
+    let mut window = egui::Window::new("Precision")
         .open(&mut open)
-        .default_size([640.0, 420.0])
-        .default_pos([20.0, 400.0])
-        .show(ctx, |ui| precision_ui::precision_ui(ui, state));
+        .default_size([PRECISION_WIDTH, 420.0])
+        .default_pos([20.0, 400.0]);
+    if let Some(pos) = place {
+        // Within the strip beside the table: narrower, its grid scrolls sideways.
+        let strip = (ctx.content_rect().right() - pos.x - 8.0).max(320.0);
+        window = window
+            .current_pos(pos)
+            .default_width(PRECISION_WIDTH.min(strip))
+            .max_width(strip);
+    }
+    let shown = window.show(ctx, |ui| {
+        egui::ScrollArea::horizontal()
+            .auto_shrink([false, true])
+            .show(ui, |ui| precision_ui::precision_ui(ui, state));
+    });
+    raise_if_placed(ctx, place, shown.as_ref());
     state.settings.show_precision = open;
     inspector_ui::inspector_window(ctx, state);
     walkthrough_ui::walkthrough_window(ctx, state);
-    stepper_ui::stepper_window(ctx, state);
+    stepper_ui::stepper_window(ctx, state, table);
     estimator_ui::estimator_window(ctx, state);
+}
+
+/// The Precision window's width.
+const PRECISION_WIDTH: f32 = 640.0;
+
+/// Where the window titled `title` (`width` wide) goes on the frame it opens: beside the
+/// table panel (`table`), in the wider free strip right or left of it. `None` on later
+/// frames (it stays where the user drags it), while it is closed, or without a table.
+pub fn beside_table(
+    ctx: &egui::Context,
+    title: &str,
+    open: bool,
+    table: Option<egui::Rect>,
+    width: f32,
+) -> Option<egui::Pos2> {
+    let placed_id = egui::Id::unique(("lightpick_window_placed", title));
+    if !open {
+        ctx.data_mut(|d| d.remove::<bool>(placed_id));
+        return None;
+    }
+    if ctx.data(|d| d.get_temp::<bool>(placed_id)).unwrap_or(false) {
+        return None;
+    }
+    let table = table?;
+    ctx.data_mut(|d| d.insert_temp(placed_id, true));
+    let screen = ctx.content_rect();
+    let margin = 8.0;
+    let right = screen.right() - table.right();
+    let left = table.left() - screen.left();
+    let x = if right >= left {
+        // Right beside the table; a window wider than the strip is narrowed by its caller.
+        table.right() + margin
+    } else {
+        (table.left() - width - margin).max(screen.left() + margin)
+    };
+    Some(egui::pos2(x.max(screen.left() + margin), table.top()))
+}
+
+/// Brings a window just placed by [`beside_table`] (`place` is `Some`) to the front.
+pub fn raise_if_placed<R>(
+    ctx: &egui::Context,
+    place: Option<egui::Pos2>,
+    shown: Option<&egui::InnerResponse<R>>,
+) {
+    if let (Some(_), Some(shown)) = (place, shown) {
+        ctx.move_to_top(shown.response.layer_id);
+    }
 }

@@ -210,14 +210,19 @@ fn column_pick_rows_ui(ui: &mut Ui, m: &PrecisionMeasurement) {
     ui.end_row();
     ui.label("");
     ui.label("max/min column frequency");
-    ui.label(
-        m.multiply_high
-            .map_or("–".to_owned(), |s| format!("{:.9}", s.max_min_ratio)),
-    );
-    ui.label(
-        m.f32_pick
-            .map_or("–".to_owned(), |s| format!("{:.6}", s.max_min_ratio)),
-    );
+    // The same digits on both sides, enough to show how far each is from 1.
+    let ratios = [
+        m.multiply_high.as_ref().map(|s| s.max_min_ratio),
+        m.f32_pick.as_ref().map(|s| s.max_min_ratio),
+    ];
+    let shown = numbers::near_one(ratios.map(|r| r.unwrap_or(1.0)));
+    for (ratio, text) in ratios.iter().zip(shown) {
+        ui.label(if ratio.is_some() {
+            text
+        } else {
+            "–".to_owned()
+        });
+    }
     ui.end_row();
 }
 

@@ -141,13 +141,22 @@ pub fn images_ui(
     );
     let (width, height) = (published.width, published.height);
     let dark = state.dark();
+    // The estimator at a pixel keeps that pixel marked after the inspector closes: the
+    // text that speaks of the pixel and the chip that shows it go together.
+    let estimated = match state.estimator.point {
+        crate::app::state::estimator::EstimatorPoint::Pixel(pixel) if state.estimator.open => {
+            Some(pixel)
+        }
+        _ => None,
+    };
     let inspector = &mut state.inspector;
     let mut inspect = |ui: &Ui, response: Option<egui::Response>| {
         let Some(response) = response else { return };
         if let Some(pixel) = inspector_ui::clicked_pixel(&response, width, height) {
             inspector.pixel = Some(pixel);
+            inspector.raise = true;
         }
-        if let Some(pixel) = inspector.pixel {
+        if let Some(pixel) = inspector.pixel.or(estimated) {
             inspector_ui::mark_pixel_ui(ui, response.rect, pixel, width, height, dark);
         }
     };
@@ -220,68 +229,27 @@ fn options_ui(ui: &mut Ui, state: &mut AppState, published: Option<&Published>) 
     });
 }
 
-/// The notes under the images: what the scene shows (the seed, spots), a restart in
-/// progress (`stale`), why there is no reference.
+/// The notes under the images: the scene's sentence (what to look at and why, its figures
+/// computed from the current scene; see [`crate::app::state::scene_sentence`]), a restart in
+/// progress (`stale`), why there is no reference. Body text, like everything the class reads.
 fn notes_ui(ui: &mut Ui, state: &AppState, published: &Published, stale: bool) {
     let dark = state.dark();
-    if let Some(note) = image_note(&state.built.scene, published.light_count) {
-        ui.label(
-            egui::RichText::new(note.text)
-                .small()
-                .color(colors::muted(dark)),
-        )
-        .on_hover_text(note.hover);
+    match state.current_scene_sentence() {
+        Some(sentence) => {
+            ui.label(egui::RichText::new(&sentence.text).color(colors::foreground(dark)))
+                .on_hover_text(&sentence.hover);
+        }
+        None => {
+            ui.label(
+                egui::RichText::new("computing what this scene shows…").color(colors::muted(dark)),
+            );
+        }
     }
     if stale {
         ui.label("restarting on the new table…");
     }
     if let Some(note) = &published.reference_note {
         ui.label(note);
-    }
-}
-
-/// Scenes with this many lights (the seed's) get [`SEED_IMAGE_NOTE`] under the images.
-const SEED_NOTE_LIGHTS: usize = 3;
-
-/// Why the seed's images gain less from importance sampling than its shading point does.
-pub const SEED_IMAGE_NOTE: &str = "The images gain less than the seed's shading point (24.6×): \
-     the geometry term G_i(x) varies across the plane, so the power pmf matches each pixel's \
-     contributions only where every light's G is alike.";
-
-/// Why power picking fails on spot scenes, and what the spatial scheme uses instead.
-pub const SPOT_IMAGE_NOTE: &str = "Spots: a spot's power says little about what it gives a \
-     pixel. Its cone lights a small patch of the floor, so power picking (alias) spends most \
-     picks on spots aimed elsewhere. The spatial scheme weighs each group of spots by its peak \
-     intensity, its cone toward the pixel and its range, and never picks a group that cannot \
-     light it.";
-
-/// A sentence under the images and its hover text.
-struct ImageNote {
-    text: &'static str,
-    hover: &'static str,
-}
-
-/// The sentence under the images, for scenes that have one: the seed, and scenes with spots.
-fn image_note(scene: &lightpick_core::scene::Scene, light_count: usize) -> Option<ImageNote> {
-    // Stops at the first spot (a scene of spots has one near its start).
-    let spots = scene
-        .emission
-        .as_ref()
-        .is_some_and(|e| e.iter().any(|e| e.spot().is_some()));
-    if spots {
-        Some(ImageNote {
-            text: SPOT_IMAGE_NOTE,
-            hover: "Click a pixel: the inspector lists each spot's cone term t² there beside \
-                    its power pmf p and the spatial pick probability q",
-        })
-    } else if light_count == SEED_NOTE_LIGHTS {
-        Some(ImageNote {
-            text: SEED_IMAGE_NOTE,
-            hover: "Var/E² = Σ s_i²/p_i − 1 at each pixel: zero only where the shares s_i of \
-                    the irradiance equal the power pmf p_i (click a pixel to see both)",
-        })
-    } else {
-        None
     }
 }
 
@@ -330,12 +298,12 @@ fn columns(state: &AppState, textures: &ImageTextures) -> usize {
 pub fn wanted_height(ui: &Ui, width: f32, state: &AppState, textures: &ImageTextures) -> f32 {
     let side = side_by_width(ui, width, columns(state, textures));
     let images = if state.settings.show_error { 2.0 } else { 1.0 };
-    // The seed's note wraps to about two lines of small text, the spots' to about three.
-    let note_rows = match image_note(&state.built.scene, state.built.len()) {
-        Some(note) if note.text == SPOT_IMAGE_NOTE => 2.4,
-        Some(_) => 1.6,
-        None => 0.0,
-    };
+    // The scene's sentence in body text, wrapped to the width (about half an em a
+    // character); one row while it is being computed.
+    let per_row = (width / (0.52 * crate::app::text_size::body_size(ui))).max(20.0);
+    let note_rows = state
+        .current_scene_sentence()
+        .map_or(1.0, |s| (s.text.chars().count() as f32 / per_row).ceil());
     images * (side + ui.spacing().item_spacing.y)
         + text_rows(ui, TEXT_ROWS_PER_IMAGE + HEADER_ROWS + note_rows)
 }

@@ -20,14 +20,23 @@ use crate::numbers;
 /// The tallest mass the diagram shows before clipping a bar.
 const MAX_SHOWN_MASS: f64 = 4.0;
 
+/// The stepper window's width.
+const STEPPER_WIDTH: f32 = 520.0;
+
 /// The Construction stepper window (View menu, or the table panel's button).
-pub fn stepper_window(ctx: &egui::Context, state: &mut AppState) {
+/// `table` is the table panel's place this frame: the stepper opens beside it, not over it.
+pub fn stepper_window(ctx: &egui::Context, state: &mut AppState, table: Option<egui::Rect>) {
     let mut open = state.settings.show_stepper;
-    egui::Window::new("Construction stepper")
+    let place = super::beside_table(ctx, "Construction stepper", open, table, STEPPER_WIDTH);
+    let mut window = egui::Window::new("Construction stepper")
         .open(&mut open)
         .default_pos([super::walkthrough_ui::right_edge(ctx) - 540.0, 400.0])
-        .default_width(520.0)
-        .show(ctx, |ui| stepper_ui(ui, state));
+        .default_width(STEPPER_WIDTH);
+    if let Some(pos) = place {
+        window = window.current_pos(pos);
+    }
+    let shown = window.show(ctx, |ui| stepper_ui(ui, state));
+    super::raise_if_placed(ctx, place, shown.as_ref());
     state.settings.show_stepper = open;
     if !open {
         state.stepper.playing = false;
@@ -295,7 +304,12 @@ fn diagram_ui(ui: &mut Ui, state: &ConstructionState, den: Option<u64>, dark: bo
         gap: (col_w * 0.15).min(10.0),
         y_max,
     };
-    let font = FontId::proportional(if col_w > 40.0 { 15.0 } else { 11.0 });
+    let body = crate::app::text_size::body_size(ui);
+    let font = FontId::proportional(if col_w > 40.0 {
+        15.0_f32.max(body)
+    } else {
+        body
+    });
     for j in 0..n {
         column_ui(&painter, &bars, state, j, den, &font, dark);
     }

@@ -40,7 +40,7 @@ pub fn trade_ui(ui: &mut Ui, state: &mut AppState) {
             });
     }
     ui.horizontal(|ui| {
-        ui.heading("Speed against accuracy");
+        ui.label("Speed against accuracy, measured for each scheme on this scene");
         if ui
             .add_enabled(!state.trade.is_measuring(), egui::Button::new("Measure"))
             .on_hover_text(format!(
@@ -59,6 +59,7 @@ pub fn trade_ui(ui: &mut Ui, state: &mut AppState) {
         }
         if state.trade.is_measuring() {
             ui.spinner().on_hover_text("Measuring in the background");
+            ui.label("measuring: the images pause until it is done");
             // Look for the result even while the app is paused and idle.
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(100));
@@ -80,7 +81,9 @@ pub fn trade_ui(ui: &mut Ui, state: &mut AppState) {
         )
     };
     let mut note = format!(
-        "CPU renderer, {}×{} pixels, reference over {} pixels, {} spp per scheme; {clock}",
+        "CPU renderer, {}×{} pixels, reference over {} pixels, {} spp per scheme, measured \
+         with the images paused; the plot's points and the table's T are the same timings; \
+         {clock}",
         m.size[0], m.size[1], m.reference_pixels, TRADE_MAX_SPP
     );
     if still_stale {

@@ -141,7 +141,17 @@ impl AppState {
     /// is not a number is named and nothing changes.
     pub fn apply_powers_text(&mut self) {
         match parse_powers(&self.powers_text) {
-            Ok(powers) => {
+            Ok(mut powers) => {
+                // A word left as shown (a power written to 7 significant digits) keeps the
+                // light's exact power: editing one number never rounds the others.
+                let shown: Vec<&str> = power_words(&self.powers_text);
+                for (i, power) in powers.iter_mut().enumerate() {
+                    if let (Some(&exact), Some(word)) = (self.edit.powers.get(i), shown.get(i))
+                        && *word == power_to_text(exact)
+                    {
+                        *power = exact;
+                    }
+                }
                 let n = powers.len();
                 self.edit.powers = powers.into();
                 if self.edit.positions.len() > n {
@@ -306,16 +316,67 @@ pub fn parse_powers(text: &str) -> Result<Vec<f64>, String> {
         .collect()
 }
 
-/// The powers as "2, 5, 20".
+/// Most lights the powers text field lists; larger scenes leave it empty.
+pub const POWERS_TEXT_MAX_LIGHTS: usize = 1000;
+
+/// The powers as "2, 5, 20" (each by [`power_to_text`]); empty beyond
+/// [`POWERS_TEXT_MAX_LIGHTS`] lights.
 pub fn powers_to_text(powers: &[f64]) -> String {
-    if powers.len() > 1000 {
+    if powers.len() > POWERS_TEXT_MAX_LIGHTS {
         return String::new();
     }
     powers
         .iter()
-        .map(f64::to_string)
+        .map(|p| power_to_text(*p))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// One power as the text field shows it: its shortest exact form when that has at most 7
+/// significant digits ("2", "0.25", "1e-30"), else rounded to 7 ("1234.568" for an
+/// imported 1234.5678901234567); exponent form outside `[10^-4, 10^7)`.
+/// [`AppState::apply_powers_text`] keeps the exact power of every word left as shown.
+pub fn power_to_text(power: f64) -> String {
+    if !power.is_finite() || power == 0.0 {
+        return power.to_string();
+    }
+    let magnitude = power.abs().log10().floor();
+    let plain = (-4.0..7.0).contains(&magnitude);
+    let exact = if plain {
+        power.to_string()
+    } else {
+        format!("{power:e}")
+    };
+    if significant_digits(&exact) <= 7 {
+        exact
+    } else if plain {
+        let decimals = (6.0 - magnitude).max(0.0) as usize;
+        let text = format!("{power:.decimals$}");
+        if text.contains('.') {
+            text.trim_end_matches('0').trim_end_matches('.').to_owned()
+        } else {
+            text
+        }
+    } else {
+        format!("{power:.6e}")
+    }
+}
+
+/// Significant digits of a number written in decimal or exponent form.
+fn significant_digits(text: &str) -> usize {
+    let mantissa = text.split(['e', 'E']).next().unwrap_or("");
+    let digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();
+    let digits = digits.trim_start_matches('0');
+    // Trailing zeros of an integer part are significant only up to the decimal point; a
+    // power like 1000000 counts as 1 digit here, which is what its shortest form shows.
+    digits.trim_end_matches('0').len()
+}
+
+/// The words of the powers field, as [`parse_powers`] splits them.
+fn power_words(text: &str) -> Vec<&str> {
+    text.split(|c: char| c == ',' || c == ';' || c.is_whitespace())
+        .filter(|w| !w.is_empty())
+        .collect()
 }
 
 #[cfg(test)]
@@ -329,6 +390,35 @@ mod tests {
         let err = parse_powers("2, five, 20").unwrap_err();
         assert!(err.contains("light 2"), "{err}");
         assert!(parse_powers("nan").unwrap()[0].is_nan());
+    }
+
+    #[test]
+    fn imported_powers_show_seven_digits_and_keep_their_bits() {
+        assert_eq!(power_to_text(2.0), "2");
+        assert_eq!(power_to_text(0.25), "0.25");
+        assert_eq!(power_to_text(1e-30), "1e-30");
+        assert_eq!(power_to_text(1e30), "1e30");
+        assert_eq!(power_to_text(1_000_000.0), "1000000");
+        assert_eq!(power_to_text(1_234.567_890_123_456_7), "1234.568");
+        assert_eq!(power_to_text(0.1 + 0.2), "0.3");
+        assert_eq!(power_to_text(std::f64::consts::PI * 1e20), "3.141593e20");
+        let imported = [1_234.567_890_123_456_7, 2.0, 0.1 + 0.2];
+        let mut state = AppState::new(scene_io::seed_scene(), Settings::default());
+        state.edit.powers = imported.to_vec().into();
+        state.powers_changed();
+        state.powers_text = powers_to_text(&state.edit.powers);
+        assert_eq!(state.powers_text, "1234.568, 2, 0.3");
+        // The second power edited by hand: the others keep every bit.
+        state.powers_text = "1234.568, 7, 0.3".to_owned();
+        state.apply_powers_text();
+        assert_eq!(
+            state.built.scene.powers.as_slice(),
+            [1_234.567_890_123_456_7, 7.0, 0.1 + 0.2]
+        );
+        // A word typed anew is taken as typed.
+        state.powers_text = "1234.5, 7, 0.3".to_owned();
+        state.apply_powers_text();
+        assert_eq!(state.built.scene.powers.as_slice()[0], 1234.5);
     }
 
     #[test]

@@ -51,6 +51,8 @@ pub struct EstimatorState {
     pub running: bool,
     /// Why the point cannot be estimated (no light reaches it), when it cannot.
     pub problem: Option<String>,
+    /// Bring the window to the front on its next frame (it was just opened by a click).
+    pub raise: bool,
     estimator: Option<(BuiltFor, PointEstimator)>,
 }
 
@@ -59,6 +61,7 @@ impl Default for EstimatorState {
         Self {
             open: false,
             point: EstimatorPoint::Seed,
+            raise: false,
             running: false,
             problem: None,
             estimator: None,
@@ -72,9 +75,10 @@ pub fn seed_point_uses_scene(built: &Built) -> bool {
 }
 
 impl EstimatorState {
-    /// Opens the view on `point`, paused at sample 0.
+    /// Opens the view on `point`, paused at sample 0, in front of the other windows.
     pub fn open_at(&mut self, point: EstimatorPoint) {
         self.open = true;
+        self.raise = true;
         self.running = false;
         if self.point != point {
             self.point = point;

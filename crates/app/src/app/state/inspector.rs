@@ -11,6 +11,8 @@ use super::built::Built;
 pub struct Inspector {
     /// The inspected pixel `(px, py)`, or `None` (the window is closed).
     pub pixel: Option<[u32; 2]>,
+    /// Bring the window to the front on its next frame (a pixel was just clicked).
+    pub raise: bool,
     cached: Option<Cached>,
 }
 

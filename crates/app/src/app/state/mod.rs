@@ -34,6 +34,7 @@ pub mod inspector;
 mod memory;
 pub mod precision;
 pub mod sampling;
+pub mod scene_sentence;
 pub mod settings;
 pub mod stepper;
 pub mod trade;
@@ -91,6 +92,8 @@ pub struct AppState {
     pub trade: trade::TradeRun,
     /// The precision measurement.
     pub precision: precision::PrecisionRun,
+    /// The sentence under the images, computed for the current scene in the background.
+    pub scene_sentence: crate::app::background::Background<scene_sentence::SceneSentence>,
     /// The pixel inspector (a clicked pixel of the images).
     pub inspector: inspector::Inspector,
     /// The classroom walkthrough (step, saved scene).
@@ -122,6 +125,7 @@ impl AppState {
         let edit = SceneEdit::from_scene(&scene);
         let powers_text = powers_to_text(&edit.powers);
         let built = Arc::new(Built::new(1, scene));
+        let last_folder = settings.last_folder.clone().filter(|f| f.is_dir());
         let mut state = Self {
             settings,
             edit,
@@ -130,13 +134,17 @@ impl AppState {
             powers_text,
             status: None,
             sampling: SamplingRun::default(),
-            file_dialog: FileDialog::default(),
+            file_dialog: FileDialog {
+                folder: last_folder,
+                ..FileDialog::default()
+            },
             diagram_offset: 0,
             frame: 0,
             step_requested: false,
             reset_requested: false,
             trade: trade::TradeRun::default(),
             precision: precision::PrecisionRun::default(),
+            scene_sentence: crate::app::background::Background::default(),
             inspector: inspector::Inspector::default(),
             walkthrough: walkthrough::WalkthroughState::default(),
             stepper: stepper::StepperState::default(),
@@ -156,6 +164,35 @@ impl AppState {
     /// The seed scene (powers 2, 5, 20) with default settings.
     pub fn seed() -> Self {
         Self::new(scene_io::seed_scene(), Settings::default())
+    }
+
+    /// Once per frame: takes the sentence under the images when its worker is done, and
+    /// starts it for a new scene generation.
+    pub fn update_scene_sentence(&mut self) {
+        self.scene_sentence.poll();
+        let generation = self.built.generation;
+        if self.scene_sentence.is_stale(generation) {
+            let samplers = self.built.samplers.clone();
+            self.scene_sentence
+                .start(generation, "lightpick-sentence", move |_| {
+                    scene_sentence::scene_sentence(generation, &samplers)
+                });
+        }
+    }
+
+    /// The sentence under the images if it describes the current scene (never one left
+    /// from an earlier scene).
+    pub fn current_scene_sentence(&self) -> Option<&scene_sentence::SceneSentence> {
+        self.scene_sentence
+            .result
+            .as_ref()
+            .filter(|s| s.generation == self.built.generation)
+    }
+
+    /// Whether the images wait for the Trade measurement: while it runs, no live render
+    /// shares the threads it times (its plot and its table are one measurement).
+    pub fn trade_pauses_images(&self) -> bool {
+        self.trade.is_measuring()
     }
 
     /// Whether the theme is dark.

@@ -78,6 +78,8 @@ pub struct Settings {
     pub show_walkthrough: bool,
     /// Show the construction stepper window.
     pub show_stepper: bool,
+    /// The folder of the last file opened or saved: where File → Open starts.
+    pub last_folder: Option<std::path::PathBuf>,
 }
 
 impl Default for Settings {
@@ -98,6 +100,7 @@ impl Default for Settings {
             generate_count: 16,
             dark: true,
             show_trade: false,
+            last_folder: None,
             show_precision: false,
             show_walkthrough: false,
             show_stepper: false,

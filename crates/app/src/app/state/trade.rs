@@ -1,15 +1,15 @@
 //! What the Trade panel measures: for the current scene, what each sampling scheme costs and
 //! buys — time per sample `T`, variance per sample `V`, efficiency `1/(V·T)` — on a small
 //! copy of the scene (at most [`TRADE_SIDE`] pixels a side), one fresh [`CpuRenderer`] per
-//! scheme run to [`TRADE_MAX_SPP`] samples per pixel with [`convergence_series`] (three
-//! times, keeping the fastest time of each point), against an exact [`Reference`]. The
+//! scheme run to [`TRADE_MAX_SPP`] samples per pixel (three times, keeping the fastest core
+//! time of each point), against an exact [`Reference`]. The images pause while it runs. The
 //! measurement runs on a background thread in the app and inline with virtual timings in
 //! tests (deterministic snapshots).
 
 use lightpick_core::Scheme;
 use lightpick_core::render::{
-    CpuRenderer, Efficiency, Reference, SeriesPoint, convergence_series, efficiency,
-    pool_core_seconds,
+    CpuRenderer, Efficiency, Reference, SeriesPoint, efficiency, pool_core_seconds, rmse,
+    series_spp,
 };
 use lightpick_core::scene::Scene;
 
@@ -91,7 +91,38 @@ fn small_scene(scene: &Scene) -> Scene {
     small
 }
 
+/// The convergence series of `renderer` at `1, 2, 4, …` [`TRADE_MAX_SPP`] samples per pixel,
+/// each point's seconds the core time of the passes up to it (cumulative; the RMSE between
+/// points is not timed).
+fn timed_series(renderer: &mut CpuRenderer, reference: &Reference) -> Vec<SeriesPoint> {
+    let mut seconds = 0.0;
+    series_spp(TRADE_MAX_SPP)
+        .into_iter()
+        .map(|target| {
+            let have = renderer.accumulator().samples_per_pixel;
+            if target > have {
+                seconds += pool_core_seconds(|| renderer.accumulate(target - have)).1;
+            }
+            let acc = renderer.accumulator();
+            SeriesPoint {
+                spp: acc.samples_per_pixel,
+                rmse: rmse(acc, reference),
+                seconds,
+            }
+        })
+        .collect()
+}
+
 /// Measures every scheme of [`TRADE_SCHEMES`] on a small copy of `scene`.
+///
+/// Each point of a series is the core time of the passes alone up to it
+/// ([`pool_core_seconds`] around each `accumulate`: the CPU time of the render threads,
+/// without the RMSE computed between points), the fastest of [`TRADE_REPEATS`] runs, so the
+/// plot's curve and the table's `T` (its last point over its pixel samples) are one
+/// measurement. The app pauses its images while this runs ([`AppState::trade_pauses_images`]),
+/// so no live render shares the threads being timed.
+///
+/// [`AppState::trade_pauses_images`]: crate::app::state::AppState::trade_pauses_images
 pub fn measure(generation: u64, scene: &Scene, virtual_time: bool) -> TradeMeasurement {
     let small = small_scene(scene);
     let reference = Reference::with_budget(&small, TRADE_REFERENCE_BUDGET);
@@ -100,30 +131,20 @@ pub fn measure(generation: u64, scene: &Scene, virtual_time: bool) -> TradeMeasu
         .iter()
         .map(|&scheme| {
             let mut renderer = CpuRenderer::new(&small, scheme, 1);
-            let (mut series, mut core) =
-                pool_core_seconds(|| convergence_series(&mut renderer, &reference, TRADE_MAX_SPP));
+            let mut series = timed_series(&mut renderer, &reference);
             // The same (deterministic) series again: the fastest time of each point, so a
             // cold cache or a busy core does not bend one curve.
             for _ in 1..TRADE_REPEATS {
                 renderer.reset();
-                let (again, again_core) = pool_core_seconds(|| {
-                    convergence_series(&mut renderer, &reference, TRADE_MAX_SPP)
-                });
-                core = core.min(again_core);
+                let again = timed_series(&mut renderer, &reference);
                 for (p, q) in series.iter_mut().zip(&again) {
                     p.seconds = p.seconds.min(q.seconds);
                 }
             }
-            // Core seconds, as the CPU images and `lightpick bench`'s "core ns" count them:
-            // the series' wall times scaled to the passes' measured CPU time.
-            let wall = series.last().map_or(0.0, |p| p.seconds);
-            let to_core = if wall > 0.0 { core / wall } else { 1.0 };
-            for p in &mut series {
-                p.seconds = if virtual_time {
-                    f64::from(p.spp) * pixels * VIRTUAL_SECONDS_PER_SAMPLE
-                } else {
-                    p.seconds * to_core
-                };
+            if virtual_time {
+                for p in &mut series {
+                    p.seconds = f64::from(p.spp) * pixels * VIRTUAL_SECONDS_PER_SAMPLE;
+                }
             }
             let seconds = series.last().map_or(0.0, |p| p.seconds);
             TradeRow {

@@ -17,14 +17,23 @@ use crate::app::images::published::{
 use crate::app::images::reference::{error_map, error_scale, reference, thin};
 use crate::app::state::settings::BudgetMode;
 
-/// Compute time each scheme gets per frame in equal-time mode.
+/// Compute time each scheme gets per frame in equal-time mode (on average: the lane furthest
+/// behind in time runs next, so the totals stay within one pass of each other).
 const EQUAL_TIME_SLICE_S: f64 = 0.012;
 
 /// The worker renders passes of every scheme for about this long per frame the window shows.
 pub(super) const WORKER_BATCH_S: f64 = 0.012;
 
-/// Virtual seconds per pixel sample in inline mode (deterministic timings for tests).
-const VIRTUAL_SECONDS_PER_SAMPLE: f64 = 1.0e-8;
+/// Virtual seconds per pixel sample in inline mode (deterministic timings for tests): a
+/// model of the schemes' relative costs (uniform 1, alias 1.25, spatial 4; the order of
+/// `lightpick bench`'s CPU figures), so equal time and equal samples differ in tests too.
+fn virtual_seconds_per_sample(scheme: Scheme) -> f64 {
+    match scheme {
+        Scheme::Alias | Scheme::AliasOneRandom | Scheme::Cdf => 1.25e-8,
+        Scheme::Spatial => 4.0e-8,
+        Scheme::Uniform => 1.0e-8,
+    }
+}
 
 /// The device note of the threaded engine.
 pub(super) const CPU_NOTE: &str = "CPU renderer";
@@ -38,6 +47,7 @@ fn virtual_time_note(device_note: &str) -> bool {
 
 /// One scheme's renderer and totals.
 struct Lane {
+    scheme: Scheme,
     renderer: CpuRenderer,
     seconds: f64,
     last_frame_seconds: f64,
@@ -47,6 +57,7 @@ struct Lane {
 impl Lane {
     fn new(samplers: &SceneSamplers, scheme: Scheme, seed: u64) -> Self {
         Self {
+            scheme,
             renderer: CpuRenderer::from_samplers(samplers, scheme, seed),
             seconds: 0.0,
             last_frame_seconds: 0.0,
@@ -60,7 +71,7 @@ impl Lane {
     fn run(&mut self, spp: u32, virtual_time: bool, pixels: usize) -> f64 {
         if virtual_time {
             self.renderer.accumulate(spp);
-            f64::from(spp) * pixels as f64 * VIRTUAL_SECONDS_PER_SAMPLE
+            f64::from(spp) * pixels as f64 * virtual_seconds_per_sample(self.scheme)
         } else {
             pool_core_seconds(|| self.renderer.accumulate(spp)).1
         }
@@ -135,31 +146,29 @@ impl Job {
         }
     }
 
-    /// Accumulates one frame of every scheme.
+    /// Accumulates one frame of every scheme: the same samples per pixel each (equal
+    /// samples), or the same time each (equal time, [`Job::advance_equal_time`]).
     pub(super) fn advance(&mut self, config: &EngineConfig, virtual_time: bool) {
         let pixels = self.pixels();
+        let mut spent = [0.0; 3];
+        match config.budget {
+            BudgetMode::EqualSamples => {
+                // Rotate which scheme goes first, so none is always timed right after the
+                // window's own frame work (a bias in the time per frame on a loaded machine).
+                let first = (self.frame % 3) as usize;
+                for k in (0..3).map(|j| (j + first) % 3) {
+                    let lane = self.lane_mut(k);
+                    spent[k] = lane.run(config.spp_per_frame.max(1), virtual_time, pixels);
+                    lane.seconds += spent[k];
+                }
+            }
+            BudgetMode::EqualTime => spent = self.advance_equal_time(virtual_time, pixels),
+        }
         let reference = &self.reference;
-        // Rotate which scheme goes first, so none is always timed right after the window's
-        // own frame work (a bias in the time per frame on a loaded machine).
-        let mut lanes = [&mut self.uniform, &mut self.importance, &mut self.spatial];
-        lanes.rotate_left((self.frame % 3) as usize);
-        for lane in lanes {
-            let spent = match config.budget {
-                BudgetMode::EqualSamples => {
-                    lane.run(config.spp_per_frame.max(1), virtual_time, pixels)
-                }
-                BudgetMode::EqualTime => {
-                    let mut spent = 0.0;
-                    loop {
-                        spent += lane.run(1, virtual_time, pixels);
-                        if virtual_time || spent >= EQUAL_TIME_SLICE_S {
-                            break;
-                        }
-                    }
-                    spent
-                }
-            };
-            lane.seconds += spent;
+        for (lane, spent) in [&mut self.uniform, &mut self.importance, &mut self.spatial]
+            .into_iter()
+            .zip(spent)
+        {
             lane.last_frame_seconds = spent;
             let acc = lane.renderer.accumulator();
             lane.series.push(ConvergencePoint {
@@ -168,6 +177,55 @@ impl Job {
                 rmse: lightpick_core::render::rmse(acc, reference),
             });
             thin(&mut lane.series);
+        }
+    }
+
+    /// Equal time: one pass at a time of the lane with the least time so far (ties to the
+    /// first), until the frame has spent three slices ([`EQUAL_TIME_SLICE_S`]; in virtual
+    /// time three passes of the dearest scheme). Every lane's total time then stays within
+    /// one of its passes of the others': a scheme whose pass costs a tenth gets about ten
+    /// times the samples. Returns each lane's seconds this frame.
+    fn advance_equal_time(&mut self, virtual_time: bool, pixels: usize) -> [f64; 3] {
+        let budget = if virtual_time {
+            let dearest = [Scheme::Uniform, Scheme::Alias, Scheme::Spatial]
+                .map(virtual_seconds_per_sample)
+                .into_iter()
+                .fold(0.0, f64::max);
+            3.0 * dearest * pixels as f64
+        } else {
+            3.0 * EQUAL_TIME_SLICE_S
+        };
+        let mut spent = [0.0; 3];
+        loop {
+            let behind = (0..3)
+                .min_by(|&a, &b| self.lane(a).seconds.total_cmp(&self.lane(b).seconds))
+                .unwrap_or(0);
+            let lane = self.lane_mut(behind);
+            let seconds = lane.run(1, virtual_time, pixels);
+            lane.seconds += seconds;
+            spent[behind] += seconds;
+            // A pass that measured no time (a clock's resolution) still counts as work done.
+            if spent.iter().sum::<f64>() >= budget || seconds <= 0.0 {
+                return spent;
+            }
+        }
+    }
+
+    /// Lane `k`: uniform, importance, spatial.
+    fn lane(&self, k: usize) -> &Lane {
+        match k {
+            0 => &self.uniform,
+            1 => &self.importance,
+            _ => &self.spatial,
+        }
+    }
+
+    /// Lane `k`, mutably.
+    fn lane_mut(&mut self, k: usize) -> &mut Lane {
+        match k {
+            0 => &mut self.uniform,
+            1 => &mut self.importance,
+            _ => &mut self.spatial,
         }
     }
 
@@ -208,7 +266,9 @@ impl Job {
             reference_note: self.reference_note.clone(),
             device_note: device_note.to_owned(),
             time_source: if virtual_time_note(device_note) {
-                "virtual time (inline test engine: 10 ns per pixel sample)".to_owned()
+                "virtual time (inline test engine: 10, 12.5 and 40 ns per pixel sample for \
+                 uniform, alias and spatial)"
+                    .to_owned()
             } else {
                 format!(
                     "CPU core time per pixel sample: the CPU time of the {} render thread(s) in \
