@@ -202,9 +202,18 @@ fn export_writes_png_files_through_the_file_menu() {
     // uniform | importance | spatial | reference over their three error maps.
     let sheet = image::open(dir.join("images.png")).expect("a PNG");
     let plane = &harness.state().state.built.scene.plane;
-    assert_eq!(
-        (sheet.width(), sheet.height()),
-        (4 * plane.width, 2 * plane.height)
+    // A caption band on top (scheme, spp, RMSE), then the two rows of images.
+    assert_eq!(sheet.width(), 4 * plane.width);
+    let band = sheet.height() - 2 * plane.height;
+    assert!((20..=48).contains(&band), "caption band of {band} px");
+    let rgb = sheet.to_rgb8();
+    let lit = (0..band)
+        .flat_map(|y| (0..plane.width).map(move |x| (x, y)))
+        .filter(|&(x, y)| rgb.get_pixel(x, y).0.iter().any(|&c| c > 128))
+        .count();
+    assert!(
+        lit > 20,
+        "the uniform column's caption is written ({lit} lit pixels)"
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -5,6 +5,7 @@
 mod common;
 
 mod app_classroom;
+mod app_classroom_screens;
 mod app_classroom_words;
 mod app_estimator;
 mod app_export_animation;

@@ -367,19 +367,23 @@ fn power_ui(ui: &mut Ui, state: &mut AppState, i: usize, name: &str) -> bool {
         .logarithmic(log)
         .smallest_positive(slider_max * 1e-6)
         .show_value(false);
-    if !log {
-        // Snap to the finest round step one point of the slider can hold, instead of
-        // egui's "simplest number under the pointer" (which jumps 2 → 5 → 6 → 7 on 0–50).
-        slider = slider
-            .smart_aim(false)
-            .step_by(linear_slider_step(slider_max, ui.spacing().slider_width));
+    // Linear: the value under the pointer, snapped below to the finest round step one point
+    // of the slider can hold, instead of egui's "simplest number under the pointer" (which
+    // jumps 2 → 5 → 6 → 7 on 0–50). Snapped only when the user moves the slider: egui's
+    // own `step_by` would round every shown power on every frame.
+    let step = (!log).then(|| linear_slider_step(slider_max, ui.spacing().slider_width));
+    if step.is_some() {
+        slider = slider.smart_aim(false);
     }
     let slider = ui
         .add(slider)
         .accessible_name(format!("power slider of {name}"))
         .on_hover_text(format!("Drag to set the power of {name}"));
     if slider.changed() {
-        *p = slider_value;
+        *p = match step {
+            Some(step) => ((slider_value / step).round() * step).min(slider_max),
+            None => slider_value,
+        };
         changed = true;
     }
     if changed {

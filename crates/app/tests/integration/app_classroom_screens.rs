@@ -1,0 +1,106 @@
+//! The classroom screens as a class sees them, at a 1024×768 projector and at 1600×1000:
+//! the inspector on the seed, the images with their sentence on `grid` and `stage`, equal
+//! time on `million`, the Trade and the Precision windows. Golden images in
+//! `docs/screenshots/` (the README's pictures); `UPDATE_SNAPSHOTS=1` redraws them.
+
+use egui_kittest::{Harness, SnapshotOptions, SnapshotResults};
+use lightpick::app::LightpickApp;
+use lightpick::app::state::BudgetMode;
+
+use crate::common::{step_paused, wgpu_window};
+
+/// The screenshots' folder and the tests' snapshot threshold.
+fn screenshots() -> SnapshotOptions {
+    SnapshotOptions::new().output_path(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../docs/screenshots"
+    ))
+}
+
+/// The two screens a lesson is given on.
+const SCREENS: [([f32; 2], &str); 2] = [
+    ([1024.0, 768.0], "1024x768"),
+    ([1600.0, 1000.0], "1600x1000"),
+];
+
+/// The whole window of `app` at `size`, `steps` frames rendered.
+fn screen(app: LightpickApp, size: [f32; 2], steps: usize) -> Harness<'static, LightpickApp> {
+    let mut harness = wgpu_window(app, size);
+    harness.run();
+    step_paused(&mut harness, steps);
+    harness
+}
+
+#[test]
+fn inspector_on_the_seed() {
+    let mut results = SnapshotResults::new();
+    for (size, name) in SCREENS {
+        let mut app = LightpickApp::for_tests();
+        app.state.settings.dark = false;
+        app.state.inspector.pixel = Some([40, 200]);
+        let mut harness = screen(app, size, 8);
+        assert!(harness.state().state.inspector.pixel.is_some());
+        harness.snapshot_options(&format!("inspector-seed-{name}"), &screenshots());
+        results.extend_harness(&mut harness);
+    }
+    results.unwrap();
+}
+
+#[test]
+fn images_with_their_sentence_on_grid_and_stage() {
+    let mut results = SnapshotResults::new();
+    for preset in ["grid", "stage"] {
+        for (size, name) in SCREENS {
+            let mut app = LightpickApp::for_tests_on(preset);
+            // The images in front on the small screen (they share a column with the table).
+            app.layout.maximized = Some(lightpick::app::PanelKind::Images);
+            let mut harness = screen(app, size, 8);
+            let sentence = harness
+                .state()
+                .state
+                .current_scene_sentence()
+                .expect("the sentence")
+                .text
+                .clone();
+            assert!(
+                sentence.starts_with("Least variance per sample here: spatial."),
+                "{sentence}"
+            );
+            harness.snapshot_options(&format!("images-{preset}-{name}"), &screenshots());
+            results.extend_harness(&mut harness);
+        }
+    }
+    results.unwrap();
+}
+
+#[test]
+fn equal_time_on_million() {
+    let mut app = LightpickApp::for_tests_on("million");
+    app.state.settings.budget = BudgetMode::EqualTime;
+    app.layout.maximized = Some(lightpick::app::PanelKind::Images);
+    let mut harness = screen(app, [1600.0, 1000.0], 3);
+    let published = harness.state_mut().published().expect("a frame");
+    assert!(
+        published.uniform.spp > published.spatial.spp,
+        "equal time gives uniform more samples"
+    );
+    harness.snapshot_options("equal-time-million-1600x1000", &screenshots());
+}
+
+#[test]
+fn trade_and_precision_windows() {
+    let mut results = SnapshotResults::new();
+    for (size, name) in SCREENS {
+        let mut app = LightpickApp::for_tests();
+        app.state.settings.show_trade = true;
+        let mut harness = screen(app, size, 1);
+        harness.snapshot_options(&format!("trade-{name}"), &screenshots());
+        results.extend_harness(&mut harness);
+        let mut app = LightpickApp::for_tests();
+        app.state.settings.show_precision = true;
+        let mut harness = screen(app, size, 1);
+        harness.snapshot_options(&format!("precision-{name}"), &screenshots());
+        results.extend_harness(&mut harness);
+    }
+    results.unwrap();
+}
