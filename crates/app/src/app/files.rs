@@ -144,7 +144,7 @@ fn export_images(path: &Path, p: &Published) -> Result<(), String> {
     for (k, part) in errors.iter().flatten().enumerate() {
         place(1, k, part);
     }
-    let out = captioned(out, [total_w, h_total], w, &captions(p), &caption)?;
+    let out = captioned(&out, [total_w, h_total], w, &captions(p), &caption)?;
     image::save_buffer(
         path,
         &out,
@@ -190,7 +190,7 @@ fn caption_style(width: usize) -> lightpick_core::draw::text::TextStyle {
 
 /// `rgba` (`size`, opaque) with `captions[k]` written in the top band over column `k`.
 fn captioned(
-    rgba: Vec<u8>,
+    rgba: &[u8],
     [width, height]: [usize; 2],
     column: usize,
     captions: &[[String; 2]],
@@ -200,7 +200,7 @@ fn captioned(
     let mut pixmap = lightpick_core::draw::Pixmap::new(width as u32, height as u32)
         .ok_or("the images are empty")?;
     // Opaque pixels are their own premultiplied form.
-    pixmap.data_mut().copy_from_slice(&rgba);
+    pixmap.data_mut().copy_from_slice(rgba);
     for (k, [name, figures]) in captions.iter().enumerate() {
         let x = (k * column) as f32 + 0.5 * style.size;
         let bold = style.bold();

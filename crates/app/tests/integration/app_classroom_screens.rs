@@ -40,7 +40,7 @@ fn inspector_on_the_seed() {
         app.state.inspector.pixel = Some([40, 200]);
         let mut harness = screen(app, size, 8);
         assert!(harness.state().state.inspector.pixel.is_some());
-        harness.snapshot_options(&format!("inspector-seed-{name}"), &screenshots());
+        harness.snapshot_options(format!("inspector-seed-{name}"), &screenshots());
         results.extend_harness(&mut harness);
     }
     results.unwrap();
@@ -66,7 +66,7 @@ fn images_with_their_sentence_on_grid_and_stage() {
                 sentence.starts_with("Least variance per sample here: spatial."),
                 "{sentence}"
             );
-            harness.snapshot_options(&format!("images-{preset}-{name}"), &screenshots());
+            harness.snapshot_options(format!("images-{preset}-{name}"), &screenshots());
             results.extend_harness(&mut harness);
         }
     }
@@ -94,12 +94,12 @@ fn trade_and_precision_windows() {
         let mut app = LightpickApp::for_tests();
         app.state.settings.show_trade = true;
         let mut harness = screen(app, size, 1);
-        harness.snapshot_options(&format!("trade-{name}"), &screenshots());
+        harness.snapshot_options(format!("trade-{name}"), &screenshots());
         results.extend_harness(&mut harness);
         let mut app = LightpickApp::for_tests();
         app.state.settings.show_precision = true;
         let mut harness = screen(app, size, 1);
-        harness.snapshot_options(&format!("precision-{name}"), &screenshots());
+        harness.snapshot_options(format!("precision-{name}"), &screenshots());
         results.extend_harness(&mut harness);
     }
     results.unwrap();

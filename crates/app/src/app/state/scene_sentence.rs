@@ -205,7 +205,7 @@ fn dominant_reason(
         .enumerate()
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
     let share = largest / total;
-    if !(share >= 0.5) {
+    if share.is_nan() || share < 0.5 {
         return None;
     }
     Some(format!(
