@@ -16,7 +16,7 @@ use lightpick_core::scene::pixel_center;
 use crate::common::{click, panel, shows, shows_containing, step_paused, window};
 
 /// Every piece of text painted in the last frame, with its font size in points.
-fn painted_texts(harness: &Harness<'_, LightpickApp>) -> Vec<(String, f32)> {
+fn painted_texts<S>(harness: &Harness<'_, S>) -> Vec<(String, f32)> {
     fn collect(shape: &Shape, out: &mut Vec<(String, f32)>) {
         match shape {
             Shape::Text(text) => {
@@ -41,7 +41,7 @@ fn painted_texts(harness: &Harness<'_, LightpickApp>) -> Vec<(String, f32)> {
 }
 
 /// All the text painted in the last frame, joined.
-fn painted(harness: &Harness<'_, LightpickApp>) -> String {
+fn painted<S>(harness: &Harness<'_, S>) -> String {
     painted_texts(harness)
         .into_iter()
         .map(|(t, _)| t)
@@ -481,4 +481,166 @@ fn no_text_is_smaller_than_the_body_text_and_the_zoom_scales_it() {
     harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Plus);
     harness.run();
     assert!(harness.ctx.zoom_factor() > before, "Ctrl + does not zoom");
+}
+
+/// Where each painted text stands: its words and the rectangle it covers.
+fn painted_rects(harness: &Harness<'_, LightpickApp>) -> Vec<(String, egui::Rect)> {
+    fn collect(shape: &Shape, out: &mut Vec<(String, egui::Rect)>) {
+        match shape {
+            Shape::Text(text) => out.push((
+                text.galley.job.text.trim().to_owned(),
+                text.galley.rect.translate(text.pos.to_vec2()),
+            )),
+            Shape::Vec(shapes) => shapes.iter().for_each(|s| collect(s, out)),
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    for clipped in &harness.output().shapes {
+        collect(&clipped.shape, &mut out);
+    }
+    out
+}
+
+#[test]
+fn the_one_over_n_label_stays_above_zero_on_a_one_sided_scene() {
+    let mut harness = panel(
+        PanelKind::Table,
+        LightpickApp::for_tests_on("dominant"),
+        [700.0, 520.0],
+    );
+    harness.run();
+    let texts = painted_rects(&harness);
+    let at = |label: &str| {
+        texts
+            .iter()
+            .find(|(t, _)| t == label)
+            .map(|(_, r)| *r)
+            .unwrap_or_else(|| panic!("'{label}' is not painted"))
+    };
+    let (one_over_n, zero) = (at("1/N"), at("0"));
+    assert!(
+        one_over_n.bottom() <= zero.top() + 1.0,
+        "1/N at {one_over_n:?} overlaps or falls below 0 at {zero:?}"
+    );
+}
+
+#[test]
+fn a_large_scene_shows_no_example_powers_in_the_field() {
+    let mut harness = panel(PanelKind::Lights, LightpickApp::for_tests(), [900.0, 700.0]);
+    harness.run();
+    assert_eq!(harness.state().state.powers_text, "2, 5, 20");
+    harness.state_mut().state.generate(2000);
+    harness.run();
+    assert!(harness.state().state.powers_text.is_empty());
+    let text = painted(&harness);
+    assert!(text.contains("2000 lights, too many to list"), "{text}");
+    assert!(
+        !text.contains("2, 5, 20"),
+        "example powers look like the scene's: {text}"
+    );
+}
+
+#[test]
+fn the_status_bar_says_paused_instead_of_a_frame_time() {
+    let mut state = lightpick::app::AppState::seed();
+    state.settings.paused = true;
+    let mut harness = Harness::new_ui_state(
+        |ui, state: &mut lightpick::app::AppState| {
+            lightpick::app::panels::controls_ui::status_ui(ui, state, "CPU renderer", Some(6069.3));
+        },
+        state,
+    );
+    harness.run();
+    let text = painted(&harness);
+    assert!(
+        text.contains("paused") && !text.contains("ms/frame"),
+        "{text}"
+    );
+    harness.state_mut().settings.paused = false;
+    harness.run();
+    assert!(painted(&harness).contains("6069.3 ms/frame"));
+}
+
+#[test]
+fn file_open_starts_in_the_last_folder_with_no_name_filled_in() {
+    use lightpick::app::state::FileAction;
+    let dir = crate::common::scratch("open-folder");
+    let path = dir.join("kept.json");
+    let mut harness = window(LightpickApp::for_tests(), [1560.0, 960.0]);
+    harness.run();
+    let text = path.to_str().expect("utf-8").to_owned();
+    harness
+        .state_mut()
+        .file_action(FileAction::SaveScene, &text, None);
+    harness
+        .state_mut()
+        .file_action(FileAction::OpenScene, &text, None);
+    let state = &mut harness.state_mut().state;
+    assert_eq!(state.file_dialog.folder.as_deref(), Some(dir.as_path()));
+    assert_eq!(state.settings.last_folder.as_deref(), Some(dir.as_path()));
+    lightpick::app::panels::controls_ui::open_dialog(state, FileAction::OpenScene);
+    assert_eq!(state.file_dialog.path, "", "no file name pre-filled");
+    // The next session starts there too.
+    let settings = state.settings.clone();
+    let next = lightpick::app::AppState::new(lightpick::app::scene_io::seed_scene(), settings);
+    assert_eq!(next.file_dialog.folder.as_deref(), Some(dir.as_path()));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The widths of the textured rectangles (the images) painted in the last frame.
+fn image_widths(harness: &Harness<'_, LightpickApp>) -> Vec<f32> {
+    fn collect(shape: &Shape, out: &mut Vec<f32>) {
+        match shape {
+            Shape::Mesh(mesh) if mesh.texture_id != egui::TextureId::default() => {
+                let rect = egui::Rect::from_points(
+                    &mesh.vertices.iter().map(|v| v.pos).collect::<Vec<_>>(),
+                );
+                out.push(rect.width());
+            }
+            Shape::Rect(rect) if rect.fill_texture_id() != egui::TextureId::default() => {
+                out.push(rect.rect.width());
+            }
+            Shape::Vec(shapes) => shapes.iter().for_each(|s| collect(s, out)),
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    for clipped in &harness.output().shapes {
+        collect(&clipped.shape, &mut out);
+    }
+    out
+}
+
+#[test]
+fn the_images_stay_readable_on_a_projector_and_when_zoomed() {
+    let mut harness = window(LightpickApp::for_tests(), [1024.0, 768.0]);
+    harness.run();
+    click(&mut harness, "Images");
+    step_paused(&mut harness, 1);
+    let widths = image_widths(&harness);
+    assert!(
+        widths.len() >= 6,
+        "images and error maps painted: {widths:?}"
+    );
+    let narrowest = widths.iter().copied().fold(f32::MAX, f32::min);
+    assert!(
+        narrowest >= 160.0,
+        "images {narrowest} points wide at 1024×768: {widths:?}"
+    );
+    assert!(shows_containing(&harness, "The reference is hidden"));
+    // Ctrl + (110 %): the text grows; the panel has fewer points, and the three images
+    // keep at least 140 pixels (they were 125 with four abreast before any zoom).
+    harness.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Plus);
+    harness.run();
+    step_paused(&mut harness, 1);
+    let zoomed = image_widths(&harness)
+        .iter()
+        .copied()
+        .fold(f32::MAX, f32::min);
+    let pixels = zoomed * harness.ctx.pixels_per_point();
+    assert!(
+        pixels >= 140.0,
+        "zoomed in, the images are {pixels} px wide"
+    );
 }

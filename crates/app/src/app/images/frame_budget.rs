@@ -88,14 +88,19 @@ pub const MAX_PASSES: u32 = 1 << 12;
 /// * Equal samples: every lane does the same work, so they stay at the same samples per
 ///   pixel. `spp_per_frame` passes each if they fit in the budget, else as many passes as
 ///   fit, else the rows that fit, `⌊b / Σ_l t_l⌋` (at least one).
-/// * Equal time: each lane gets `b/3`: the passes of its own cost that fit (at least one),
-///   or the rows that fit (at least one), so a cheaper scheme gets more samples.
+/// * Equal time: each lane gets a slice of `b`: the passes of its own cost that fit (at least
+///   one), or the rows that fit (at least one), so a cheaper scheme gets more samples. The
+///   slices follow the lanes' totals so far (`seconds`): lane `l` wants `m + b/3 − t_l`
+///   (`m` the largest total), scaled so they add up to `b`. Equal totals give `b/3` each; a
+///   lane behind (a whole pass that did not fit its slice last frame) gets more until it
+///   has caught up, so the totals stay equal over the run, not only frame by frame.
 pub fn plan(
     budget: f64,
     row_seconds: [Option<f64>; 3],
     height: u32,
     mode: BudgetMode,
     spp_per_frame: u32,
+    seconds: [f64; 3],
 ) -> [LaneWork; 3] {
     let Some(rows) = row_seconds
         .iter()
@@ -118,8 +123,17 @@ pub fn plan(
             [work; 3]
         }
         BudgetMode::EqualTime => {
-            let slice = budget / 3.0;
-            let work = |row: f64| {
+            let ahead = seconds.iter().copied().fold(0.0, f64::max);
+            let want = seconds.map(|t| (ahead + budget / 3.0 - t).max(0.0));
+            let total: f64 = want.iter().sum();
+            let slices = want.map(|w| {
+                if total > 0.0 {
+                    w * budget / total
+                } else {
+                    budget / 3.0
+                }
+            });
+            let work = |row: f64, slice: f64| {
                 let pass = row * height_f;
                 if pass <= slice {
                     LaneWork::Passes(fit(slice, pass, f64::from(MAX_PASSES)))
@@ -127,7 +141,11 @@ pub fn plan(
                     LaneWork::Rows(fit(slice, row, height_f))
                 }
             };
-            [work(rows[0]), work(rows[1]), work(rows[2])]
+            [
+                work(rows[0], slices[0]),
+                work(rows[1], slices[1]),
+                work(rows[2], slices[2]),
+            ]
         }
     }
 }
@@ -189,6 +207,7 @@ mod tests {
             H,
             BudgetMode::EqualSamples,
             4,
+            [0.0; 3],
         );
         assert_eq!(work, [LaneWork::Rows(FIRST_ROWS); 3]);
     }
@@ -197,10 +216,10 @@ mod tests {
     fn equal_samples_runs_whole_passes_when_they_fit() {
         // 1 µs per row and lane: a pass of the three lanes is 1.5 ms.
         let rows = [Some(1e-6); 3];
-        let work = plan(0.010, rows, H, BudgetMode::EqualSamples, 4);
+        let work = plan(0.010, rows, H, BudgetMode::EqualSamples, 4, [0.0; 3]);
         assert_eq!(work, [LaneWork::Passes(4); 3]);
         // A budget for two passes only: two, not the four asked for.
-        let work = plan(0.0035, rows, H, BudgetMode::EqualSamples, 4);
+        let work = plan(0.0035, rows, H, BudgetMode::EqualSamples, 4, [0.0; 3]);
         assert_eq!(work, [LaneWork::Passes(2); 3]);
     }
 
@@ -208,11 +227,11 @@ mod tests {
     fn equal_samples_splits_a_costly_pass_into_rows_alike_for_every_lane() {
         // The million-light case: the tree lane costs 0.18 ms per row, a pass 94 ms.
         let rows = [Some(18e-6), Some(21e-6), Some(180e-6)];
-        let work = plan(0.005, rows, H, BudgetMode::EqualSamples, 1);
+        let work = plan(0.005, rows, H, BudgetMode::EqualSamples, 1, [0.0; 3]);
         // ⌊5 ms / 219 µs⌋ = 22 rows of every lane: they stay at equal samples.
         assert_eq!(work, [LaneWork::Rows(22); 3]);
         // Even a tiny budget advances by a row.
-        let work = plan(1e-6, rows, H, BudgetMode::EqualSamples, 1);
+        let work = plan(1e-6, rows, H, BudgetMode::EqualSamples, 1, [0.0; 3]);
         assert_eq!(work, [LaneWork::Rows(1); 3]);
     }
 
@@ -221,13 +240,49 @@ mod tests {
         // 12 ms budget, 4 ms per lane. Lane 0: 1 µs per row, a 0.512 ms pass: 7 passes;
         // lane 1 four times as costly: 1 pass; lane 2: 50 µs per row: 80 rows.
         let rows = [Some(1e-6), Some(4e-6), Some(50e-6)];
-        let work = plan(0.012, rows, H, BudgetMode::EqualTime, 1);
+        let work = plan(0.012, rows, H, BudgetMode::EqualTime, 1, [0.0; 3]);
         assert_eq!(
             work,
             [LaneWork::Passes(7), LaneWork::Passes(1), LaneWork::Rows(80)]
         );
         // Very cheap lanes are capped.
-        let work = plan(1.0, [Some(1e-12); 3], H, BudgetMode::EqualTime, 1);
+        let work = plan(1.0, [Some(1e-12); 3], H, BudgetMode::EqualTime, 1, [0.0; 3]);
         assert_eq!(work, [LaneWork::Passes(MAX_PASSES); 3]);
+    }
+
+    #[test]
+    fn equal_time_keeps_the_totals_equal_over_the_run() {
+        // Lane 0's pass takes 0.6 of a third of the budget (one pass a frame would give it
+        // 60 % of the others' time), lane 1's 1.5 thirds (never a whole pass: rows), lane 2
+        // is cheap. Over many frames the totals stay within one frame's budget of each other.
+        let budget = 0.012;
+        let third = budget / 3.0;
+        let row_seconds = [0.6 * third, 1.5 * third, 0.01 * third].map(|p| p / f64::from(H));
+        let mut totals = [0.0; 3];
+        for _ in 0..500 {
+            let work = plan(
+                budget,
+                row_seconds.map(Some),
+                H,
+                BudgetMode::EqualTime,
+                1,
+                totals,
+            );
+            for (l, w) in work.iter().enumerate() {
+                totals[l] += match w {
+                    LaneWork::Passes(p) => f64::from(*p) * row_seconds[l] * f64::from(H),
+                    LaneWork::Rows(r) => f64::from(*r) * row_seconds[l],
+                };
+            }
+        }
+        let most = totals.iter().copied().fold(f64::MIN, f64::max);
+        let least = totals.iter().copied().fold(f64::MAX, f64::min);
+        assert!(most - least <= budget, "{totals:?}");
+        // Whole passes no longer than the slice fill at least half of it (`⌊s/p⌋·p ≥ s/2`), and
+        // rows lose less than a row: the lanes, kept equal, use at least half the budget.
+        assert!(
+            least >= 0.5 * 500.0 * third,
+            "{totals:?}: the budget is used"
+        );
     }
 }

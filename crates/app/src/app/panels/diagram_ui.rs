@@ -209,7 +209,7 @@ fn axis_ui(painter: &egui::Painter, g: &Geometry, font: &FontId, dark: bool) {
     ));
     // On one-sided scenes the 1/N line sits near the bottom: its label stays above the "0"
     // (a line of text apart), never on or below it.
-    let label_y = y_avg.min(plot.bottom() - 1.5 * font.size);
+    let label_y = y_avg.min(plot.bottom() - 2.0 * font.size);
     painter.text(
         pos2(plot.left() - 4.0, label_y),
         Align2::RIGHT_CENTER,

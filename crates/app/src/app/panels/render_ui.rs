@@ -122,13 +122,19 @@ pub fn images_ui(
         return;
     };
     let stale = published.generation != state.built.generation;
-    let columns = columns(state, textures);
-    let size = image_size(
-        ui,
-        columns,
-        state.settings.show_error,
-        [published.width, published.height],
-    );
+    let dims = [published.width, published.height];
+    let mut columns = columns(state, textures);
+    let mut size = image_size(ui, columns, state.settings.show_error, dims);
+    // A narrow panel (a 1024×768 projector, or zoomed in): three readable images rather
+    // than four thumbnails; the reference comes back when the panel is wide enough.
+    let reference_hidden = columns == 4 && size.x < MIN_IMAGE_SIDE && {
+        let three = image_size(ui, 3, state.settings.show_error, dims);
+        three.x > size.x
+    };
+    if reference_hidden {
+        columns = 3;
+        size = image_size(ui, 3, state.settings.show_error, dims);
+    }
     let ids = textures.native.map_or_else(
         || {
             [
@@ -202,8 +208,21 @@ pub fn images_ui(
             });
         }
     });
+    if reference_hidden {
+        ui.label(
+            egui::RichText::new(
+                "The reference is hidden to keep the three images large: widen the panel or \
+                 maximize it (the button at its header's right) to see it.",
+            )
+            .color(colors::muted(dark)),
+        );
+    }
     notes_ui(ui, state, published, stale);
 }
+
+/// The least side, in points, at which the images are shown four abreast: below it the
+/// reference column gives its width to the three schemes.
+pub const MIN_IMAGE_SIDE: f32 = 160.0;
 
 /// The reference and error-map switches, and the image size and budget mode.
 fn options_ui(ui: &mut Ui, state: &mut AppState, published: Option<&Published>) {
@@ -296,7 +315,11 @@ fn columns(state: &AppState, textures: &ImageTextures) -> usize {
 /// maps when shown) as large as the width allows: what the window's layout leaves it before
 /// giving the rest to the Convergence panel.
 pub fn wanted_height(ui: &Ui, width: f32, state: &AppState, textures: &ImageTextures) -> f32 {
-    let side = side_by_width(ui, width, columns(state, textures));
+    let mut side = side_by_width(ui, width, columns(state, textures));
+    if side < MIN_IMAGE_SIDE {
+        // Narrow: three images abreast, the reference hidden (see `images_ui`).
+        side = side.max(side_by_width(ui, width, 3));
+    }
     let images = if state.settings.show_error { 2.0 } else { 1.0 };
     // The scene's sentence in body text, wrapped to the width (about half an em a
     // character); one row while it is being computed.

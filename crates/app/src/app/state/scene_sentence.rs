@@ -76,8 +76,8 @@ pub fn scene_sentence(generation: u64, samplers: &SceneSamplers) -> SceneSentenc
     // of zero, not a figure to compare.
     let spatial_exact = lightpick_core::render::is_zero_variance(spatial_v, uniform.max(power));
     let spatial_vs_power = if spatial_exact {
-        "none at all: it picks each light with its exact share of the pixel's light, so \
-         every sample is the exact value"
+        "zero: it picks each light with its exact share of the pixel's light, so every \
+         sample is the exact value"
             .to_owned()
     } else {
         format!(

@@ -163,3 +163,55 @@ pub fn measure(generation: u64, scene: &Scene, virtual_time: bool) -> TradeMeasu
         rows,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_plot_and_the_table_are_one_measurement() {
+        let scene = crate::app::scene_io::seed_scene();
+        let m = measure(1, &scene, false);
+        let pixels = f64::from(m.size[0] * m.size[1]);
+        for row in &m.rows {
+            let last = row.series.last().expect("points");
+            // The table's T is the last point's time over its pixel samples.
+            let t = last.seconds / (f64::from(last.spp) * pixels);
+            let table = row.efficiency.seconds_per_sample;
+            assert!(
+                (t - table).abs() <= 1e-12 * table,
+                "{:?}: {t} vs {table}",
+                row.scheme
+            );
+            // Cumulative pass times: nondecreasing, positive, the first a small share.
+            assert!(row.series.windows(2).all(|w| w[0].seconds <= w[1].seconds));
+            let first = row.series[0].seconds;
+            assert!(first > 0.0 && first <= last.seconds, "{:?}", row.series);
+        }
+    }
+
+    #[test]
+    fn the_images_pause_while_a_measurement_runs() {
+        let mut state = crate::app::state::AppState::seed();
+        state.trade.inline = false;
+        let (go, wait) = std::sync::mpsc::channel::<()>();
+        let scene = std::sync::Arc::clone(&state.built.scene);
+        state.trade.start(1, "test-trade", move |_| {
+            let _ = wait.recv();
+            measure(1, &scene, true)
+        });
+        assert!(state.trade_pauses_images());
+        go.send(()).expect("the worker waits");
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+        while state.trade.is_measuring() {
+            assert!(
+                std::time::Instant::now() < deadline,
+                "the measurement never ended"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(5));
+            state.trade.poll();
+        }
+        assert!(!state.trade_pauses_images());
+        assert!(state.trade.result.is_some());
+    }
+}

@@ -185,6 +185,7 @@ impl GpuImages {
                     lanes.scene.plane.height,
                     config.budget,
                     config.spp_per_frame,
+                    lanes.each_mut().map(|l| l.image.seconds),
                 )
             };
             let spent = lanes.accumulate(work, config.exposure)?;
