@@ -202,7 +202,7 @@ mod tests {
         });
         assert!(state.trade_pauses_images());
         go.send(()).expect("the worker waits");
-        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+        let deadline = std::time::Instant::now() + std::time::Duration::from_mins(1);
         while state.trade.is_measuring() {
             assert!(
                 std::time::Instant::now() < deadline,
