@@ -515,8 +515,7 @@ fn the_one_over_n_label_stays_above_zero_on_a_one_sided_scene() {
         texts
             .iter()
             .find(|(t, _)| t == label)
-            .map(|(_, r)| *r)
-            .unwrap_or_else(|| panic!("'{label}' is not painted"))
+            .map_or_else(|| panic!("'{label}' is not painted"), |(_, r)| *r)
     };
     let (one_over_n, zero) = (at("1/N"), at("0"));
     assert!(
