@@ -1,6 +1,6 @@
 //! Exact mean and variance of the one-sample estimator `f(I)/p(I)`.
 
-use crate::Scaled;
+use crate::scaled::Scaled;
 
 /// The analytic moments of `F̂ = f(I)/p(I)` for a light `I` drawn with pmf `p`.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]

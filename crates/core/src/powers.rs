@@ -145,9 +145,9 @@ impl LightPowers {
     /// `Σ Φ_i` whatever its magnitude: `S·2^e` of [`LightPowers::total_parts`], computed
     /// without allocating. Scaling every power by `2^k` adds `k` to its exponent and leaves
     /// its significand's bits alone.
-    pub fn total_scaled(&self) -> crate::Scaled {
+    pub fn total_scaled(&self) -> crate::scaled::Scaled {
         let max = self.max();
-        crate::Scaled::new(self.pmf_scale().sum, unit_exponent(max))
+        crate::scaled::Scaled::new(self.pmf_scale().sum, unit_exponent(max))
     }
 
     /// `log10 Σ Φ_i = log10 S + e · log10 2` from [`LightPowers::total_parts`]: finite for

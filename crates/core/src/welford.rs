@@ -1,6 +1,6 @@
 //! Welford's running mean and variance, mergeable across threads (Chan et al. 1979).
 
-use crate::Scaled;
+use crate::scaled::Scaled;
 
 /// Running count `n`, mean `x̄` and sum of squared deviations `M2 = Σ (x − x̄)²`, kept in a
 /// unit `2^u` chosen by the caller ([`Welford::in_unit`]).

@@ -43,7 +43,7 @@ fn setting_a_power_through_accesskit_rebuilds_the_table_and_the_pmf() {
     assert_eq!(state.built.table.pmf_slice()[0], 7.0 / 32.0);
     assert_eq!(state.built.table.thresholds()[0], 21.0 / 32.0);
     assert_eq!(
-        lightpick::app::panels::table_ui::column_sentence(state, 0),
+        lightpick::app::panels::table_words::column_sentence(state, 0),
         "column 1 keeps light 1 with probability 21/32, else light 3"
     );
     // The histograms restarted on the new table.

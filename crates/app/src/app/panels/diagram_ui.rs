@@ -6,7 +6,7 @@
 use egui::{Align2, FontId, Rect, Response, Sense, Stroke, StrokeKind, Ui, Vec2, pos2, vec2};
 use lightpick_core::walkthrough::{ColumnPart, Highlight};
 
-use super::table_ui::{ROW_HEIGHT, column_sentence};
+use super::table_words::{ROW_HEIGHT, column_sentence};
 use crate::app::colors;
 use crate::app::state::AppState;
 use crate::app::state::built::Built;

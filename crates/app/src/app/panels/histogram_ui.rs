@@ -5,7 +5,7 @@ use egui::Ui;
 use egui_plot::{Bar, BarChart, Plot, Points};
 use lightpick_core::{ChiSquare, Scheme};
 
-use super::table_ui;
+use super::table_words;
 use crate::app::colors;
 use crate::app::state::AppState;
 
@@ -44,7 +44,7 @@ pub fn sampling_ui(ui: &mut Ui, state: &mut AppState) {
     });
     if let Some(draw) = state.sampling.last_draw {
         ui.label(
-            egui::RichText::new(table_ui::draw_sentence(state, &draw)).color(colors::pick(dark)),
+            egui::RichText::new(table_words::draw_sentence(state, &draw)).color(colors::pick(dark)),
         );
     }
     ui.horizontal_wrapped(|ui| {

@@ -24,6 +24,7 @@ pub mod precision_ui;
 pub mod render_ui;
 pub mod stepper_ui;
 pub mod table_ui;
+pub mod table_words;
 pub mod trade_ui;
 pub mod walkthrough_ui;
 

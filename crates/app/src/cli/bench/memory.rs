@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use serde_json::json;
 
 use super::bandwidth::{BUILD_BYTES_PER_LIGHT, Bandwidth};
-use super::tables::Case;
+use super::case::Case;
 
 /// The memory figures of one run.
 pub(super) struct MemoryFloors {

@@ -42,6 +42,7 @@
 mod app_renders;
 mod args;
 mod bandwidth;
+mod case;
 mod gpu_rate;
 mod machine;
 mod memory;
@@ -57,10 +58,11 @@ use serde_json::json;
 
 use self::app_renders::{AppPresetRender, GpuPresetRender, app_cpu_renders, gpu_renders};
 pub use self::args::BenchArgs;
+use self::case::Case;
 use self::memory::MemoryFloors;
 use self::plot::{PlotInfo, write_plot};
 use self::renders::{PresetRender, render_preset};
-use self::tables::{Case, ratios, time_tables};
+use self::tables::{ratios, time_tables};
 use self::timing::Plan;
 
 /// Everything one run measured, in the order it was measured.

@@ -13,45 +13,12 @@ use lightpick_core::{AliasTable, CdfTable, Construction, LightPowers, Rng, Sampl
 use rand::distr::Distribution as _;
 use rand::rngs::SmallRng;
 use rand::{Rng as _, SeedableRng as _};
-use serde::Serialize;
 use serde_json::json;
 
+use super::case::Case;
 use super::machine::{faults_per_call, random_read_ns};
 use super::timing::{Plan, median_ns, median_with_inputs, time_picks};
 use super::tree::time_tree;
-
-/// One timed method at one `N`.
-#[derive(Clone, Debug, Serialize)]
-pub struct Case {
-    /// Number of lights.
-    pub n: usize,
-    /// What was timed (`alias`, `alias-one-random`, `cdf`, `uniform`, `alias+smallrng`,
-    /// `rand_distr::WeightedAliasIndex`, `rand::WeightedIndex`).
-    pub method: &'static str,
-    /// The random generator the samples drew from.
-    pub rng: &'static str,
-    /// Median build time (powers to a ready table, allocation included), nanoseconds.
-    pub build_ns: f64,
-    /// Median time to rebuild an existing table of the same `N` in place (no allocation),
-    /// nanoseconds, for the methods that can (`alias`, `alias-exact`, and the peer
-    /// `rand_distr::WeightedAliasIndex`, which has no in-place rebuild: its build).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub rebuild_ns: Option<f64>,
-    /// Median time per sample, nanoseconds (for `tree-build`, `tree-refit` and
-    /// `app-repower`: one pick of the light tree at a shading point).
-    pub sample_ns: f64,
-    /// Threads the timed build ran on: rayon's pool for the integer alias table (`alias`,
-    /// `alias-batch`) and the light tree (`tree-build`, `tree-refit`), 1 for `alias-1t` and
-    /// the sequential constructions and peers (`app-repower`: the pool, for its table and
-    /// tree). Picks always run on one thread.
-    pub threads: usize,
-    /// Minor page faults per build (`alias`, `alias-1t` and the peer alias table; Linux).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub build_faults: Option<f64>,
-    /// Minor page faults per in-place rebuild (`alias`, `alias-1t`; Linux).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub rebuild_faults: Option<f64>,
-}
 
 /// What every timing at one `N` shares.
 struct At<'a> {
@@ -208,13 +175,6 @@ fn time_alias(rows: &mut Rows, at: &At<'_>) -> anyhow::Result<f64> {
     });
     rows.push("alias+smallrng", "SmallRng", alias_build, None, alias_small);
     Ok(read_floor)
-}
-
-impl Case {
-    /// Sets the page faults per build and per rebuild.
-    fn set_faults(&mut self, build: Option<f64>, rebuild: Option<f64>) {
-        (self.build_faults, self.rebuild_faults) = (build, rebuild);
-    }
 }
 
 /// The inverse CDF (build and pick) and uniform picking at `n` lights.

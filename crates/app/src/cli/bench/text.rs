@@ -6,9 +6,9 @@ use std::fmt::Write as _;
 use lightpick_core::Scaled;
 
 use super::app_renders::{AppPresetRender, GpuPresetRender};
+use super::case::Case;
 use super::plot::PlotInfo;
 use super::renders::PresetRender;
-use super::tables::Case;
 
 /// The header and one row per table case.
 pub(super) fn cases_text(cases: &[Case], quick: bool) -> String {

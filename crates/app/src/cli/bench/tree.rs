@@ -10,7 +10,7 @@ use lightpick_core::scene::Scene;
 use lightpick_core::spatial::LightTree;
 use lightpick_core::{LightPowers, Rng};
 
-use super::tables::Case;
+use super::case::Case;
 use super::timing::median_ns;
 
 /// The light tree at `N` lights spread over a unit square at heights `0.1 … 1`: `tree-build`
