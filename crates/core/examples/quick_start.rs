@@ -12,7 +12,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = std::path::PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| ".".into()));
     std::fs::create_dir_all(&out)?;
 
-    // The seed document's example: powers 2, 5, 20.
+    // The worked example: powers 2, 5, 20.
     let powers = LightPowers::new(vec![2.0, 5.0, 20.0])?;
     let exact = AliasTable::build_exact(&powers);
     println!(

@@ -43,7 +43,7 @@
 //! let share_of_light_3 = picks.iter().filter(|&&i| i == 2).count() as f64 / 1e4;
 //! assert!((share_of_light_3 - 20.0 / 27.0).abs() < 0.02); // p = 20/27, σ ≈ 0.0044
 //!
-//! // The exact f64 construction shows the seed document's fractions.
+//! // The exact f64 construction gives the worked example's fractions.
 //! let exact = AliasTable::build_exact(&powers);
 //! assert_eq!(exact.thresholds(), &[6.0 / 27.0, 15.0 / 27.0, 1.0]);
 //! assert_eq!(exact.aliases(), &[2, 2, 2]);

@@ -1,5 +1,5 @@
 //! The running estimate of the irradiance at one shading point, sample by sample, under
-//! several pick rules at once: the seed document's last claim ("more important values would
+//! several pick rules at once: the classic explanation's last claim ("more important values would
 //! come first and the result would converge way faster") made measurable.
 //!
 //! At a shading point light `i` contributes `f_i` and the exact total is `F = Σ f_i`. A rule
@@ -107,7 +107,7 @@ pub struct EstimatePoint {
 /// One pick rule's running estimate.
 #[derive(Clone, Debug)]
 pub struct EstimateLane {
-    /// The lane's name ("uniform", "importance", "spatial").
+    /// The lane's name ("uniform", "power", "spatial").
     pub name: &'static str,
     picker: PointPicker,
     salt: u64,
@@ -277,7 +277,7 @@ impl PointEstimator {
             crate::SeedExample::CONTRIBUTIONS.to_vec(),
             vec![
                 ("uniform", PointPicker::Uniform(Uniform::new(3))),
-                ("importance", PointPicker::Table(table)),
+                ("power", PointPicker::Table(table)),
             ],
             seed,
         )

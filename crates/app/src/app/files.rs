@@ -11,33 +11,37 @@ use super::{LightpickApp, scene_io};
 
 impl LightpickApp {
     /// Opens the scene file at `path` (any format the loader reads, the receiver at the
-    /// Floor control's height reset to the file's ground) and says what came in; on failure
-    /// says why in the status bar and keeps the current scene.
+    /// file's ground) and says what came in; on failure says why in the status bar and keeps
+    /// the current scene. The door of a dropped file; File → Open goes through
+    /// [`Self::file_action`], `lightpick FILE` through [`Self::open_loaded`]: all three end in
+    /// [`Self::open_loaded`].
     pub fn open_path(&mut self, path: &Path) {
-        match self.open_scene(path) {
-            Ok(message) => self.state.message(message, MessageKind::Success),
-            Err(e) => self.state.message(
+        if let Err(e) = self.open_scene(path) {
+            self.state.message(
                 format!("Open scene: {e} — nothing changed"),
                 MessageKind::Error,
-            ),
+            );
         }
     }
 
-    /// Loads the scene at `path`: the status line ("opened level.glb: 402 lights: 362
-    /// points, 40 spots; skipped 1 directional light 'Sun'"), or why not.
+    /// Reads the scene at `path` with the one loader (`lightpick_core::scene::load`) and
+    /// shows it ([`Self::open_loaded`]); returns the status line, or why not (the path and
+    /// the place in the file).
     fn open_scene(&mut self, path: &Path) -> Result<String, String> {
-        let loaded = scene_io::load(path, None)?;
-        let summary = loaded.report.summary();
-        self.state.load_scene(loaded.scene);
-        Ok(format!("opened {}: {summary}", path.display()))
+        let loaded =
+            lightpick_core::scene::load(path, &lightpick_core::scene::LoadOptions::default())
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(self.open_loaded(path, loaded))
     }
 
-    /// Shows a scene read from `what` and says what came in.
-    pub fn open_loaded(&mut self, what: &str, loaded: lightpick_core::scene::Loaded) {
-        let summary = loaded.report.summary();
+    /// Shows a scene read from `path` (what every door ends in): the scene replaces the
+    /// edit, and the status bar says what came in ("opened level.glb: 402 lights: 362
+    /// points, 40 spots; skipped 1 directional light 'Sun'"). Returns that line.
+    pub fn open_loaded(&mut self, path: &Path, loaded: lightpick_core::scene::Loaded) -> String {
+        let message = format!("opened {}: {}", path.display(), loaded.report.summary());
         self.state.load_scene(loaded.scene);
-        self.state
-            .message(format!("opened {what}: {summary}"), MessageKind::Success);
+        self.state.message(message.clone(), MessageKind::Success);
+        message
     }
 
     /// Opens a file dropped on the window (the first, when several are).
@@ -105,18 +109,18 @@ impl LightpickApp {
     }
 }
 
-/// Writes uniform | importance | spatial | reference side by side as one PNG, with the
+/// Writes uniform | power | spatial | reference side by side as one PNG, with the
 /// three error maps in a second row when there is a reference image.
 fn export_images(path: &Path, p: &Published) -> Result<(), String> {
     let pixels = p.width as usize * p.height as usize * 4;
-    if [&p.uniform, &p.importance, &p.spatial]
+    if [&p.uniform, &p.power, &p.spatial]
         .iter()
         .any(|s| s.rgba.len() != pixels)
     {
         return Err("the images are not ready yet".into());
     }
     let (w, h0) = (p.width as usize, p.height as usize);
-    let schemes = [&p.uniform, &p.importance, &p.spatial];
+    let schemes = [&p.uniform, &p.power, &p.spatial];
     let mut top: Vec<&[u8]> = schemes.iter().map(|s| s.rgba.as_slice()).collect();
     if let Some(r) = &p.reference_rgba {
         top.push(r);
@@ -160,7 +164,7 @@ fn export_images(path: &Path, p: &Published) -> Result<(), String> {
 fn captions(p: &Published) -> Vec<[String; 2]> {
     let mut out: Vec<[String; 2]> = [
         ("uniform", &p.uniform),
-        ("importance (alias)", &p.importance),
+        ("power (alias)", &p.power),
         ("spatial", &p.spatial),
     ]
     .into_iter()

@@ -1,6 +1,6 @@
-//! The app's access to scenes: presets, scene files of every format the core's loader reads
-//! (lightpick JSON, glTF/GLB, CSV), and scenes generated from a count with random powers of
-//! a chosen [`PowerShape`].
+//! The app's access to scenes other than opened files: presets, the session's JSON, saving a
+//! scene, and scenes generated from a count with random powers of a chosen [`PowerShape`].
+//! (An opened file of any format goes through the core's one loader in `files.rs`.)
 //!
 //! Every scene format question is answered by `lightpick_core::scene`; this module only
 //! adapts its errors to one-line messages for the status bar.
@@ -9,7 +9,7 @@ use std::path::Path;
 
 use glam::{DVec3, dvec2, dvec3};
 use lightpick_core::Rng;
-use lightpick_core::scene::{LoadOptions, Loaded, ReceiverPlane, Scene};
+use lightpick_core::scene::{ReceiverPlane, Scene};
 
 /// The preset names, in menu order.
 pub fn preset_names() -> Vec<&'static str> {
@@ -48,13 +48,6 @@ fn fallback_seed_scene() -> Scene {
 /// Parses scene JSON, or says (in one line) why the text is not a scene.
 pub fn from_json_str(text: &str) -> Result<Scene, String> {
     Scene::from_json_str(text).map_err(|e| e.to_string())
-}
-
-/// Reads a scene file of any format the core reads (lightpick JSON, glTF/GLB, CSV) with
-/// the receiver at `floor`, or says (in one line, naming the file) why it could not be read.
-pub fn load(path: &Path, floor: Option<f64>) -> Result<Loaded, String> {
-    lightpick_core::scene::load(path, &LoadOptions { floor })
-        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// The scene as JSON text.

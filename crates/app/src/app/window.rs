@@ -39,7 +39,7 @@ pub fn run(
         Box::new(move |cc| {
             let mut app = LightpickApp::new(cc);
             if let Some((path, loaded)) = opened {
-                app.open_loaded(&path.display().to_string(), loaded);
+                app.open_loaded(&path, loaded);
             }
             Ok(Box::new(app))
         }),

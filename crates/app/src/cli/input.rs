@@ -38,23 +38,18 @@ pub struct SceneArgs {
     pub floor: Option<f64>,
 }
 
-/// Reads a scene file of any format through the one loader, `--floor` applied; errors
-/// name the file.
-pub fn load_scene_file(path: &std::path::Path, floor: Option<f64>) -> anyhow::Result<Scene> {
-    Ok(load_file(path, floor)?.scene)
-}
-
-/// [`load_scene_file`] with what the file held; errors start `--scene FILE: `.
-pub fn load_file(path: &std::path::Path, floor: Option<f64>) -> anyhow::Result<Loaded> {
-    lightpick_core::scene::load(path, &LoadOptions { floor })
-        .with_context(|| format!("--scene {}", path.display()))
-}
-
-/// The file of `lightpick FILE` (the app opened on a file given positionally): errors
-/// start `FILE: `, the path as typed, since no `--scene` was.
-pub fn open_file(path: &std::path::Path) -> anyhow::Result<Loaded> {
-    lightpick_core::scene::load(path, &LoadOptions::default())
-        .with_context(|| path.display().to_string())
+/// Reads a scene file of any format through the one loader (`lightpick_core::scene::load`),
+/// the receiver at `floor`. Errors start with how the file was named: `--scene FILE: ` for
+/// the flag (`door = Some("--scene")`), `FILE: ` (the path as typed) for `lightpick FILE`.
+pub fn read_scene(
+    path: &std::path::Path,
+    floor: Option<f64>,
+    door: Option<&str>,
+) -> anyhow::Result<Loaded> {
+    lightpick_core::scene::load(path, &LoadOptions { floor }).with_context(|| match door {
+        Some(flag) => format!("{flag} {}", path.display()),
+        None => path.display().to_string(),
+    })
 }
 
 impl SceneArgs {
@@ -66,7 +61,7 @@ impl SceneArgs {
     /// [`SceneArgs::load`] with what the file held (a preset reports as JSON).
     pub fn load_with_report(&self) -> anyhow::Result<Option<Loaded>> {
         if let Some(path) = &self.scene {
-            return Ok(Some(load_file(path, self.floor)?));
+            return Ok(Some(read_scene(path, self.floor, Some("--scene"))?));
         }
         if let Some(name) = &self.preset {
             if !PRESET_NAMES.contains(&name.as_str()) {

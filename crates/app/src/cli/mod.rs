@@ -90,7 +90,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                     "'{}' is neither a subcommand nor a file (see `lightpick --help`)",
                     path.display()
                 ),
-                Some(path) => Some((path.clone(), input::open_file(path)?)),
+                Some(path) => Some((path.clone(), input::read_scene(path, None, None)?)),
                 None => None,
             };
             crate::app::run(opened)

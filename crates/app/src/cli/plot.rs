@@ -257,7 +257,7 @@ fn convergence(
     output.write(&draw::convergence(&series, axis, &style)?)
 }
 
-/// `plot sheet`: uniform, importance and spatial images beside the reference, at `spp`.
+/// `plot sheet`: uniform, power and spatial images beside the reference, at `spp`.
 fn sheet(
     scene: &PositionedArgs,
     spp: u32,

@@ -31,8 +31,8 @@ pub struct SampleArgs {
     /// Random seed; sample k uses stream k of this seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// How the alias table is built: `exact` (`f64`, the pmf `p_i` the seed document
-    /// gives) or `integer` (the renderers' default; its pmf is the one it realizes exactly).
+    /// How the alias table is built: `exact` (`f64`: the normalized powers `p_i` to within
+    /// rounding) or `integer` (the renderers' default; its pmf is the one it realizes exactly).
     #[arg(long, default_value = "exact")]
     pub construction: Construction,
     /// Where to draw the samples (default: the CPU). GPU counts equal CPU counts exactly.

@@ -1,4 +1,4 @@
-//! `lightpick table`: the alias table of a set of powers, as the seed document shows it.
+//! `lightpick table`: the alias table of a set of powers, with its thresholds as exact fractions where the powers allow (6/27, 15/27, 1 for 2, 5, 20).
 
 use std::fmt::Write as _;
 

@@ -120,7 +120,7 @@ fn the_inspector_opens_it_at_the_pixel_with_the_spatial_scheme() {
     click(&mut h, "+1000");
     let e = estimator(&h);
     let names: Vec<&str> = e.lanes().iter().map(|l| l.name).collect();
-    assert_eq!(names, ["uniform", "importance", "spatial"]);
+    assert_eq!(names, ["uniform", "power", "spatial"]);
     // Three lights: the spatial pick is exact, every sample the irradiance itself; the
     // analytic variance Σ f_i²/q_i − F² is then the cancellation of two terms of size F²,
     // each rounded to a few ulps.

@@ -68,7 +68,7 @@ fn assert_cpu_rmses(
     for &scheme in schemes {
         let image = match scheme {
             Scheme::Uniform => &published.uniform,
-            Scheme::Alias => &published.importance,
+            Scheme::Alias => &published.power,
             Scheme::Spatial => &published.spatial,
             other => panic!("no GPU image of {other:?}"),
         };
@@ -97,7 +97,7 @@ fn the_gpu_renders_the_three_images_with_the_cpu_engines_numbers() {
     );
     let spp = published.uniform.spp;
     assert!(spp >= 5, "{spp} spp after at least 5 steps");
-    assert_eq!(published.importance.spp, spp);
+    assert_eq!(published.power.spp, spp);
     assert_eq!(published.spatial.spp, spp);
 
     // Same picks (the RNG and the pick are bit for bit the CPU's); the per-pixel f32
@@ -107,10 +107,7 @@ fn the_gpu_renders_the_three_images_with_the_cpu_engines_numbers() {
     let uniform = published.uniform.rmse.expect("rmse");
     let spatial = published.spatial.rmse.expect("rmse");
     assert!(spatial <= 1e-4 * uniform, "spatial GPU RMSE {spatial}");
-    assert!(
-        published.importance.error_rgba.is_some(),
-        "error maps read back"
-    );
+    assert!(published.power.error_rgba.is_some(), "error maps read back");
 }
 
 #[test]
@@ -127,11 +124,7 @@ fn equal_time_mode_runs_on_the_gpu_too() {
         "{}",
         published.device_note
     );
-    for image in [
-        &published.uniform,
-        &published.importance,
-        &published.spatial,
-    ] {
+    for image in [&published.uniform, &published.power, &published.spatial] {
         assert!(image.spp >= 7, "every lane advances: {} spp", image.spp);
         assert!(image.seconds > 0.0);
     }
@@ -183,7 +176,7 @@ fn running_frames_within_the_budget_give_the_cpu_numbers() {
         harness.step();
         let latest = harness.state_mut().published();
         banded |= latest.as_ref().is_some_and(|p| {
-            let progress = [&p.uniform, &p.importance, &p.spatial].map(|i| i.pass_progress);
+            let progress = [&p.uniform, &p.power, &p.spatial].map(|i| i.pass_progress);
             // Equal samples: every lane is at the same row of the same pass.
             assert!(progress.iter().all(|&f| f == progress[0]), "{progress:?}");
             progress[0] > 0.0
@@ -191,7 +184,7 @@ fn running_frames_within_the_budget_give_the_cpu_numbers() {
         if let Some(p) = latest.filter(|p| {
             p.generation == harness.state().state.built.generation
                 && p.uniform.spp >= 3
-                && [&p.uniform, &p.importance, &p.spatial]
+                && [&p.uniform, &p.power, &p.spatial]
                     .iter()
                     .all(|i| i.rmse.is_some() && i.series.last().is_some_and(|s| s.spp == i.spp))
         }) {
@@ -201,7 +194,7 @@ fn running_frames_within_the_budget_give_the_cpu_numbers() {
     };
     eprintln!("row bands used: {banded}");
     let spp = published.uniform.spp;
-    assert_eq!(published.importance.spp, spp);
+    assert_eq!(published.power.spp, spp);
     assert_eq!(published.spatial.spp, spp);
     assert_cpu_rmses(
         &harness,

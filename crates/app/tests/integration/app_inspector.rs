@@ -11,6 +11,7 @@ use lightpick_core::inspect::PointInspection;
 use lightpick_core::scene::pixel_center;
 use lightpick_core::spatial::SpatialSampler;
 
+use crate::common::painted::click_at;
 use crate::common::{click, panel, shows_containing, snapshot_options, wgpu_panel};
 
 fn whole_app() -> Harness<'static, LightpickApp> {
@@ -18,20 +19,6 @@ fn whole_app() -> Harness<'static, LightpickApp> {
     harness.state_mut().step();
     harness.run();
     harness
-}
-
-/// A primary click at `pos`, queued as a user's hover, press and release.
-fn click_at(harness: &mut Harness<'static, LightpickApp>, pos: egui::Pos2) {
-    harness.hover_at(pos);
-    for pressed in [true, false] {
-        harness.event(egui::Event::PointerButton {
-            pos,
-            button: egui::PointerButton::Primary,
-            pressed,
-            modifiers: egui::Modifiers::default(),
-        });
-    }
-    harness.run();
 }
 
 /// The core's inspection of the selected pixel of the app's current scene.
@@ -48,7 +35,7 @@ fn clicking_an_image_inspects_that_pixel() {
     assert!(harness.state().state.inspector.pixel.is_none());
     assert!(harness.query_by_label("Pixel inspector").is_none());
     // Below the caption of the importance image lies the image itself.
-    let caption = harness.get_by_label("Importance (alias)").rect();
+    let caption = harness.get_by_label("Power (alias)").rect();
     click_at(
         &mut harness,
         egui::pos2(caption.left() + 60.0, caption.bottom() + 40.0),

@@ -140,14 +140,11 @@ fn convergence_table_gives_an_efficiency_and_its_ratios() {
     let (_, base) = run(1.0);
     let (harness, near) = run(1e-150);
     let pixels = 64;
-    assert_eq!(near.importance.spp, 8);
+    assert_eq!(near.power.spp, 8);
     let efficiency = |image: &lightpick::app::images::SchemeImage| {
         image.efficiency(pixels).expect("a variance and a time")
     };
-    for (b, n) in [
-        (&base.uniform, &near.uniform),
-        (&base.importance, &near.importance),
-    ] {
+    for (b, n) in [(&base.uniform, &near.uniform), (&base.power, &near.power)] {
         let e = efficiency(n);
         assert!(
             e.is_finite() && e > Scaled::ZERO && e.as_f64().is_none(),
@@ -162,12 +159,12 @@ fn convergence_table_gives_an_efficiency_and_its_ratios() {
     }
     // The importance row's ratios over uniform: the same as at z = 1, printed the same.
     let speedup = |p: &lightpick::app::images::Published| {
-        (efficiency(&p.importance) / efficiency(&p.uniform)).to_f64()
+        (efficiency(&p.power) / efficiency(&p.uniform)).to_f64()
     };
     let (a, b) = (speedup(&near), speedup(&base));
     assert!((a - b).abs() <= TOLERANCE * b, "{a} vs {b}");
     let variance_ratio = |p: &lightpick::app::images::Published| {
-        (p.uniform.normalized_variance / p.importance.normalized_variance).to_f64()
+        (p.uniform.normalized_variance / p.power.normalized_variance).to_f64()
     };
     let text = format!(
         "efficiency {} (variance {})",
@@ -189,14 +186,14 @@ fn the_whole_app_draws_the_scene() {
     harness.state_mut().state.load_scene(similar(1e-150));
     step_paused(&mut harness, 4);
     let published = harness.state_mut().published().expect("a frame");
-    assert!(published.importance.spp > 0);
+    assert!(published.power.spp > 0);
     assert!(
         published
-            .importance
+            .power
             .rmse
             .is_some_and(|r| r > 0.0 && r.is_finite()),
         "{:?}",
-        published.importance.rmse
+        published.power.rmse
     );
 }
 

@@ -38,13 +38,13 @@ fn images_panel() {
     let mut harness = panel(PanelKind::Images, [600.0, 420.0], 64);
     let published = harness.state_mut().published().expect("a frame");
     assert_eq!(published.uniform.spp, 64);
-    assert_eq!(published.importance.spp, 64);
+    assert_eq!(published.power.spp, 64);
     // Importance sampling ends closer to the reference than uniform selection.
     let (u, a) = (
         published.uniform.rmse.expect("rmse"),
-        published.importance.rmse.expect("rmse"),
+        published.power.rmse.expect("rmse"),
     );
-    assert!(a < u, "importance RMSE {a} vs uniform {u}");
+    assert!(a < u, "power RMSE {a} vs uniform {u}");
     // Three lights: the spatial image is the exact contribution pick, exact up to rounding.
     assert_eq!(published.spatial.spp, 64);
     let s = published.spatial.rmse.expect("rmse");

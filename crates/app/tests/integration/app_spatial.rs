@@ -21,11 +21,11 @@ fn spatial_is_a_third_image_and_curve_and_wins_on_spread_out_lights() {
     assert_eq!(published.spatial.spp, 16);
     assert_eq!(published.spatial.series.len(), 16);
     let (a, s) = (
-        published.importance.rmse.expect("rmse"),
+        published.power.rmse.expect("rmse"),
         published.spatial.rmse.expect("rmse"),
     );
     // Measured variance ratio ≈ 16 on this preset (`lightpick bench`): RMSE ≈ 4× lower.
-    assert!(s * 2.0 < a, "spatial RMSE {s} vs importance {a}");
+    assert!(s * 2.0 < a, "spatial RMSE {s} vs power {a}");
     assert!(
         published.spatial.variance.significand() > 0.0,
         "a tree, not the exact pick"

@@ -6,6 +6,7 @@ mod common;
 
 mod app_classroom;
 mod app_classroom_screens;
+mod app_classroom_windows;
 mod app_classroom_words;
 mod app_estimator;
 mod app_export_animation;
@@ -28,3 +29,4 @@ mod cli_gpu_scale;
 mod cli_render_plot;
 mod cli_scene;
 mod cli_spatial;
+mod docs_architecture;

@@ -66,13 +66,9 @@ fn measure(app: &mut Harness<'static, LightpickApp>, ctx: &GpuContext) -> ([f64;
             "{}",
             published.device_note
         );
-        for (k, image) in [
-            &published.uniform,
-            &published.importance,
-            &published.spatial,
-        ]
-        .into_iter()
-        .enumerate()
+        for (k, image) in [&published.uniform, &published.power, &published.spatial]
+            .into_iter()
+            .enumerate()
         {
             app_t[k] = app_t[k].min(app_frame_t(image, pixels, SPP));
         }
@@ -182,13 +178,13 @@ fn the_cpu_engines_time_per_sample_is_the_benchs() {
     };
     engine.sync_config(config(true));
     engine.sync_scene(built.generation, &built.samplers, false);
-    let images = |p: &Published| [p.uniform.clone(), p.importance.clone(), p.spatial.clone()];
+    let images = |p: &Published| [p.uniform.clone(), p.power.clone(), p.spatial.clone()];
     // The latest frame once the engine has published `at_least` spp of every image.
     let wait_for = |engine: &mut Engine, at_least: u32| {
         let deadline = std::time::Instant::now() + crate::common::HANG_GUARD;
         loop {
             if let Some(p) = engine.latest()
-                && p.uniform.spp.min(p.importance.spp).min(p.spatial.spp) >= at_least
+                && p.uniform.spp.min(p.power.spp).min(p.spatial.spp) >= at_least
             {
                 return p;
             }

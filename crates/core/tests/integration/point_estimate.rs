@@ -83,7 +83,7 @@ fn pixel_estimator(scene: &Scene, x: DVec2, seed: u64) -> PointEstimator {
         vec![
             ("uniform", PointPicker::Uniform(Uniform::new(n as u32))),
             (
-                "importance",
+                "power",
                 PointPicker::Table(Arc::new(AliasTable::build(&scene.powers))),
             ),
             (

@@ -88,7 +88,7 @@ proptest! {
                 contributions,
                 vec![
                     ("uniform", PointPicker::Uniform(Uniform::new(7))),
-                    ("importance", PointPicker::Table(Arc::clone(&table))),
+                    ("power", PointPicker::Table(Arc::clone(&table))),
                 ],
                 5,
             )

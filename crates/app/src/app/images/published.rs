@@ -97,7 +97,7 @@ pub struct Published {
     /// Uniform light selection.
     pub uniform: SchemeImage,
     /// Power-proportional selection (alias table).
-    pub importance: SchemeImage,
+    pub power: SchemeImage,
     /// Contribution-aware selection (exact for few lights, light tree for many).
     pub spatial: SchemeImage,
     /// Lights in the scene rendered (whether the spatial lane is the exact pick).
@@ -116,7 +116,7 @@ impl Published {
     /// The mean samples per pixel of the three images, with the fraction of a pass in
     /// progress (row bands).
     pub fn mean_spp(&self) -> f64 {
-        [&self.uniform, &self.importance, &self.spatial]
+        [&self.uniform, &self.power, &self.spatial]
             .iter()
             .map(|s| f64::from(s.spp) + f64::from(s.pass_progress))
             .sum::<f64>()

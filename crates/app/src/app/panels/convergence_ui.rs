@@ -1,6 +1,6 @@
 //! The convergence panel: log-log RMSE against samples per pixel and against seconds for the three
-//! schemes (uniform, importance, spatial), the `−1/2` slope of Monte Carlo convergence, efficiency
-//! `1/(V̂·T)` (`V̂ = Var/Φ²`) and the speed-ups of importance and spatial sampling over uniform
+//! schemes (uniform, power, spatial), the `−1/2` slope of Monte Carlo convergence, efficiency
+//! `1/(V̂·T)` (`V̂ = Var/Φ²`) and the speed-ups of power and spatial sampling over uniform
 //! selection. The exact spatial pick (few lights) has zero variance: its RMSE is rounding only, its
 //! efficiency infinite (shown as "∞").
 
@@ -42,7 +42,7 @@ pub fn convergence_ui(
     };
     let pixels = published.width as usize * published.height as usize;
     let u = &published.uniform;
-    let a = &published.importance;
+    let a = &published.power;
     let sp = &published.spatial;
     let spatial_exact = published.spatial_is_exact();
     figures_ui(
@@ -73,7 +73,7 @@ pub fn convergence_ui(
             .collect()
     };
     let uniform_points = log_points(&u.series);
-    let importance_points = log_points(&a.series);
+    let power_points = log_points(&a.series);
     let spatial_points = if spatial_exact {
         Vec::new()
     } else {
@@ -86,7 +86,7 @@ pub fn convergence_ui(
     curves_plot_ui(
         ui,
         *axis,
-        [uniform_points, importance_points, spatial_points],
+        [uniform_points, power_points, spatial_points],
         state.dark(),
     );
 }
@@ -96,7 +96,7 @@ pub fn convergence_ui(
 fn curves_plot_ui(
     ui: &mut Ui,
     axis: ConvergenceAxis,
-    [uniform_points, importance_points, spatial_points]: [Vec<[f64; 2]>; 3],
+    [uniform_points, power_points, spatial_points]: [Vec<[f64; 2]>; 3],
     dark: bool,
 ) {
     // The −1/2 slope through the first uniform point.
@@ -124,7 +124,7 @@ fn curves_plot_ui(
                     .width(2.0),
             );
             plot_ui.line(
-                Line::new("importance (alias)", PlotPoints::new(importance_points))
+                Line::new("power (alias)", PlotPoints::new(power_points))
                     .color(colors::scheme(Scheme::Alias))
                     .width(2.0),
             );
@@ -146,7 +146,7 @@ fn curves_plot_ui(
 /// The schemes of the panel, in display order, with their names.
 const SCHEMES: [(&str, Scheme); 3] = [
     ("uniform", Scheme::Uniform),
-    ("importance", Scheme::Alias),
+    ("power", Scheme::Alias),
     ("spatial", Scheme::Spatial),
 ];
 

@@ -1,5 +1,5 @@
 //! The estimator view: the running estimate at one shading point, sample by sample, under
-//! uniform and importance picking (and spatial at a clicked pixel), where the seed
+//! uniform and power picking (and spatial at a clicked pixel), where the seed
 //! document's last claim — "more important values would come first and the result would
 //! converge way faster" — can be watched.
 //!

@@ -1,4 +1,4 @@
-//! The images panel: uniform, importance and spatial progressive images side by side, the
+//! The images panel: uniform, power and spatial progressive images side by side, the
 //! exact reference and the error maps, with spp, RMSE and frame time under each.
 
 use egui::{ColorImage, TextureHandle, TextureOptions, Ui};
@@ -14,16 +14,16 @@ use crate::numbers;
 /// The textures of the latest published frame.
 #[derive(Default)]
 pub struct ImageTextures {
-    /// Native (GPU) textures of the uniform, importance and spatial images, which replace
+    /// Native (GPU) textures of the uniform, power and spatial images, which replace
     /// the uploaded ones while the GPU renders.
     pub native: Option<[egui::TextureId; 3]>,
     frame: Option<(u64, u64)>,
     uniform: Option<TextureHandle>,
-    importance: Option<TextureHandle>,
+    power: Option<TextureHandle>,
     spatial: Option<TextureHandle>,
     reference: Option<TextureHandle>,
     uniform_error: Option<TextureHandle>,
-    importance_error: Option<TextureHandle>,
+    power_error: Option<TextureHandle>,
     spatial_error: Option<TextureHandle>,
 }
 
@@ -45,10 +45,10 @@ impl ImageTextures {
         );
         upload(
             ctx,
-            &mut self.importance,
-            "importance",
+            &mut self.power,
+            "power",
             size,
-            Some(&published.importance.rgba),
+            Some(&published.power.rgba),
         );
         upload(
             ctx,
@@ -73,10 +73,10 @@ impl ImageTextures {
         );
         upload(
             ctx,
-            &mut self.importance_error,
-            "importance_error",
+            &mut self.power_error,
+            "power_error",
             size,
-            published.importance.error_rgba.as_deref(),
+            published.power.error_rgba.as_deref(),
         );
         upload(
             ctx,
@@ -139,7 +139,7 @@ pub fn images_ui(
         || {
             [
                 textures.uniform.as_ref().map(TextureHandle::id),
-                textures.importance.as_ref().map(TextureHandle::id),
+                textures.power.as_ref().map(TextureHandle::id),
                 textures.spatial.as_ref().map(TextureHandle::id),
             ]
         },
@@ -175,10 +175,10 @@ pub fn images_ui(
             &textures.uniform_error,
         ),
         (
-            "Importance (alias)",
+            "Power (alias)",
             Scheme::Alias,
-            &published.importance,
-            &textures.importance_error,
+            &published.power,
+            &textures.power_error,
         ),
         (
             "Spatial",

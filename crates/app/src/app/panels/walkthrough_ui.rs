@@ -95,7 +95,7 @@ pub fn walkthrough_ui(ui: &mut Ui, state: &mut AppState) {
             .button(RichText::new("Watch it converge →").size(16.0))
             .on_hover_text(
                 "Open the estimator at this shading point: the running estimate of uniform \
-                 and importance picking, sample by sample, against the exact 18",
+                 and power picking, sample by sample, against the exact 18",
             )
             .clicked()
         {

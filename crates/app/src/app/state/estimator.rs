@@ -21,7 +21,7 @@ const MAX_SAMPLES_PER_FRAME: u64 = 20_000;
 /// Which shading point the view estimates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EstimatorPoint {
-    /// The seed document's point: three lights whose geometry factors `g = 1/2, 2/5, 3/4`
+    /// The worked example's shading point: three lights whose geometry factors `g = 1/2, 2/5, 3/4`
     /// turn powers `2, 5, 20` into contributions `1, 2, 15` (`f_i = Φ_i·g_i`, so the
     /// contributions follow the powers live). On a scene without three lights, the classic
     /// powers.
@@ -177,7 +177,7 @@ fn build(
     let mut lanes = vec![("uniform", PointPicker::Uniform(Uniform::new(n as u32)))];
     let contributions = match point {
         EstimatorPoint::Seed if seed_point_uses_scene(built) => {
-            lanes.push(("importance", PointPicker::Table(Arc::clone(&built.table))));
+            lanes.push(("power", PointPicker::Table(Arc::clone(&built.table))));
             scene
                 .powers
                 .as_slice()
@@ -191,7 +191,7 @@ fn build(
             let table = AliasTable::build_exact(&powers);
             lanes = vec![
                 ("uniform", PointPicker::Uniform(Uniform::new(3))),
-                ("importance", PointPicker::Table(Arc::new(table))),
+                ("power", PointPicker::Table(Arc::new(table))),
             ];
             CLASSIC_POWERS
                 .iter()
@@ -207,7 +207,7 @@ fn build(
                 ));
             }
             let point_on_plane = pixel_center(&scene.plane, pixel[0], pixel[1]);
-            lanes.push(("importance", PointPicker::Table(Arc::clone(&built.table))));
+            lanes.push(("power", PointPicker::Table(Arc::clone(&built.table))));
             if let Some(sampler) = spatial {
                 lanes.push((
                     "spatial",

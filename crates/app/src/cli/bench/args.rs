@@ -119,7 +119,7 @@ impl BenchArgs {
             });
         }
         for path in &self.scene {
-            let scene = super::super::input::load_scene_file(path, self.floor)?;
+            let scene = super::super::input::read_scene(path, self.floor, Some("--scene"))?.scene;
             out.push(NamedScene {
                 name: path.file_name().map_or_else(
                     || path.display().to_string(),

@@ -6,6 +6,7 @@
 
 mod app;
 mod cli;
+pub mod painted;
 
 use std::path::PathBuf;
 use std::time::Duration;

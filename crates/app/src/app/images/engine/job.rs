@@ -1,4 +1,4 @@
-//! One scene's CPU rendering: a [`Job`] holds the three lanes (uniform, importance,
+//! One scene's CPU rendering: a [`Job`] holds the three lanes (uniform, power,
 //! spatial), each a `CpuRenderer` over the scene's shared samplers with its totals and
 //! convergence series, and the exact reference; it advances a frame (or the worker's batch)
 //! and publishes what the panels show.
@@ -83,7 +83,7 @@ pub(super) struct Job {
     pub(super) generation: u64,
     pub(super) samplers: SceneSamplers,
     uniform: Lane,
-    importance: Lane,
+    power: Lane,
     spatial: Lane,
     reference: Reference,
     reference_note: Option<String>,
@@ -96,7 +96,7 @@ impl Job {
         Self {
             generation,
             uniform: Lane::new(&samplers, Scheme::Uniform, seed),
-            importance: Lane::new(&samplers, Scheme::Alias, seed),
+            power: Lane::new(&samplers, Scheme::Alias, seed),
             spatial: Lane::new(&samplers, Scheme::Spatial, seed),
             samplers,
             reference,
@@ -111,7 +111,7 @@ impl Job {
 
     /// What the three lanes and the reference hold.
     pub(super) fn bytes(&self) -> RendererBytes {
-        let lanes = [&self.uniform, &self.importance, &self.spatial];
+        let lanes = [&self.uniform, &self.power, &self.spatial];
         // Records shared with an earlier lane are held once.
         let lights = (0..lanes.len())
             .filter(|&k| {
@@ -165,7 +165,7 @@ impl Job {
             BudgetMode::EqualTime => spent = self.advance_equal_time(virtual_time, pixels),
         }
         let reference = &self.reference;
-        for (lane, spent) in [&mut self.uniform, &mut self.importance, &mut self.spatial]
+        for (lane, spent) in [&mut self.uniform, &mut self.power, &mut self.spatial]
             .into_iter()
             .zip(spent)
         {
@@ -211,11 +211,11 @@ impl Job {
         }
     }
 
-    /// Lane `k`: uniform, importance, spatial.
+    /// Lane `k`: uniform, power, spatial.
     fn lane(&self, k: usize) -> &Lane {
         match k {
             0 => &self.uniform,
-            1 => &self.importance,
+            1 => &self.power,
             _ => &self.spatial,
         }
     }
@@ -224,7 +224,7 @@ impl Job {
     fn lane_mut(&mut self, k: usize) -> &mut Lane {
         match k {
             0 => &mut self.uniform,
-            1 => &mut self.importance,
+            1 => &mut self.power,
             _ => &mut self.spatial,
         }
     }
@@ -260,7 +260,7 @@ impl Job {
             height: self.samplers.scene().plane.height,
             light_count: self.samplers.scene().light_count(),
             uniform: scheme_image(&self.uniform),
-            importance: scheme_image(&self.importance),
+            power: scheme_image(&self.power),
             spatial: scheme_image(&self.spatial),
             reference_rgba: full.map(|r| tonemap_rgba8(r, exposure)),
             reference_note: self.reference_note.clone(),

@@ -1,4 +1,4 @@
-//! The progressive-image engine: three renderers (uniform, importance and spatial) over the
+//! The progressive-image engine: three renderers (uniform, power and spatial) over the
 //! last valid scene, their reference, errors, timings and convergence series. The lanes
 //! share the scene's alias table and spatial sampler ([`SceneSamplers`], built once per
 //! scene generation with the app's `Built`) rather than building their own.

@@ -1,4 +1,4 @@
-//! The GPU lanes of one scene: a `GpuRenderer` per scheme (uniform, importance, spatial)
+//! The GPU lanes of one scene: a `GpuRenderer` per scheme (uniform, power, spatial)
 //! whose output egui shows as a native texture, with the figures read back from its sums;
 //! how a lane advances by the work a frame allows, how its sums are read back at pass
 //! boundaries, and the frame the three publish.
@@ -19,7 +19,7 @@ use crate::app::images::reference::{error_map, error_scale, thin};
 /// Weight of the newest measurement in a lane's moving average of its cost per row.
 const ROW_COST_SMOOTHING: f64 = 0.3;
 
-/// The three renderers of a scene: uniform, importance, spatial.
+/// The three renderers of a scene: uniform, power, spatial.
 pub(super) type Trio = (GpuRenderer, GpuRenderer, GpuRenderer);
 
 /// Every renderer of a scene: one `O(N)` upload of the scene's shared table and light data
@@ -36,8 +36,8 @@ pub(super) fn build_trio(
         GpuRenderer::from_samplers_sharing(ctx, samplers, scheme, seed, &uniform)
             .map_err(|e| e.to_string())
     };
-    let (importance, spatial) = (sharing(Scheme::Alias)?, sharing(Scheme::Spatial)?);
-    Ok((uniform, importance, spatial))
+    let (power, spatial) = (sharing(Scheme::Alias)?, sharing(Scheme::Spatial)?);
+    Ok((uniform, power, spatial))
 }
 
 /// Points egui's textures at the outputs of `trio`: the `ids` kept across scenes when there
@@ -45,14 +45,14 @@ pub(super) fn build_trio(
 pub(super) fn register_textures(
     render_state: &egui_wgpu::RenderState,
     ids: Option<[egui::TextureId; 3]>,
-    (uniform, importance, spatial): &Trio,
+    (uniform, power, spatial): &Trio,
 ) -> [egui::TextureId; 3] {
     let device = &render_state.device;
     let filter = wgpu::FilterMode::Nearest;
     let mut renderer = render_state.renderer.write();
     match ids {
         Some(ids) => {
-            for (id, r) in ids.iter().zip([uniform, importance, spatial]) {
+            for (id, r) in ids.iter().zip([uniform, power, spatial]) {
                 renderer.update_egui_texture_from_wgpu_texture(
                     device,
                     r.output_view(),
@@ -64,7 +64,7 @@ pub(super) fn register_textures(
         }
         None => [
             renderer.register_native_texture(device, uniform.output_view(), filter),
-            renderer.register_native_texture(device, importance.output_view(), filter),
+            renderer.register_native_texture(device, power.output_view(), filter),
             renderer.register_native_texture(device, spatial.output_view(), filter),
         ],
     }
@@ -210,7 +210,7 @@ pub(super) struct Lanes {
     pub(super) reference: Option<Reference>,
     pub(super) reference_note: Option<String>,
     pub(super) uniform: Lane,
-    pub(super) importance: Lane,
+    pub(super) power: Lane,
     pub(super) spatial: Lane,
     pub(super) frame: u64,
 }
@@ -221,7 +221,7 @@ impl Lanes {
         generation: u64,
         seed: u64,
         scene: &Arc<Scene>,
-        (uniform, importance, spatial): Trio,
+        (uniform, power, spatial): Trio,
         ids: [egui::TextureId; 3],
     ) -> Self {
         Self {
@@ -231,15 +231,15 @@ impl Lanes {
             reference: None,
             reference_note: Some("computing the reference…".to_owned()),
             uniform: Lane::new(uniform, ids[0]),
-            importance: Lane::new(importance, ids[1]),
+            power: Lane::new(power, ids[1]),
             spatial: Lane::new(spatial, ids[2]),
             frame: 0,
         }
     }
 
-    /// The uniform, importance and spatial lanes, in display order.
+    /// The uniform, power and spatial lanes, in display order.
     pub(super) fn each_mut(&mut self) -> [&mut Lane; 3] {
-        [&mut self.uniform, &mut self.importance, &mut self.spatial]
+        [&mut self.uniform, &mut self.power, &mut self.spatial]
     }
 
     /// Tonemaps every lane's output at `exposure`.
@@ -265,11 +265,11 @@ impl Lanes {
         let Lanes {
             reference,
             uniform,
-            importance,
+            power,
             spatial,
             ..
         } = self;
-        for lane in [uniform, importance, spatial] {
+        for lane in [uniform, power, spatial] {
             lane.readback_due |= due;
             lane.read_back_if_due(reference.as_ref())?;
         }
@@ -286,7 +286,7 @@ impl Lanes {
             height: self.scene.plane.height,
             light_count: self.scene.light_count(),
             uniform: self.uniform.image.clone(),
-            importance: self.importance.image.clone(),
+            power: self.power.image.clone(),
             spatial: self.spatial.image.clone(),
             reference_rgba: self
                 .reference
@@ -297,7 +297,7 @@ impl Lanes {
             device_note: format!("GPU: {device}"),
             time_source: format!(
                 "GPU pass time per pixel sample ({}), excluding tonemap and readback",
-                self.importance.renderer.pass_clock().describe()
+                self.power.renderer.pass_clock().describe()
             ),
         }
     }
@@ -307,7 +307,7 @@ impl Lanes {
     pub(super) fn bytes(&self) -> RendererBytes {
         let renderers = [
             &self.uniform.renderer,
-            &self.importance.renderer,
+            &self.power.renderer,
             &self.spatial.renderer,
         ];
         let all: u64 = renderers.iter().map(|r| r.gpu_bytes()).sum();

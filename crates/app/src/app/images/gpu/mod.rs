@@ -1,5 +1,5 @@
 //! Progressive images on the GPU: three `lightpick_core::gpu::GpuRenderer`s (uniform,
-//! importance and spatial) on eframe's own wgpu device, whose `Rgba8Unorm` outputs egui
+//! power and spatial) on eframe's own wgpu device, whose `Rgba8Unorm` outputs egui
 //! shows as native textures (no copy through the CPU). Every few frames the sums are read
 //! back for the RMSE, the error maps and the convergence curves, computed exactly as the CPU
 //! engine does.
@@ -110,11 +110,11 @@ impl GpuImages {
         self.ctx.description()
     }
 
-    /// The native textures of the uniform, importance and spatial images.
+    /// The native textures of the uniform, power and spatial images.
     pub fn texture_ids(&self) -> Option<[egui::TextureId; 3]> {
         self.lanes
             .as_ref()
-            .map(|l| [l.uniform.texture, l.importance.texture, l.spatial.texture])
+            .map(|l| [l.uniform.texture, l.power.texture, l.spatial.texture])
     }
 
     /// The latest frame with its images read back and tonemapped on the CPU (the same
@@ -131,13 +131,9 @@ impl GpuImages {
             .lanes
             .as_mut()
             .ok_or("no image has been rendered yet")?;
-        for (image, lane) in [
-            &mut frame.uniform,
-            &mut frame.importance,
-            &mut frame.spatial,
-        ]
-        .into_iter()
-        .zip(lanes.each_mut())
+        for (image, lane) in [&mut frame.uniform, &mut frame.power, &mut frame.spatial]
+            .into_iter()
+            .zip(lanes.each_mut())
         {
             lane.export_into(image, exposure)?;
         }
