@@ -28,13 +28,14 @@ fn located(path: &str) -> PathBuf {
 
 /// Whether a code span names a file or folder (`scaled.rs`, `spatial/`, `core/src/gpu/rng.wgsl`).
 fn is_path(span: &str) -> bool {
+    let extension = Path::new(span)
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     !span.contains(' ')
         && !span.contains("::")
         && !span.contains('*')
-        && (span.ends_with(".rs")
-            || span.ends_with(".wgsl")
-            || span.ends_with('/')
-            || span.ends_with(".md"))
+        && (span.ends_with('/') || matches!(extension.as_deref(), Some("rs" | "wgsl" | "md")))
 }
 
 #[test]
