@@ -90,6 +90,7 @@
 //! | --- | --- | --- | --- |
 //! | `gpu` | on | [`gpu`]: the wgpu compute renderer, histogram and spatial sampler, their WGSL | wgpu, naga, pollster (about 110 crates) |
 //! | `draw` | on | [`draw`]: table diagrams, histograms, convergence plots, image sheets, PNG/EXR | tiny-skia, `ab_glyph`, image |
+//! | `rand` | off | `rand_support`: the samplers as `rand::distr::Distribution<usize>` over any `rand::Rng`, and [`Rng`] as a `rand::Rng` | rand (traits only), `rand_core` |
 //!
 //! Without them (`default-features = false`) the crate is the alias table and its peers,
 //! the RNG, estimators and metrics, scenes and their importers (JSON, glTF, CSV), the CPU
@@ -118,6 +119,8 @@ mod moments;
 pub mod point_estimate;
 mod powers;
 pub mod precision;
+#[cfg(feature = "rand")]
+pub mod rand_support;
 pub mod render;
 mod rng;
 mod sampler;
