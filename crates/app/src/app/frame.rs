@@ -1,6 +1,6 @@
 //! What the app does each frame around the panels: background builds and polls, keyboard
 //! shortcuts, the theme, feeding the image renderers and the histograms, texture uploads,
-//! the placement's measurement, and the frame-time log (`LIGHTPICK_FRAME_LOG=1`).
+//! the renderer choice's measurement, and the frame-time log (`LIGHTPICK_FRAME_LOG=1`).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -8,7 +8,7 @@ use std::time::Instant;
 use egui::{Key, KeyboardShortcut, Modifiers, Ui};
 
 use super::LightpickApp;
-use super::images::placement;
+use super::images::renderer_choice;
 use super::images::{Engine, EngineConfig, GpuImages, Published};
 use super::panels::{controls_ui, file_dialog_ui};
 use super::state::MessageKind;
@@ -56,7 +56,7 @@ impl LightpickApp {
         self.apply_theme(ctx);
         self.advance(ctx);
         let published = self.published();
-        self.observe_placement(published.as_deref());
+        self.observe_renderer_choice(published.as_deref());
         let (generation, gpu) = (self.state.built.generation, self.uses_gpu());
         self.trim.frame(generation, gpu, self.state.is_building());
         if let Some(p) = &published {
@@ -130,7 +130,7 @@ impl LightpickApp {
         // Once the renderer is chosen, the idle one holds nothing (its per-light copies
         // would double what the images cost); while `Auto` measures, both keep theirs.
         let keep_idle = self
-            .placement
+            .renderer_choice
             .is_measuring(self.state.settings.device, self.adapter());
         let threaded = self.threaded;
         let engine = self.engine.get_or_insert_with(|| {
@@ -195,17 +195,17 @@ impl LightpickApp {
         }
     }
 
-    /// Feeds the placement's measurement with the frame just taken.
-    fn observe_placement(&mut self, published: Option<&Published>) {
+    /// Feeds the renderer choice's measurement with the frame just taken.
+    fn observe_renderer_choice(&mut self, published: Option<&Published>) {
         let shown = if self.uses_gpu() {
-            placement::Renderer::Gpu
+            renderer_choice::Renderer::Gpu
         } else {
-            placement::Renderer::Cpu
+            renderer_choice::Renderer::Cpu
         };
         let total_spp = published
             .filter(|p| p.generation == self.state.built.generation)
             .map(Published::mean_spp);
-        self.placement.observe(
+        self.renderer_choice.observe(
             self.state.settings.device,
             self.adapter(),
             shown,
@@ -230,7 +230,7 @@ impl LightpickApp {
             return;
         }
         let spp = self.published().map(|p| p.mean_spp());
-        let note = self.placement_note();
+        let note = self.renderer_note();
         let accounted: usize = self.memory_by_part().iter().map(|(_, b)| b).sum();
         if let Some(log) = &mut self.frame_log {
             log.frames += 1;

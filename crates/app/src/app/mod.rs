@@ -1,9 +1,10 @@
 //! The egui/eframe desktop app, in layers (each imports only those below it):
 //!
 //! - small shared pieces: [`background`] (the one worker-thread mechanism), [`colors`] (the
-//!   palette in egui's colours) and [`scene_io`] (presets, scene files, random scenes);
+//!   palette in egui's colours), [`scene_io`] (presets, the session's JSON, saving) and
+//!   [`generated`] (random powers and positions);
 //! - [`state`]: the one [`AppState`] every panel reads and edits, split by concept;
-//! - [`images`]: where the progressive images are made (CPU engine, GPU lanes, placement,
+//! - [`images`]: where the progressive images are made (CPU engine, GPU lanes, renderer choice,
 //!   frame budget);
 //! - [`panels`]: one `*_ui.rs` per panel or window, and the layout;
 //! - the shell, here: [`LightpickApp`] wires them; [`window`] opens the eframe window
@@ -19,6 +20,7 @@ pub mod background;
 pub mod colors;
 mod files;
 mod frame;
+pub mod generated;
 pub mod images;
 mod memory;
 pub mod panels;
@@ -40,10 +42,10 @@ pub use state::{AppState, Settings};
 pub use window::{device_descriptor, run};
 
 use frame::FrameLog;
-use images::placement;
+use images::renderer_choice;
 use images::{Engine, GpuImages, Published};
 use panels::convergence_ui::ConvergenceAxis;
-use panels::render_ui::ImageTextures;
+use panels::images_ui::ImageTextures;
 use panels::{MainPanes, controls_ui, layout, layout_ui};
 
 /// The app: the state, the render engine and the textures of its latest frame.
@@ -65,7 +67,7 @@ pub struct LightpickApp {
     /// Why the GPU images stopped (shown in the status bar; the CPU takes over).
     gpu_error: Option<String>,
     /// Where the images render (measured in `Auto` on a software adapter).
-    placement: placement::Placement,
+    renderer_choice: renderer_choice::RendererChoice,
     /// Gives freed memory back after a scene or renderer change ([`memory::Trim`]).
     trim: memory::Trim,
 }
@@ -90,7 +92,7 @@ impl LightpickApp {
             frame_log: std::env::var_os("LIGHTPICK_FRAME_LOG").map(|_| FrameLog::new()),
             gpu: None,
             gpu_error: None,
-            placement: placement::Placement::default(),
+            renderer_choice: renderer_choice::RendererChoice::default(),
             trim: memory::Trim::default(),
         }
     }
@@ -132,36 +134,36 @@ impl LightpickApp {
         self.engine.as_mut().and_then(Engine::latest)
     }
 
-    /// Whether the GPU renders the images this frame ([`placement`]).
+    /// Whether the GPU renders the images this frame ([`renderer_choice`]).
     fn uses_gpu(&self) -> bool {
-        self.placement
+        self.renderer_choice
             .renderer(self.state.settings.device, self.adapter())
-            == placement::Renderer::Gpu
+            == renderer_choice::Renderer::Gpu
     }
 
-    /// The wgpu compute device as the placement sees it.
-    fn adapter(&self) -> placement::Adapter {
+    /// The wgpu compute device as the renderer choice sees it.
+    fn adapter(&self) -> renderer_choice::Adapter {
         match &self.gpu {
             Some(gpu) if self.gpu_error.is_none() => {
                 if gpu.is_software() {
-                    placement::Adapter::Software
+                    renderer_choice::Adapter::Software
                 } else {
-                    placement::Adapter::Hardware
+                    renderer_choice::Adapter::Hardware
                 }
             }
-            _ => placement::Adapter::None,
+            _ => renderer_choice::Adapter::None,
         }
     }
 
     /// Where the images render, and why (the status bar's words).
-    pub fn placement_note(&self) -> String {
+    pub fn renderer_note(&self) -> String {
         let name = self
             .gpu
             .as_ref()
             .map_or_else(String::new, GpuImages::description);
-        let mut note = self
-            .placement
-            .describe(self.state.settings.device, self.adapter(), &name);
+        let mut note =
+            self.renderer_choice
+                .describe(self.state.settings.device, self.adapter(), &name);
         if let Some(e) = &self.gpu_error {
             let _ = write!(note, "; GPU failed: {e}");
         }
@@ -172,7 +174,7 @@ impl LightpickApp {
     pub fn ui(&mut self, ui: &mut Ui) {
         let started = Instant::now();
         let published = self.begin_frame(ui.ctx());
-        let device_note = self.placement_note();
+        let device_note = self.renderer_note();
         let frame_ms = if self.threaded {
             Some(self.frame_ms)
         } else {

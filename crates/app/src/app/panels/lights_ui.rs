@@ -8,7 +8,8 @@ use egui::{RichText, Sense, Ui, vec2};
 use lightpick_core::scene::MAX_LIGHTS;
 
 use crate::app::colors;
-use crate::app::scene_io::{self, PowerShape};
+use crate::app::generated::PowerShape;
+use crate::app::scene_io;
 use crate::app::state::AppState;
 use crate::app::state::edit::{power_to_text, powers_to_text};
 use crate::app::state::settings::SliderScale;

@@ -1,6 +1,6 @@
 //! The panels and windows, one `*_ui.rs` each, over the [`AppState`] (which imports no panel):
-//! [`lights_ui`], [`table_ui`] (table, over the [`diagram_ui`]), [`histogram_ui`] (sampling),
-//! [`render_ui`] (images), [`convergence_ui`], and the windows [`trade_ui`] (speed against
+//! [`lights_ui`], [`table_ui`] (table, over the [`diagram_ui`]), [`sampling_ui`] (sampling),
+//! [`images_ui`] (images), [`convergence_ui`], and the windows [`trade_ui`] (speed against
 //! accuracy), [`precision_ui`], [`walkthrough_ui`] and [`stepper_ui`] (the classroom),
 //! [`inspector_ui`] (a clicked pixel), [`estimator_ui`], [`animation_export_ui`]; the
 //! [`controls_ui`] (menu, run controls, status bar) and the [`file_dialog_ui`]. [`layout`] decides
@@ -13,7 +13,7 @@ pub mod convergence_ui;
 pub mod diagram_ui;
 pub mod estimator_ui;
 pub mod file_dialog_ui;
-pub mod histogram_ui;
+pub mod images_ui;
 pub mod inspector_ui;
 pub mod layout;
 pub mod layout_ui;
@@ -21,7 +21,7 @@ pub mod lights_ui;
 pub mod log_axes;
 pub mod panel_kind;
 pub mod precision_ui;
-pub mod render_ui;
+pub mod sampling_ui;
 pub mod stepper_ui;
 pub mod table_ui;
 pub mod table_words;
@@ -35,7 +35,7 @@ pub use panel_kind::PanelKind;
 use crate::app::images::Published;
 use crate::app::state::AppState;
 use convergence_ui::ConvergenceAxis;
-use render_ui::ImageTextures;
+use images_ui::ImageTextures;
 
 /// The panels' contents, drawn by the layout (and by
 /// [`crate::app::LightpickApp::panel_ui`]) over the app's state for one frame.
@@ -59,10 +59,10 @@ impl layout_ui::PaneContents for MainPanes<'_> {
                         left: 4,
                         ..egui::Margin::ZERO
                     })
-                    .show(ui, |ui| histogram_ui::sampling_ui(ui, state));
+                    .show(ui, |ui| sampling_ui::sampling_ui(ui, state));
             }
             PanelKind::Images => {
-                render_ui::images_ui(ui, state, self.published, self.textures);
+                images_ui::images_ui(ui, state, self.published, self.textures);
             }
             PanelKind::Convergence => {
                 convergence_ui::convergence_ui(ui, state, self.published, self.axis);
@@ -81,7 +81,7 @@ impl layout_ui::PaneContents for MainPanes<'_> {
         // The images take the height their width allows (every frame, so a resized window
         // keeps them as large as it can); the panel under them fills the rest.
         (pane == PanelKind::Images)
-            .then(|| render_ui::wanted_height(ui, width, self.state, self.textures))
+            .then(|| images_ui::wanted_height(ui, width, self.state, self.textures))
     }
 }
 

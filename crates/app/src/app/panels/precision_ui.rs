@@ -13,8 +13,8 @@ use egui::Ui;
 
 use crate::app::colors;
 use crate::app::state::AppState;
-use crate::app::state::build::SYNC_BUILD_LIMIT;
 use crate::app::state::precision::{PrecisionMeasurement, measure};
+use crate::app::state::rebuild::SYNC_BUILD_LIMIT;
 use crate::numbers;
 use lightpick_core::precision::PrecisionReport;
 

@@ -19,7 +19,7 @@ use lightpick_core::render::SeriesPoint;
 use super::log_axes;
 use crate::app::colors;
 use crate::app::state::AppState;
-use crate::app::state::build::SYNC_BUILD_LIMIT;
+use crate::app::state::rebuild::SYNC_BUILD_LIMIT;
 use crate::app::state::trade::{
     TRADE_MAX_SPP, TRADE_SIDE, TradeMeasurement, TradeRow, measure, scheme_label,
 };

@@ -10,7 +10,6 @@ use lightpick_core::scene::{Emission, ReceiverPlane, Scene};
 use lightpick_core::{LightPowers, PowersError};
 
 use super::{AppState, MessageKind};
-use crate::app::scene_io;
 
 /// The scene as the user is editing it: powers exactly as typed, valid or not.
 #[derive(Clone, Debug, PartialEq)]
@@ -167,8 +166,11 @@ impl AppState {
     /// Adds a light with power `power` at a fresh position.
     pub fn add_light(&mut self, power: f64) {
         let i = self.edit.powers.len();
-        let pos =
-            scene_io::random_positions(i + 1, &self.edit.plane, self.settings.seed ^ i as u64)[i];
+        let pos = crate::app::generated::random_positions(
+            i + 1,
+            &self.edit.plane,
+            self.settings.seed ^ i as u64,
+        )[i];
         self.edit.resize_lights(|positions, powers| {
             positions.push(pos);
             powers.push(power);
@@ -213,7 +215,7 @@ impl AppState {
         let scale = (self.settings.slider_max / 4.0).max(f64::MIN_POSITIVE);
         let seed = self.settings.seed.wrapping_add(self.frame);
         self.edit.powers =
-            scene_io::random_powers(n, self.settings.distribution, scale, seed).into();
+            crate::app::generated::random_powers(n, self.settings.distribution, scale, seed).into();
         self.after_structure_change();
     }
 
@@ -230,8 +232,9 @@ impl AppState {
             return;
         }
         let seed = self.settings.seed;
-        let powers = scene_io::random_powers(count, self.settings.distribution, 10.0, seed);
-        let positions = scene_io::random_positions(count, &self.edit.plane, seed);
+        let powers =
+            crate::app::generated::random_powers(count, self.settings.distribution, 10.0, seed);
+        let positions = crate::app::generated::random_positions(count, &self.edit.plane, seed);
         match LightPowers::new(powers) {
             Ok(powers) => {
                 let scene = Scene::new(
@@ -251,8 +254,9 @@ impl AppState {
     pub(super) fn sync_positions(&mut self, n: usize) {
         let have = self.edit.positions.len();
         if have != n {
-            let fresh = (have < n)
-                .then(|| scene_io::random_positions(n, &self.edit.plane, self.settings.seed));
+            let fresh = (have < n).then(|| {
+                crate::app::generated::random_positions(n, &self.edit.plane, self.settings.seed)
+            });
             self.edit.resize_lights(|positions, _| {
                 if let Some(fresh) = &fresh {
                     positions.extend_from_slice(&fresh[have..]);
@@ -382,6 +386,7 @@ fn power_words(text: &str) -> Vec<&str> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::app::scene_io;
     use crate::app::state::Settings;
 
     #[test]

@@ -12,7 +12,7 @@
 //! freezes the window (the old table stays on screen until the new one is ready).
 //!
 //! # Where each concept lives
-//! [`settings`] (persisted), [`edit`] (the scene as typed and its edits), [`build`] (from
+//! [`settings`] (persisted), [`edit`] (the scene as typed and its edits), [`rebuild`] (from
 //! an edit to [`Built`], in the frame or on a worker), [`built`] (the last valid scene and
 //! its samplers), [`sampling`] (histograms, chi-square, one draw), [`file_dialog`],
 //! [`animation_export`], and one file per window's state (trade, precision, inspector,
@@ -24,7 +24,6 @@ use lightpick_core::SceneSamplers;
 use lightpick_core::scene::Scene;
 
 pub mod animation_export;
-pub mod build;
 pub mod built;
 pub mod counts;
 pub mod edit;
@@ -33,6 +32,7 @@ pub mod file_dialog;
 pub mod inspector;
 mod memory;
 pub mod precision;
+pub mod rebuild;
 pub mod sampling;
 pub mod scene_sentence;
 pub mod settings;
@@ -40,16 +40,16 @@ pub mod stepper;
 pub mod trade;
 pub mod walkthrough;
 
-pub use build::SYNC_BUILD_LIMIT;
 pub use built::{Built, EXACT_TABLE_MAX_LIGHTS, construction_for};
 pub use counts::PickCounts;
 pub use edit::{SceneEdit, describe_powers_error, parse_powers, powers_to_text};
 pub use file_dialog::{FileAction, FileDialog, FolderEntry};
+pub use rebuild::SYNC_BUILD_LIMIT;
 pub use sampling::{DIAGRAM_MAX_COLUMNS, MAX_BARS, MAX_CHI_CELLS, OneDraw, SamplingRun};
 pub use settings::{BudgetMode, Device, Settings, SliderScale, auto_exposure, nice_ceiling};
 
 use crate::app::scene_io;
-use build::TableBuild;
+use rebuild::TableBuild;
 
 /// How a status message should look.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -5,13 +5,13 @@
 
 use lightpick_core::scene::Scene;
 
-use crate::app::scene_io::PowerShape;
+use crate::app::generated::PowerShape;
 
 /// Where the progressive images are rendered.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Device {
     /// The GPU when it is a hardware one; on a software rasterizer (lavapipe) whichever of
-    /// the two renders the images faster, measured ([`crate::app::images::placement`]).
+    /// the two renders the images faster, measured ([`crate::app::images::renderer_choice`]).
     Auto,
     /// wgpu compute on eframe's own device (falls back to the CPU without one).
     Gpu,

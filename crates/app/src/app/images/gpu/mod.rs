@@ -29,7 +29,7 @@ use crate::app::background::{Polled, Worker};
 use crate::app::images::frame_budget::{self, FrameBudget, LaneWork};
 use crate::app::images::published::{EngineConfig, Published, RendererBytes};
 use crate::app::images::reference::reference;
-use crate::app::state::build::SYNC_BUILD_LIMIT;
+use crate::app::state::rebuild::SYNC_BUILD_LIMIT;
 use lanes::{Lanes, Trio, build_trio, register_textures};
 
 /// Read the sums back (RMSE, error maps, curves) every this many frames.

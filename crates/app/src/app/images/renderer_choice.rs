@@ -37,7 +37,7 @@ struct Trial {
 
 /// The measured choice (see the module docs).
 #[derive(Clone, Debug, Default)]
-pub struct Placement {
+pub struct RendererChoice {
     trial: Option<Trial>,
     /// Measured spp per second of the GPU and the CPU, once known.
     gpu_rate: Option<f64>,
@@ -56,7 +56,7 @@ pub enum Adapter {
     Hardware,
 }
 
-impl Placement {
+impl RendererChoice {
     /// Whether `Auto` on a software adapter is still measuring which renderer is faster:
     /// until it decides, both keep their images (the app drops the idle one's afterwards).
     pub fn is_measuring(&self, device: Device, adapter: Adapter) -> bool {
@@ -195,7 +195,7 @@ mod tests {
 
     #[test]
     fn hand_choices_and_hardware_skip_the_measurement() {
-        let p = Placement::default();
+        let p = RendererChoice::default();
         assert_eq!(p.renderer(Device::Cpu, Adapter::Hardware), Renderer::Cpu);
         assert_eq!(p.renderer(Device::Gpu, Adapter::Software), Renderer::Gpu);
         assert_eq!(p.renderer(Device::Auto, Adapter::Hardware), Renderer::Gpu);
@@ -204,7 +204,7 @@ mod tests {
 
     #[test]
     fn auto_on_software_measures_both_and_keeps_the_faster() {
-        let mut p = Placement::default();
+        let mut p = RendererChoice::default();
         let t0 = Instant::now();
         let (auto, sw) = (Device::Auto, Adapter::Software);
         assert_eq!(p.renderer(auto, sw), Renderer::Gpu);
@@ -234,7 +234,7 @@ mod tests {
 
     #[test]
     fn the_gpu_is_kept_when_it_is_faster() {
-        let mut p = Placement::default();
+        let mut p = RendererChoice::default();
         let t0 = Instant::now();
         let (auto, sw) = (Device::Auto, Adapter::Software);
         p.observe(auto, sw, Renderer::Gpu, Some(0.0), true, t0);
