@@ -6,9 +6,11 @@
 //! declaration `mod x;` is not an import; a `pub use` re-export is). A path is resolved to the file of
 //! its longest module prefix: `crate::app::state::edit::power_to_text` in the `lightpick`
 //! crate is `src/app/state/edit.rs`; `super::x` and `self::x` from the file's own module.
-//! Imports of a file's own descendants are edges too, so a parent that re-exports a child
-//! which imports from the parent is a circle. The strongly connected components of that
-//! graph must all be single files.
+//! A bare path names a child module (`use rebuild::TableBuild;` in a `mod.rs`). A module's
+//! imports of its own descendants are not edges: a facade (`lib.rs`, a `mod.rs`) re-exporting
+//! its children is how a module shows its API; a child reaching a sibling through the
+//! facade (`use crate::Scaled` in a file beside `scaled.rs`) is an edge to the facade. The
+//! strongly connected components of that graph must all be single files.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -217,7 +219,22 @@ impl Crate {
             "super" => {
                 segments.extend_from_slice(&from[..from.len().saturating_sub(1)]);
             }
-            _ => return None,
+            // A bare path names a child module of this one (`use rebuild::TableBuild;` in a
+            // `mod.rs`), or an outside crate (`std::…`, `egui::…`).
+            child => {
+                let mut own: Vec<String> = from.to_vec();
+                own.push(child.to_owned());
+                if !self.modules.contains_key(&own) {
+                    return None;
+                }
+                segments = own;
+                for word in words {
+                    segments.push(word);
+                }
+                return (0..=segments.len())
+                    .rev()
+                    .find_map(|k| self.modules.get(&segments[..k]));
+            }
         }
         for word in words {
             if word == "super" {
@@ -231,7 +248,15 @@ impl Crate {
             .find_map(|k| self.modules.get(&segments[..k]))
     }
 
-    /// Every file's imports of other files of the crate.
+    /// Whether `file` is a module inside `module` (a facade's re-export of its own children
+    /// is how a module shows its API, not an import).
+    fn is_descendant(&self, file: &Path, module: &[String]) -> bool {
+        self.modules
+            .iter()
+            .any(|(path, f)| f == file && path.len() > module.len() && path.starts_with(module))
+    }
+
+    /// Every file's imports of other files of the crate (a module's own descendants aside).
     fn edges(&self) -> BTreeMap<PathBuf, BTreeSet<PathBuf>> {
         let mut edges = BTreeMap::new();
         for (module, file) in &self.modules {
@@ -251,7 +276,7 @@ impl Crate {
                     let from: Vec<String> = module.iter().chain(within).cloned().collect();
                     self.resolve(&from, p).cloned()
                 })
-                .filter(|t| t != file)
+                .filter(|t| t != file && !self.is_descendant(t, module))
                 .collect();
             edges.insert(file.clone(), targets);
         }

@@ -39,6 +39,11 @@ impl LightpickApp {
     /// points, 40 spots; skipped 1 directional light 'Sun'"). Returns that line.
     pub fn open_loaded(&mut self, path: &Path, loaded: lightpick_core::scene::Loaded) -> String {
         let message = format!("opened {}: {}", path.display(), loaded.report.summary());
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        self.state.history.name_next(format!("open '{name}'"));
         self.state.load_scene(loaded.scene);
         self.state.message(message.clone(), MessageKind::Success);
         message

@@ -81,7 +81,7 @@ impl LightpickApp {
     }
 
     /// Keyboard: Space pauses, R resets, N steps, Escape restores a maximized panel,
-    /// Ctrl+O / Ctrl+S open and save.
+    /// Ctrl+O / Ctrl+S open and save, Ctrl+Z undoes, Ctrl+Shift+Z and Ctrl+Y redo.
     fn shortcuts(&mut self, ctx: &egui::Context) {
         let open = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
         let save = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
@@ -91,9 +91,19 @@ impl LightpickApp {
         if ctx.input_mut(|i| i.consume_shortcut(&save)) {
             controls_ui::open_dialog(&mut self.state, FileAction::SaveScene);
         }
-        // Plain keys only when no text field (or drag value being typed into) has focus.
+        // Plain keys only when no text field (or drag value being typed into) has focus:
+        // a text field keeps its own undo.
         if ctx.text_edit_focused() || self.state.file_dialog.action.is_some() {
             return;
+        }
+        let undo = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
+        let redo = KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
+        let redo_y = KeyboardShortcut::new(Modifiers::COMMAND, Key::Y);
+        // The longer shortcut first: Ctrl+Shift+Z also matches Ctrl+Z's keys.
+        if ctx.input_mut(|i| i.consume_shortcut(&redo) || i.consume_shortcut(&redo_y)) {
+            self.state.redo();
+        } else if ctx.input_mut(|i| i.consume_shortcut(&undo)) {
+            self.state.undo();
         }
         if self.layout.maximized.is_some()
             && ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Escape))

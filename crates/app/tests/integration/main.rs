@@ -21,6 +21,7 @@ mod app_scene_files;
 mod app_snapshots;
 mod app_spatial;
 mod app_trade_precision;
+mod app_undo;
 mod cli_animation;
 mod cli_bench_precision;
 mod cli_device;

@@ -43,6 +43,7 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
                 ui.close();
             }
         });
+        ui.menu_button("Edit", |ui| edit_menu_ui(ui, state));
         ui.menu_button("View", |ui| {
             if ui
                 .selectable_label(state.settings.dark, "Dark theme")
@@ -84,6 +85,38 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
         ui.separator();
         controls_ui(ui, state);
     });
+}
+
+/// The Edit menu: Undo and Redo, each with the name of its step ("Undo drag of light 3").
+fn edit_menu_ui(ui: &mut Ui, state: &mut AppState) {
+    let undo = state
+        .history
+        .undo_name()
+        .map_or_else(|| "Undo".to_owned(), |name| format!("Undo {name}"));
+    if ui
+        .add_enabled(
+            state.history.undo_name().is_some(),
+            egui::Button::new(undo).shortcut_text("Ctrl+Z"),
+        )
+        .clicked()
+    {
+        state.undo();
+        ui.close();
+    }
+    let redo = state
+        .history
+        .redo_name()
+        .map_or_else(|| "Redo".to_owned(), |name| format!("Redo {name}"));
+    if ui
+        .add_enabled(
+            state.history.redo_name().is_some(),
+            egui::Button::new(redo).shortcut_text("Ctrl+Shift+Z"),
+        )
+        .clicked()
+    {
+        state.redo();
+        ui.close();
+    }
 }
 
 /// Opens the path dialog for `action` with a sensible default path.

@@ -387,8 +387,21 @@ fn power_ui(ui: &mut Ui, state: &mut AppState, i: usize, name: &str) -> bool {
         };
         changed = true;
     }
+    // A drag is one undo step, however many frames it changes the power in.
+    if drag.drag_started() || slider.drag_started() {
+        state.history.begin_gesture();
+    }
     if changed {
         state.edit.powers_mut()[i] = power;
+        let how = if drag.dragged() || slider.dragged() {
+            "drag"
+        } else {
+            "power"
+        };
+        state.history.name_next(format!("{how} of {name}"));
+    }
+    if drag.drag_stopped() || slider.drag_stopped() {
+        state.history.end_gesture();
     }
     changed
 }

@@ -119,6 +119,7 @@ impl AppState {
         if !floor.is_finite() || floor == self.edit.floor {
             return;
         }
+        self.history.name_next(format!("floor {floor}"));
         let shift = floor - self.edit.floor;
         for p in self.edit.positions_mut() {
             p.z -= shift;
@@ -152,6 +153,7 @@ impl AppState {
                     }
                 }
                 let n = powers.len();
+                self.history.name_next("Apply powers");
                 self.edit.powers = powers.into();
                 if self.edit.positions.len() > n {
                     self.edit
@@ -166,6 +168,7 @@ impl AppState {
     /// Adds a light with power `power` at a fresh position.
     pub fn add_light(&mut self, power: f64) {
         let i = self.edit.powers.len();
+        self.history.name_next(format!("add light {}", i + 1));
         let pos = crate::app::generated::random_positions(
             i + 1,
             &self.edit.plane,
@@ -185,6 +188,7 @@ impl AppState {
             self.message("a scene needs at least one light", MessageKind::Error);
             return;
         }
+        self.history.name_next(format!("delete light {}", i + 1));
         self.edit.resize_lights(|positions, powers| {
             powers.remove(i);
             if i < positions.len() {
@@ -200,6 +204,7 @@ impl AppState {
         if i >= self.edit.powers.len() {
             return;
         }
+        self.history.name_next(format!("duplicate light {}", i + 1));
         self.edit.resize_lights(|positions, powers| {
             powers.insert(i + 1, powers[i]);
             let pos = positions.get(i).copied().unwrap_or(DVec3::Z);
@@ -214,6 +219,7 @@ impl AppState {
         let n = self.edit.powers.len();
         let scale = (self.settings.slider_max / 4.0).max(f64::MIN_POSITIVE);
         let seed = self.settings.seed.wrapping_add(self.frame);
+        self.history.name_next("Randomize");
         self.edit.powers =
             crate::app::generated::random_powers(n, self.settings.distribution, scale, seed).into();
         self.after_structure_change();
@@ -243,6 +249,7 @@ impl AppState {
                     positions,
                     powers,
                 );
+                self.history.name_next(format!("Generate ({count} lights)"));
                 self.load_scene(scene);
                 self.message(format!("generated {count} lights"), MessageKind::Info);
             }
@@ -267,7 +274,7 @@ impl AppState {
         self.edit.fit_extras(n);
     }
 
-    fn after_structure_change(&mut self) {
+    pub(super) fn after_structure_change(&mut self) {
         self.powers_text = if self.edit.powers.len() <= 1000 {
             powers_to_text(&self.edit.powers)
         } else {

@@ -83,6 +83,10 @@ impl AppState {
             ("estimator", self.estimator.heap_bytes()),
             ("stepper", self.stepper.heap_bytes()),
             ("walkthrough (saved scene)", self.walkthrough.heap_bytes()),
+            (
+                "undo history (changed powers, replaced scenes)",
+                self.history.heap_bytes(),
+            ),
         ]
     }
 }

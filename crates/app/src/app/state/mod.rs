@@ -29,6 +29,7 @@ pub mod counts;
 pub mod edit;
 pub mod estimator;
 pub mod file_dialog;
+pub mod history;
 pub mod inspector;
 mod memory;
 pub mod precision;
@@ -109,6 +110,11 @@ pub struct AppState {
     /// The preset the scene is, unedited (set by [`AppState::load_preset`], cleared by any
     /// edit): how a scene too large to store light by light is persisted.
     pub unedited_preset: Option<String>,
+    /// Undo and redo over the scene edits.
+    pub history: history::History,
+    /// The Floor control's value and the unedited preset of the installed scene (what an
+    /// undo of the next scene change restores).
+    installed: (f64, Option<String>),
     next_generation: u64,
     pending: Option<TableBuild>,
     rebuild_queued: bool,
@@ -152,6 +158,8 @@ impl AppState {
             animation_export: animation_export::AnimationExport::default(),
             table_highlight: None,
             unedited_preset: None,
+            history: history::History::default(),
+            installed: (0.0, None),
             next_generation: 2,
             pending: None,
             rebuild_queued: false,

@@ -10,6 +10,7 @@ use lightpick_core::{LightPowers, SceneSamplers};
 
 use super::built::Built;
 use super::edit::{SceneEdit, describe_powers_error, powers_to_text};
+use super::history::SceneState;
 use super::settings::{auto_exposure, nice_ceiling};
 use super::{AppState, MessageKind};
 use crate::app::background::{Polled, Worker};
@@ -58,8 +59,13 @@ impl AppState {
     pub fn load_preset(&mut self, name: &str) {
         match scene_io::preset(name) {
             Ok(scene) => {
+                self.history.name_next(format!("preset '{name}'"));
                 self.load_scene(scene);
                 self.unedited_preset = Some(name.to_owned());
+                self.installed.1 = Some(name.to_owned());
+                if !self.is_building() {
+                    self.history.set_last_preset(name);
+                }
                 self.message(format!("loaded preset '{name}'"), MessageKind::Info);
             }
             Err(e) => self.message(e, MessageKind::Error),
@@ -109,6 +115,11 @@ impl AppState {
         }
     }
 
+    /// The generation the next scene built will have.
+    pub(super) fn next_generation(&self) -> u64 {
+        self.next_generation
+    }
+
     fn take_generation(&mut self) -> u64 {
         let g = self.next_generation;
         self.next_generation += 1;
@@ -117,6 +128,18 @@ impl AppState {
 
     fn install(&mut self, built: Built) {
         let replaced = std::mem::replace(&mut self.built, Arc::new(built));
+        let before = SceneState {
+            scene: Arc::clone(&replaced.scene),
+            floor: self.installed.0,
+            preset: self.installed.1.take(),
+        };
+        self.installed = (self.edit.floor, self.unedited_preset.clone());
+        let after = SceneState {
+            scene: Arc::clone(&self.built.scene),
+            floor: self.edit.floor,
+            preset: self.unedited_preset.clone(),
+        };
+        self.history.record(before, after, self.built.generation);
         self.earlier = (self.built.len() > SYNC_BUILD_LIMIT
             && replaced.scene.same_geometry(&self.built.scene))
         .then(|| Arc::try_unwrap(replaced).ok())
