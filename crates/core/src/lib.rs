@@ -105,6 +105,7 @@
 //! guarantees do not depend on the split. Tested on pools of 1, 2, 3 and 16 threads.
 
 mod alias;
+pub mod atomic_file;
 mod cdf;
 mod chi_square;
 pub mod construction;

@@ -154,14 +154,23 @@ fn export_images(path: &Path, p: &Published) -> Result<(), String> {
         place(1, k, part);
     }
     let out = captioned(&out, [total_w, h_total], w, &captions(p), &caption)?;
-    image::save_buffer(
-        path,
+    let mut png = std::io::Cursor::new(Vec::new());
+    image::write_buffer_with_format(
+        &mut png,
         &out,
         total_w as u32,
         h_total as u32,
         image::ExtendedColorType::Rgba8,
+        image::ImageFormat::Png,
     )
-    .map_err(|e| format!("{}: {e}", path.display()))
+    .map_err(|e| format!("{}: {e}", path.display()))?;
+    // Atomically: a failed write (a full disk, a read-only folder) leaves the old file.
+    lightpick_core::atomic_file::write_bytes_atomically(path, png.get_ref()).map_err(|e| {
+        format!(
+            "cannot write {}: {e} — the old file is unchanged",
+            path.display()
+        )
+    })
 }
 
 /// The captions of the exported columns: scheme, samples per pixel and RMSE; "exact

@@ -26,6 +26,7 @@ mod memory;
 pub mod panels;
 mod persist;
 pub mod scene_io;
+pub mod session_files;
 pub mod state;
 pub mod text_size;
 pub mod window;
@@ -70,6 +71,11 @@ pub struct LightpickApp {
     renderer_choice: renderer_choice::RendererChoice,
     /// Gives freed memory back after a scene or renderer change ([`memory::Trim`]).
     trim: memory::Trim,
+    /// Where the session keeps a large scene (`None`: not kept).
+    session_dir: Option<std::path::PathBuf>,
+    /// The scene generation (and whether the walkthrough held the user's scene) last
+    /// written to the session folder.
+    saved_scene: Option<(u64, bool)>,
 }
 
 impl LightpickApp {
@@ -94,6 +100,8 @@ impl LightpickApp {
             gpu_error: None,
             renderer_choice: renderer_choice::RendererChoice::default(),
             trim: memory::Trim::default(),
+            session_dir: None,
+            saved_scene: None,
         }
     }
 

@@ -54,8 +54,14 @@ pub fn to_json(scene: &Scene) -> String {
     scene.to_json()
 }
 
-/// Writes the scene as JSON to `path`.
+/// Writes the scene as JSON to `path`, atomically: on failure (a full disk, a read-only
+/// folder) the old file stays and the message says why.
 pub fn save(path: &Path, scene: &Scene) -> Result<(), String> {
     let text = to_json(scene);
-    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
+    lightpick_core::atomic_file::write_bytes_atomically(path, text.as_bytes()).map_err(|e| {
+        format!(
+            "cannot write {}: {e} — the old file is unchanged",
+            path.display()
+        )
+    })
 }

@@ -103,7 +103,7 @@ pub fn run(args: &AnimationArgs) -> anyhow::Result<()> {
     let recorded = record(&recording, &mut |done, _| bar.set_position(u64::from(done)))?;
     bar.finish_and_clear();
     let seconds = started.elapsed().as_secs_f64();
-    std::fs::write(&args.out, &recorded.gif)
+    lightpick_core::atomic_file::write_bytes_atomically(&args.out, &recorded.gif)
         .with_context(|| format!("--out {}", args.out.display()))?;
     let scene = &recording.scene;
     if args.json {

@@ -189,7 +189,8 @@ impl Rendered<'_> {
     fn report(&self, args: &RenderArgs) -> anyhow::Result<()> {
         let stats = self.stats_json(args);
         if let Some(path) = &args.stats {
-            std::fs::write(path, serde_json::to_string_pretty(&stats)?)
+            let text = serde_json::to_string_pretty(&stats)?;
+            lightpick_core::atomic_file::write_bytes_atomically(path, text.as_bytes())
                 .with_context(|| format!("--stats {}", path.display()))?;
         }
         if args.json {
@@ -384,10 +385,12 @@ fn write_png(
     };
     let buffer = image::RgbaImage::from_raw(acc.width, acc.height, rgba)
         .ok_or_else(|| anyhow::anyhow!("image buffer size mismatch"))?;
+    let mut png = std::io::Cursor::new(Vec::new());
     buffer
-        .save_with_format(path, image::ImageFormat::Png)
+        .write_to(&mut png, image::ImageFormat::Png)
         .with_context(|| format!("--out {}", path.display()))?;
-    Ok(())
+    lightpick_core::atomic_file::write_bytes_atomically(path, png.get_ref())
+        .with_context(|| format!("--out {}", path.display()))
 }
 
 fn write_exr(path: &Path, acc: &Accumulator) -> anyhow::Result<()> {
@@ -401,7 +404,10 @@ fn write_exr(path: &Path, acc: &Accumulator) -> anyhow::Result<()> {
         .collect();
     let buffer = image::Rgb32FImage::from_raw(acc.width, acc.height, data)
         .ok_or_else(|| anyhow::anyhow!("image buffer size mismatch"))?;
+    let mut bytes = std::io::Cursor::new(Vec::new());
     buffer
-        .save_with_format(path, image::ImageFormat::OpenExr)
+        .write_to(&mut bytes, image::ImageFormat::OpenExr)
+        .with_context(|| format!("--hdr {}", path.display()))?;
+    lightpick_core::atomic_file::write_bytes_atomically(path, bytes.get_ref())
         .with_context(|| format!("--hdr {}", path.display()))
 }

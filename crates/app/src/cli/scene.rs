@@ -33,7 +33,7 @@ pub fn run(args: &SceneCommandArgs) -> anyhow::Result<()> {
         bail!("no scene given: use --scene FILE or --preset NAME");
     };
     if let Some(out) = &args.out {
-        std::fs::write(out, loaded.scene.to_json())
+        lightpick_core::atomic_file::write_bytes_atomically(out, loaded.scene.to_json().as_bytes())
             .with_context(|| format!("--out {}", out.display()))?;
     }
     if args.json {

@@ -2,7 +2,6 @@
 //! list for large N, built off the UI thread past the synchronous limit), the log slider;
 //! and the settings and scene that persist between runs (eframe storage).
 
-use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
 use egui::accesskit::Role;
@@ -11,6 +10,7 @@ use egui_kittest::kittest::Queryable as _;
 use lightpick::app::state::{SYNC_BUILD_LIMIT, SliderScale};
 use lightpick::app::{LightpickApp, PanelKind};
 
+use crate::common::session::{MemoryStorage, restored};
 use crate::common::{HANG_GUARD, click, panel};
 
 fn lights_panel() -> Harness<'static, LightpickApp> {
@@ -112,29 +112,6 @@ fn the_log_slider_sets_small_powers() {
     harness.run();
     let p = powers(&harness)[0];
     assert!((p - 0.001).abs() <= 1e-9, "{p}");
-}
-
-/// eframe's storage, in memory.
-#[derive(Default)]
-struct MemoryStorage(HashMap<String, String>);
-
-impl eframe::Storage for MemoryStorage {
-    fn get_string(&self, key: &str) -> Option<String> {
-        self.0.get(key).cloned()
-    }
-    fn set_string(&mut self, key: &str, value: String) {
-        self.0.insert(key.to_owned(), value);
-    }
-    fn remove_string(&mut self, key: &str) {
-        self.0.remove(key);
-    }
-    fn flush(&mut self) {}
-}
-
-fn restored(storage: &MemoryStorage) -> LightpickApp {
-    let mut cc = eframe::CreationContext::_new_kittest(egui::Context::default());
-    cc.storage = Some(storage);
-    LightpickApp::new(&cc)
 }
 
 #[test]

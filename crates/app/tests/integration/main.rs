@@ -18,6 +18,7 @@ mod app_memory;
 mod app_near_light;
 mod app_scale;
 mod app_scene_files;
+mod app_session;
 mod app_snapshots;
 mod app_spatial;
 mod app_trade_precision;

@@ -130,11 +130,12 @@ pub fn encode_png(pixmap: &Pixmap) -> Result<Vec<u8>, DrawError> {
     Ok(bytes)
 }
 
-/// Writes a pixmap to `path` as a PNG file.
+/// Writes a pixmap to `path` as a PNG file, atomically
+/// ([`crate::atomic_file::write_bytes_atomically`]: a failed write leaves the old file).
 pub fn write_png(pixmap: &Pixmap, path: impl AsRef<Path>) -> Result<(), DrawError> {
     let path = path.as_ref();
     let bytes = encode_png(pixmap)?;
-    std::fs::write(path, bytes).map_err(|source| DrawError::Io {
+    crate::atomic_file::write_bytes_atomically(path, &bytes).map_err(|source| DrawError::Io {
         path: path.to_owned(),
         source,
     })

@@ -66,8 +66,12 @@ impl Exported {
 pub fn export(job: &ExportJob, progress: &mut dyn FnMut(u32, u32)) -> Result<Exported, String> {
     let started = Instant::now();
     let recorded = recording::record(&job.recording, progress).map_err(|e| format!("{e:#}"))?;
-    std::fs::write(&job.path, &recorded.gif)
-        .map_err(|e| format!("cannot write {}: {e}", job.path.display()))?;
+    lightpick_core::atomic_file::write_bytes_atomically(&job.path, &recorded.gif).map_err(|e| {
+        format!(
+            "cannot write {}: {e} — the old file is unchanged",
+            job.path.display()
+        )
+    })?;
     Ok(Exported {
         path: std::path::absolute(&job.path).unwrap_or_else(|_| job.path.clone()),
         frames: recorded.frames.len(),

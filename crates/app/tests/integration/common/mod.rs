@@ -7,6 +7,7 @@
 mod app;
 mod cli;
 pub mod painted;
+pub mod session;
 
 use std::path::PathBuf;
 use std::time::Duration;
