@@ -67,6 +67,8 @@
 //! Nothing above depends on how many threads run, so the packed table is bit for bit the
 //! same on one thread or sixteen (tested with `rayon::ThreadPoolBuilder`).
 
+#[cfg(test)]
+mod exactness;
 mod heavy;
 mod quantize;
 #[cfg(test)]
