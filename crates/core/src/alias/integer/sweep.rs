@@ -291,11 +291,19 @@ fn step<S: Slot>(table: &[S], state: &mut State, l: usize, h_next: usize, m_next
 /// defined.
 #[cfg(target_has_atomic = "64")]
 #[allow(unsafe_code)]
+#[allow(
+    clippy::cast_ptr_alignment,
+    reason = "the alignment is checked before the cast"
+)]
 fn atomic_view(words: &mut [u64]) -> Option<&[AtomicU64]> {
     const {
         assert!(std::mem::size_of::<AtomicU64>() == std::mem::size_of::<u64>());
     }
-    if !words.as_mut_ptr().cast::<AtomicU64>().is_aligned() {
+    if !words
+        .as_ptr()
+        .addr()
+        .is_multiple_of(std::mem::align_of::<AtomicU64>())
+    {
         return None;
     }
     // SAFETY: `AtomicU64` has the size (asserted above) and bit validity of `u64`, the
