@@ -22,8 +22,9 @@
 //! then the difference is given one unit each to its lights whose ideal mass lies on its
 //! side of their mass (compared exactly, to the double-double's `2^-100`), which keeps them
 //! within one unit too. Were there too few such lights (never seen: with exactly rounded
-//! anchors there are always enough, so only their double-double rounding could cause it), the rest goes one unit at a time to the lights
-//! nearest to taking it: the chunk always ends on its target. The last anchor is `N·C·2^f`,
+//! anchors there are always enough, so only their double-double rounding could cause it),
+//! the rest goes one unit at a time to the lights nearest to taking it: the chunk always
+//! ends on its target. The last anchor is `N·C·2^f`,
 //! so `Σ m_i = N·C` exactly, checked in release builds as well.
 //!
 //! These bounds are checked against exact big-integer arithmetic on the powers' mantissas
