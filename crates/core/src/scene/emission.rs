@@ -259,8 +259,10 @@ impl Emission {
         let at = light_in_world.truncate();
         let mut bounds: Option<[DVec2; 2]> = None;
         if let Some(r) = self.range {
-            // (r − h)(r + h) rather than r² − h², which cancels where h nears r; then widened
-            // past the rounding of the root and of at ± reach.
+            // The window lights up to `d·(1/r) < 1` as rounded, a few ulps past r: take
+            // r·(1 + 8ε). Then (r − h)(r + h) rather than r² − h², which cancels where h nears
+            // r, and the box widened past the rounding of the root and of at ± reach.
+            let r = r * (1.0 + 8.0 * f64::EPSILON);
             let reach = ((r - h) * (r + h)).max(0.0).sqrt();
             let slack = 1e-9 * (at.abs() + reach) + DVec2::splat(f64::MIN_POSITIVE);
             bounds = Some([at - reach - slack, at + reach + slack]);
