@@ -10,8 +10,9 @@
 //! of `X_i`: one `f64` product (`k` carried as `k_hi + k_lo`) rounded to the nearest integer
 //! (one `cvtsd2si`) where it is below `2^50`, so that its two roundings stay within `1/4`; above,
 //! where one product would be off by up to `2^9` fixed-point units, `2^(9−f)` units of mass (two at
-//! `N = 2^22` for a light holding most of the total), a double-double product rounded once
-//! (at most `2^13` lights of any set take that branch). The masses are the increments of the
+//! `N = 2^22` for a light holding most of the total), a double-double product rounded once:
+//! a chunk where some product reaches `2^50` (at most `2^13` lights of any set) is quantized
+//! again with that path for those lights, so the common loop holds no branch for it. The masses are the increments of the
 //! rounded running sums, `m_i = round(P_i) − round(P_{i−1})` with `P_i = Z_c + Σ X̂_j` over
 //! chunk `c`'s lights up to `i`: each chunk of [`CHUNK`](units::CHUNK) lights starts from its
 //! *anchor* `Z_c = round(k·S_{<c}·2^f)`, the ideal running sum at its start from the chunks'

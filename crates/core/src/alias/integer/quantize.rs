@@ -45,25 +45,23 @@ pub(super) fn chunk_masses(
     masses: &mut [u64],
     heavy: &mut [u64],
 ) -> ChunkCensus {
-    // Two instances rather than a test per light of which formula applies.
+    // Two instances rather than a test per light of which formula applies, each run with
+    // one product per light; a chunk where some product reached `ONE_PRODUCT_BELOW` (rare:
+    // at most 2^13 lights of a set) is run again with the exact path for those lights.
     let (census, reached) = if ideal.folded {
-        rounded_masses(
-            chunk,
-            start,
-            ideal.shift,
-            |p| ideal.fixed_from(ideal.folded_of(p), p),
-            masses,
-            heavy,
-        )
+        let fixed_of = |p| ideal.folded_of(p);
+        match rounded_masses::<false>(chunk, start, ideal, fixed_of, masses, heavy) {
+            Some(done) => done,
+            None => rounded_masses::<true>(chunk, start, ideal, fixed_of, masses, heavy)
+                .expect("the exact path completes"),
+        }
     } else {
-        rounded_masses(
-            chunk,
-            start,
-            ideal.shift,
-            |p| ideal.fixed_from(ideal.scaled_of(p), p),
-            masses,
-            heavy,
-        )
+        let fixed_of = |p| ideal.scaled_of(p);
+        match rounded_masses::<false>(chunk, start, ideal, fixed_of, masses, heavy) {
+            Some(done) => done,
+            None => rounded_masses::<true>(chunk, start, ideal, fixed_of, masses, heavy)
+                .expect("the exact path completes"),
+        }
     };
     let wanted = ideal.rounded(end);
     if reached == wanted {
@@ -80,18 +78,22 @@ pub(super) fn chunk_masses(
 }
 
 /// The masses `m_i = round(P_i) − round(P_{i−1})` of the running fixed-point sum
-/// `P_i = start + Σ_{j≤i} X_j` (`X_j = fixed(p_j)`, the ideal mass in units of `2^-shift`
-/// within one such unit, [`IdealMass::fixed`]), with reach flags, bitmap words and census.
-/// Returns the census and `round(P_last)`.
+/// `P_i = start + Σ_{j≤i} X̂_j` (`X̂_j` the ideal mass in units of `2^-shift` within one such
+/// unit: `fixed_of(p_j)` rounded where it is below [`ONE_PRODUCT_BELOW`], else
+/// [`IdealMass::fixed_exact`]), with reach flags, bitmap words and census. Returns the
+/// census and `round(P_last)`; without `EXACT`, `None` (and the slots written are to be
+/// overwritten) when some rounded `fixed_of(p_j)` reached [`ONE_PRODUCT_BELOW`], so the
+/// common loop holds no branch for it.
 #[inline]
-fn rounded_masses(
+fn rounded_masses<const EXACT: bool>(
     chunk: &[f64],
     start: u64,
-    shift: u32,
-    fixed: impl Fn(f64) -> u64,
+    ideal: IdealMass,
+    fixed_of: impl Fn(f64) -> f64,
     masses: &mut [u64],
     heavy: &mut [u64],
-) -> (ChunkCensus, u64) {
+) -> Option<(ChunkCensus, u64)> {
+    let shift = ideal.shift;
     // The running sum is kept half a unit ahead, so that its whole units are round(P).
     let mut sum = start + ((1u64 << shift) >> 1);
     let first = sum >> shift;
@@ -99,6 +101,7 @@ fn rounded_masses(
     // Σ min(m, C) and the large lights' count give the census without a test per light.
     let mut capped = 0u64;
     let mut large = 0u64;
+    let mut seen = 0u64;
     for ((word, slots), group) in heavy
         .iter_mut()
         .zip(masses.chunks_mut(64))
@@ -106,7 +109,16 @@ fn rounded_masses(
     {
         let mut bits = 0u64;
         for (b, (slot, &p)) in slots.iter_mut().zip(group).enumerate() {
-            sum += fixed(p);
+            let v = fixed_of(p);
+            let x = if EXACT && v >= ONE_PRODUCT_BELOW {
+                ideal.fixed_exact(p)
+            } else {
+                nearest_integer(v)
+            };
+            // Every `x < 2^63`: their union has a bit from 50 up iff some `x ≥ 2^50`, which
+            // every `v ≥ 2^50` gives (rounding is monotone); one `or` per light.
+            seen |= x;
+            sum += x;
             let rounded = sum >> shift;
             let m = rounded - rounded_before;
             rounded_before = rounded;
@@ -117,12 +129,15 @@ fn rounded_masses(
         *word = bits;
         large += u64::from(bits.count_ones());
     }
+    if !EXACT && seen >= ONE_PRODUCT_BELOW as u64 {
+        return None;
+    }
     let census = ChunkCensus {
         small: chunk.len() as u64 - large,
         small_mass: capped - large * CAPACITY,
         mass: rounded_before - first,
     };
-    (census, rounded_before)
+    Some((census, rounded_before))
 }
 
 /// `v` rounded to the nearest integer, ties to even (`0 ≤ v < 2^63`): one instruction on
@@ -386,18 +401,14 @@ impl IdealMass {
     }
 
     /// The ideal mass of power `p` in fixed point as an integer `X̂` with `|X̂ − X| < 1`
-    /// (`X = w·(k_hi + k_lo)` exactly): what the running sums add up.
+    /// (`X = w·(k_hi + k_lo)` exactly), by the quantization's rule: the one-product value
+    /// `v = fixed_of(p)` rounded where it is below [`ONE_PRODUCT_BELOW`] (each of its two
+    /// roundings is then at most `2^-3`, so `|X̂ − X| ≤ 1/2 + 1/4`), else
+    /// [`IdealMass::fixed_exact`] (at most `2^13` lights of any set: each holds over `2^-13`
+    /// of the total `< 2^63`).
     #[cfg(test)]
     pub(super) fn fixed(self, p: f64) -> u64 {
-        self.fixed_from(self.fixed_of(p), p)
-    }
-
-    /// [`IdealMass::fixed`] of `p` from its one-product value `v = fixed_of(p)`: `v` rounded
-    /// where it is below [`ONE_PRODUCT_BELOW`] (each of its two roundings is then at most
-    /// `2^-3`, so `|X̂ − X| ≤ 1/2 + 1/4`), else [`IdealMass::fixed_exact`] (a branch taken
-    /// by at most `2^13` lights of any set: each holds over `2^-13` of the total `< 2^63`).
-    #[inline]
-    fn fixed_from(self, v: f64, p: f64) -> u64 {
+        let v = self.fixed_of(p);
         if v < ONE_PRODUCT_BELOW {
             nearest_integer(v)
         } else {
