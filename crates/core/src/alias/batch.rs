@@ -42,6 +42,24 @@ impl AliasTable {
     /// the randoms are drawn in lanes, the table reads overlap their cache misses, and no
     /// step branches on a random.
     pub fn sample_into(&self, out: &mut [u32], rng: &mut Rng) {
+        self.sample_into_by(out, rng, Self::pick_block_fastest);
+    }
+
+    /// [`AliasTable::sample_into`] on the portable instance of the block passes, whatever
+    /// the processor has: the tests compare it with the AVX2 one.
+    #[cfg(test)]
+    pub(crate) fn sample_into_portable(&self, out: &mut [u32], rng: &mut Rng) {
+        self.sample_into_by(out, rng, Self::pick_block);
+    }
+
+    /// [`AliasTable::sample_into`] with `pick` filling each block.
+    #[inline]
+    fn sample_into_by(
+        &self,
+        out: &mut [u32],
+        rng: &mut Rng,
+        pick: impl Fn(&Self, &mut Block, &mut [u32], &mut Rng) -> usize,
+    ) {
         let mut block = Block {
             column_draws: [0; BLOCK],
             keep_draws: [0; BLOCK],
@@ -52,7 +70,7 @@ impl AliasTable {
         while !rest.is_empty() {
             let len = rest.len().min(BLOCK);
             let mut ahead = rng.clone();
-            let accepted = self.pick_block_fastest(&mut block, &mut rest[..len], &mut ahead);
+            let accepted = pick(self, &mut block, &mut rest[..len], &mut ahead);
             let later = &mut rest[accepted..];
             if accepted == len {
                 *rng = ahead;

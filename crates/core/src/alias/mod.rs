@@ -13,7 +13,9 @@
 //!   sweep builds the packed table (`integer/`). The table realizes **exactly** the pmf
 //!   `m_i/(N·2^32)`, with `|m_i/(N·2^32) − p_i| ≤ (1 + a_i)·2^-32/N` (`a_i` columns alias to
 //!   `i`) and `< 2^-32/N` for every light unless some `p_i < 2^-32/N` (whose columns take
-//!   one unit from their alias to stay reachable). 8 bytes per light; no `f64` table is
+//!   one unit from their alias to stay reachable), for every `N` up to `2^31 − 1` and every
+//!   valid power set (checked against exact big-integer arithmetic in
+//!   `integer/exactness.rs`). 8 bytes per light; no `f64` table is
 //!   stored: [`AliasTable::thresholds`] and [`AliasTable::pmf_slice`] are derived from the
 //!   packed table on first use, so what they show is what is sampled.
 //! * [`Construction::Exact`] ([`AliasTable::build_exact`]): Vose's pairing in `f64` with

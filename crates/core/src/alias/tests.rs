@@ -221,6 +221,39 @@ fn batch_picks_equal_one_at_a_time_picks() {
         table.sample_into(&mut got, &mut batch_rng);
         assert_eq!(got, expected, "stream {stream}");
         assert_eq!(batch_rng, one, "stream {stream}: final state");
+        // The portable instance of the block passes (the one run without AVX2) too.
+        let mut portable_rng = Rng::new(11, stream);
+        let mut portable = vec![0u32; len];
+        table.sample_into_portable(&mut portable, &mut portable_rng);
+        assert_eq!(portable, expected, "stream {stream}: portable passes");
+        assert_eq!(portable_rng, one, "stream {stream}: portable final state");
+    }
+}
+
+#[test]
+fn the_avx2_and_portable_batch_passes_pick_alike() {
+    // Where the processor has AVX2, `sample_into` runs the AVX2 instance; the portable one
+    // must give the same picks on every size, rejections (N = 10^6 + 3) included.
+    #[cfg(target_arch = "x86_64")]
+    eprintln!(
+        "AVX2 {}",
+        if std::arch::is_x86_feature_detected!("avx2") {
+            "present: comparing it with the portable passes"
+        } else {
+            "absent: both runs take the portable passes"
+        }
+    );
+    let mut rng = Rng::new(4, 0);
+    for n in [1usize, 3, 1000, 1_000_003] {
+        let values: Vec<f64> = (0..n).map(|_| rng.next_unit() + 0.01).collect();
+        let table = integer(&values);
+        let (mut fastest_rng, mut portable_rng) = (Rng::new(12, n as u64), Rng::new(12, n as u64));
+        let (mut fastest, mut portable) = (vec![0u32; 100_000], vec![0u32; 100_000]);
+        table.sample_into(&mut fastest, &mut fastest_rng);
+        table.sample_into_portable(&mut portable, &mut portable_rng);
+        assert_eq!(fastest, portable, "N = {n}");
+        assert_eq!(fastest_rng, portable_rng, "N = {n}: final state");
+        assert!(fastest.iter().all(|&i| (i as usize) < n));
     }
 }
 

@@ -251,14 +251,21 @@ impl Emission {
     /// the horizon (`−a_z > sin θo`) it is an ellipse `wᵀ(−M)w ≤ Q₀` about its centre, whose
     /// box has the half-extents `√(Q₀·(−C)/det)` and `√(Q₀·(−A)/det)` (`M = [[A, B], [B, C]]`
     /// the quadratic part); a range `r` bounds the region by the disc of radius `√(r² − h²)`.
-    /// The box is widened by `10^-9` of its size against rounding.
+    /// The box is widened by `10^-9` of its size against rounding, and the ellipse's by the
+    /// error bound of its cancellation where the cone grazes the horizon (its determinant's
+    /// condition number times `8ε`); past `κ·8ε = 1/4` the ellipse is not used.
     pub fn footprint(&self, light_in_world: DVec3) -> Option<[DVec2; 2]> {
         let h = light_in_world.z;
         let at = light_in_world.truncate();
         let mut bounds: Option<[DVec2; 2]> = None;
         if let Some(r) = self.range {
-            let reach = (r * r - h * h).max(0.0).sqrt();
-            bounds = Some([at - reach, at + reach]);
+            // The window lights up to `d·(1/r) < 1` as rounded, a few ulps past r: take
+            // r·(1 + 8ε). Then (r − h)(r + h) rather than r² − h², which cancels where h nears
+            // r, and the box widened past the rounding of the root and of at ± reach.
+            let r = r * (1.0 + 8.0 * f64::EPSILON);
+            let reach = ((r - h) * (r + h)).max(0.0).sqrt();
+            let slack = 1e-9 * (at.abs() + reach) + DVec2::splat(f64::MIN_POSITIVE);
+            bounds = Some([at - reach - slack, at + reach + slack]);
         }
         if self.spot.is_some() && -self.axis.z > (1.0 - self.cos_outer * self.cos_outer).sqrt() {
             let (ax, ay, az) = (self.axis.x, self.axis.y, self.axis.z);
@@ -270,13 +277,28 @@ impl Emission {
             let e = -ay * az * h;
             let f = (az * az - c2) * h * h;
             let det = a * c - b * b;
-            if det > 0.0 && a < 0.0 && c < 0.0 {
+            // Where the cone grazes the horizon `det` cancels: `κ` its condition number, so
+            // that `8εκ` bounds its relative error and the centre's and extents' through it.
+            let kappa = ((a * c).abs() + b * b) / det;
+            let rel = 8.0 * f64::EPSILON * kappa;
+            if det > 0.0 && a < 0.0 && c < 0.0 && rel < 0.25 {
                 let u0 = (-d * c + e * b) / det;
                 let v0 = (-e * a + d * b) / det;
-                let q0 = (f + d * u0 + e * v0).max(0.0);
-                let half = DVec2::new((q0 * -c / det).sqrt(), (q0 * -a / det).sqrt());
+                let centre_error = DVec2::new(
+                    4.0 * f64::EPSILON * ((d * c).abs() + (e * b).abs()) / det + rel * u0.abs(),
+                    4.0 * f64::EPSILON * ((e * a).abs() + (d * b).abs()) / det + rel * v0.abs(),
+                );
+                // q0's own cancellation, raised by its bound; det lowered by its bound.
+                let q0_error = 8.0
+                    * f64::EPSILON
+                    * (1.0 + kappa)
+                    * (f.abs() + (d * u0).abs() + (e * v0).abs());
+                let q0 = (f + d * u0 + e * v0 + q0_error).max(0.0);
+                let det_low = det * (1.0 - rel);
+                let half = DVec2::new((q0 * -c / det_low).sqrt(), (q0 * -a / det_low).sqrt());
                 let centre = at + DVec2::new(u0, v0);
-                let slack = 1e-9 * (centre.abs() + half) + DVec2::splat(f64::MIN_POSITIVE);
+                let slack =
+                    1e-9 * (centre.abs() + half) + centre_error + DVec2::splat(f64::MIN_POSITIVE);
                 let ellipse = [centre - half - slack, centre + half + slack];
                 bounds = Some(match bounds {
                     Some([lo, hi]) => [lo.max(ellipse[0]), hi.min(ellipse[1])],
@@ -434,7 +456,9 @@ mod tests {
         assert!(wide.footprint(light).is_none());
         let ranged = Emission::new(None, Some(2.5)).expect("valid");
         let [lo, hi] = ranged.footprint(light).expect("bounded by the range");
-        assert!((hi.x - lo.x - 3.0).abs() < 1e-12);
+        // Width 3 (h = 2, r = 2.5), widened against rounding by about 10^-9 of its size.
+        let width = hi.x - lo.x;
+        assert!((3.0..3.0 + 1e-8).contains(&width), "width {width}");
         assert!(Emission::POINT.footprint(light).is_none());
     }
 

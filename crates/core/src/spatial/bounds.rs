@@ -113,7 +113,8 @@ impl LaneBounds {
         }
         let p = point_on_plane.extend(0.0);
         let outside = (self.min - p).max(p - self.max).max(DVec3::ZERO);
-        if outside.length_squared() >= self.range * self.range {
+        // Culled only beyond the rounding of both sides (a few ulps), by a relative margin.
+        if outside.length_squared() > self.range * self.range * (1.0 + REACH_SLACK) {
             return 0.0;
         }
         if self.cos_spread <= -1.0 || self.cos_emission <= -1.0 {
@@ -136,9 +137,18 @@ impl LaneBounds {
         // θx = max(0, θw − θo), then θp = max(0, θx − θb).
         let (cos_x, sin_x) = cos_sin_sub_clamped((cos_w, sin_w), (self.cos_spread, sin_spread));
         let (cos_p, _) = cos_sin_sub_clamped((cos_x, sin_x), (cos_b, sin_b));
-        if cos_p <= self.cos_emission { 0.0 } else { 1.0 }
+        if cos_p < self.cos_emission - REACH_SLACK {
+            0.0
+        } else {
+            1.0
+        }
     }
 }
+
+/// The margin beyond which [`LaneBounds::reach`] culls: relative for the squared range,
+/// absolute for the cosines; far above their rounding (a few ulps), far below any scene's
+/// scale.
+const REACH_SLACK: f64 = 1e-12;
 
 /// `(cos, sin)` of `max(0, a − b)` from those of `a` and `b` (angles in `[0, π]`).
 #[inline]
@@ -154,22 +164,27 @@ fn cos_sin_sub_clamped((cos_a, sin_a): (f64, f64), (cos_b, sin_b): (f64, f64)) -
 }
 
 /// The smallest cone (axis, `cos` half-angle) found by pbrt-v4's `DirectionCone::Union`
-/// that holds two cones; `cos = −1` is every direction.
+/// that holds two cones; `cos = −1` is every direction. The angle between the axes is
+/// `2·asin(|wb − wa|/2)` (pbrt-v4's `AngleBetween`: accurate for nearly parallel axes, where
+/// `acos` of their dot product gives 0 below about `10^-8`), and every cone returned is
+/// widened against rounding ([`padded_cos`]), so it holds both cones' axes even when they
+/// are `5·10^-9` apart.
 fn cone_union((wa, cos_a): (DVec3, f64), (wb, cos_b): (DVec3, f64)) -> (DVec3, f64) {
+    use std::f64::consts::PI;
     if cos_a <= -1.0 || cos_b <= -1.0 {
         return (DVec3::Z, -1.0);
     }
     let theta_a = cos_a.clamp(-1.0, 1.0).acos();
     let theta_b = cos_b.clamp(-1.0, 1.0).acos();
-    let theta_d = wa.angle_between(wb);
-    if (theta_d + theta_b).min(std::f64::consts::PI) <= theta_a {
-        return (wa, cos_a);
+    let theta_d = angle_between(wa, wb);
+    if (theta_d + theta_b).min(PI) <= theta_a {
+        return (wa, padded_cos(theta_a));
     }
-    if (theta_d + theta_a).min(std::f64::consts::PI) <= theta_b {
-        return (wb, cos_b);
+    if (theta_d + theta_a).min(PI) <= theta_b {
+        return (wb, padded_cos(theta_b));
     }
     let theta_o = 0.5 * (theta_a + theta_d + theta_b);
-    if theta_o >= std::f64::consts::PI {
+    if theta_o >= PI {
         return (DVec3::Z, -1.0);
     }
     let theta_r = theta_o - theta_a;
@@ -178,9 +193,164 @@ fn cone_union((wa, cos_a): (DVec3, f64), (wb, cos_b): (DVec3, f64)) -> (DVec3, f
         return (DVec3::Z, -1.0);
     }
     let w = DQuat::from_axis_angle(wr.normalize(), theta_r) * wa;
-    // Rounding in the rotation: keep the cone a touch wider than computed.
-    (
-        w.normalize(),
-        (theta_o + 1e-9).min(std::f64::consts::PI).cos(),
-    )
+    (w.normalize(), padded_cos(theta_o))
+}
+
+/// The angle between two directions, `2·asin(|v2 − v1|/2)` of the unit vectors (or
+/// `π − 2·asin(|v2 + v1|/2)` beyond a right angle): accurate to a few ulps at every angle.
+fn angle_between(a: DVec3, b: DVec3) -> f64 {
+    let (a, b) = (a.normalize(), b.normalize());
+    if a.dot(b) < 0.0 {
+        std::f64::consts::PI - 2.0 * ((a + b).length() / 2.0).min(1.0).asin()
+    } else {
+        2.0 * ((b - a).length() / 2.0).min(1.0).asin()
+    }
+}
+
+/// `cos(θ)` of a cone's half-angle widened against rounding: by `10^-9` rad and then by
+/// four ulps of the cosine, which is what widens a cone narrower than `10^-8` (whose cosine
+/// rounds to 1); `−1` from `π` on.
+fn padded_cos(theta: f64) -> f64 {
+    let widened = theta + 1e-9;
+    if widened >= std::f64::consts::PI {
+        return -1.0;
+    }
+    (widened.cos() - 4.0 * f64::EPSILON).max(-1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Spot;
+
+    fn spot(direction: DVec3, outer: f64, range: Option<f64>) -> Emission {
+        Emission::new(
+            Some(Spot {
+                direction,
+                inner_cone: 0.5 * outer,
+                outer_cone: outer,
+            }),
+            range,
+        )
+        .expect("a valid spot")
+    }
+
+    fn light(at: DVec3) -> SpatialLight {
+        SpatialLight {
+            position_in_world: at,
+            power: 0.5,
+        }
+    }
+
+    /// The last `f64` step `t` in `[0, t_max]` along `from + t·dir` on the plane where
+    /// `lit(t)` holds (it holds at 0 and not at `t_max`, once across), by bisection.
+    fn rim(lit: impl Fn(f64) -> bool, t_max: f64) -> f64 {
+        let (mut inside, mut outside) = (0.0f64, t_max);
+        while inside.next_up() < outside {
+            let mid = 0.5 * (inside + outside);
+            let mid = if mid <= inside { inside.next_up() } else { mid };
+            if lit(mid) {
+                inside = mid;
+            } else {
+                outside = mid;
+            }
+        }
+        inside
+    }
+
+    #[test]
+    fn coincident_spots_with_nearly_parallel_axes_light_their_rims() {
+        // Two spots at one position whose cones reach the horizon (unbounded footprints, so
+        // the lane's cone is what culls), axes 5e-9 rad apart: a point just inside b's cone
+        // lies just outside a's, and the union cone must hold it.
+        let at = DVec3::new(0.2, -0.1, 1.0);
+        let wa = DVec3::new(1.0, 0.0, -0.2).normalize();
+        let down = wa.cross(DVec3::NEG_Z).normalize();
+        for apart in [5e-9, 1e-12, 3e-8, 1e-4] {
+            let wb = DQuat::from_axis_angle(down, apart) * wa;
+            let (a, b) = (spot(wa, 0.8, None), spot(wb, 0.8, None));
+            let union = LaneBounds::union(
+                &LaneBounds::of_light(&light(at), &a),
+                &LaneBounds::of_light(&light(at), &b),
+            );
+            assert!(union.footprint[0].x.is_infinite(), "an unbounded footprint");
+            // Along the plane, away from a's axis, out to b's rim.
+            let ray = |t: f64| {
+                let dir = DQuat::from_axis_angle(down, apart + t) * wa;
+                at.truncate() + dir.truncate() * (at.z / -dir.z)
+            };
+            let last = rim(|t| b.factor(at, ray(t)) > 0.0, 1.0);
+            let point = ray(last);
+            assert!(b.factor(at, point) > 0.0, "lit by b");
+            assert_eq!(a.factor(at, point), 0.0, "{apart} apart: not lit by a");
+            assert_eq!(union.reach(point), 1.0, "{apart} apart: b's rim culled");
+        }
+    }
+
+    /// A reproducible stream of uniforms in `[0, 1)` (a 64-bit LCG's top bits).
+    fn uniforms(seed: u64) -> impl FnMut() -> f64 {
+        let mut state = seed;
+        move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    #[test]
+    fn points_just_inside_a_range_are_kept() {
+        // The last point along a ray where a light of range r still gives something lies in
+        // its footprint box, for heights from 10^-3 to 10^-14 below r (where r² − h²
+        // cancels; without the widening about one light in eight lost its rim), near the
+        // origin and far from it.
+        let mut unit = uniforms(12_345);
+        for _ in 0..2000 {
+            let r = 0.5 + 10.0 * unit();
+            let h = r * (1.0 - 10f64.powf(-3.0 - 11.0 * unit()));
+            let scale = 10f64.powf(-3.0 * unit());
+            let at = DVec2::new(2000.0 * unit() - 1000.0, 2000.0 * unit() - 1000.0) * scale;
+            let light_at = at.extend(h);
+            let emission = Emission::new(None, Some(r)).expect("a valid range");
+            let bounds = LaneBounds::of_light(&light(light_at), &emission);
+            let angle = std::f64::consts::TAU * unit();
+            let dir = DVec2::new(angle.cos(), angle.sin());
+            let point = |t: f64| at + dir * t;
+            assert!(emission.factor(light_at, point(0.0)) > 0.0);
+            let last = point(rim(|t| emission.factor(light_at, point(t)) > 0.0, 2.0 * r));
+            assert!(emission.factor(light_at, last) > 0.0);
+            assert_eq!(
+                bounds.reach(last),
+                1.0,
+                "light at {light_at}, range {r}: its rim culled"
+            );
+        }
+    }
+
+    #[test]
+    fn grazing_spots_keep_their_rims() {
+        // Cones just below the horizon: the footprint ellipse is long and its determinant
+        // cancels; the last lit point along rays from below the light stays in its box.
+        let at = DVec3::new(-0.4, 0.25, 1.0);
+        for tilt in [1e-3, 1e-6, 1e-9, 1e-12] {
+            let outer: f64 = 0.6;
+            // −axis.z just above sin θo: the cone's upper edge dips `tilt` below the horizon.
+            let elevation = -(outer + tilt);
+            let axis = DVec3::new(elevation.cos(), 0.0, elevation.sin());
+            let emission = spot(axis, outer, None);
+            let bounds = LaneBounds::of_light(&light(at), &emission);
+            for angle in [0.0f64, 0.3, -0.3, 1.2, -1.2, 3.0] {
+                let dir = DVec2::new(angle.cos(), angle.sin());
+                // From under the axis' foot outwards.
+                let start = at.truncate() + axis.truncate() * (at.z / -axis.z);
+                let from = |t: f64| start + dir * t;
+                if emission.factor(at, from(0.0)) == 0.0 {
+                    continue;
+                }
+                let last = from(rim(|t| emission.factor(at, from(t)) > 0.0, 1e13));
+                assert!(emission.factor(at, last) > 0.0);
+                assert_eq!(bounds.reach(last), 1.0, "tilt {tilt}, ray {angle}: culled");
+            }
+        }
+    }
 }

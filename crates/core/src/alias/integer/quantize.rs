@@ -23,6 +23,14 @@ pub(super) fn quantize(powers: &[f64], table: &mut [u64], heavy: &mut [u64]) -> 
             chunk_masses(chunk, ideal, anchor[0], anchor[1], masses, words)
         })
         .collect();
+    // The anchors telescope to N·C and every chunk ends on its own, so this always holds; a
+    // table from masses that did not would be silently wrong, so it is checked in release.
+    let total: u64 = chunks.iter().map(|c| c.mass).sum();
+    assert_eq!(
+        total,
+        (n as u64) << 32,
+        "integer masses must add up to N·2^32"
+    );
     Census::new(&chunks, n)
 }
 
@@ -37,25 +45,23 @@ pub(super) fn chunk_masses(
     masses: &mut [u64],
     heavy: &mut [u64],
 ) -> ChunkCensus {
-    // Two instances rather than a test per light of which formula applies.
+    // Two instances rather than a test per light of which formula applies, each run with
+    // one product per light; a chunk where some product reached `ONE_PRODUCT_BELOW` (rare:
+    // at most 2^13 lights of a set) is run again with the exact path for those lights.
     let (census, reached) = if ideal.folded {
-        rounded_masses(
-            chunk,
-            start,
-            ideal.shift,
-            |p| ideal.folded_of(p),
-            masses,
-            heavy,
-        )
+        let fixed_of = |p| ideal.folded_of(p);
+        match rounded_masses::<false>(chunk, start, ideal, fixed_of, masses, heavy) {
+            Some(done) => done,
+            None => rounded_masses::<true>(chunk, start, ideal, fixed_of, masses, heavy)
+                .expect("the exact path completes"),
+        }
     } else {
-        rounded_masses(
-            chunk,
-            start,
-            ideal.shift,
-            |p| ideal.scaled_of(p),
-            masses,
-            heavy,
-        )
+        let fixed_of = |p| ideal.scaled_of(p);
+        match rounded_masses::<false>(chunk, start, ideal, fixed_of, masses, heavy) {
+            Some(done) => done,
+            None => rounded_masses::<true>(chunk, start, ideal, fixed_of, masses, heavy)
+                .expect("the exact path completes"),
+        }
     };
     let wanted = ideal.rounded(end);
     if reached == wanted {
@@ -72,18 +78,22 @@ pub(super) fn chunk_masses(
 }
 
 /// The masses `m_i = round(P_i) − round(P_{i−1})` of the running fixed-point sum
-/// `P_i = start + Σ_{j≤i} X_j` (`X_j` the ideal mass in units of `2^-shift`, rounded to the
-/// nearest unit), with reach flags, bitmap words and census. Returns the census and
-/// `round(P_last)`.
+/// `P_i = start + Σ_{j≤i} X̂_j` (`X̂_j` the ideal mass in units of `2^-shift` within one such
+/// unit: `fixed_of(p_j)` rounded where it is below [`ONE_PRODUCT_BELOW`], else
+/// [`IdealMass::fixed_exact`]), with reach flags, bitmap words and census. Returns the
+/// census and `round(P_last)`; without `EXACT`, `None` (and the slots written are to be
+/// overwritten) when some rounded `fixed_of(p_j)` reached [`ONE_PRODUCT_BELOW`], so the
+/// common loop holds no branch for it.
 #[inline]
-fn rounded_masses(
+fn rounded_masses<const EXACT: bool>(
     chunk: &[f64],
     start: u64,
-    shift: u32,
+    ideal: IdealMass,
     fixed_of: impl Fn(f64) -> f64,
     masses: &mut [u64],
     heavy: &mut [u64],
-) -> (ChunkCensus, u64) {
+) -> Option<(ChunkCensus, u64)> {
+    let shift = ideal.shift;
     // The running sum is kept half a unit ahead, so that its whole units are round(P).
     let mut sum = start + ((1u64 << shift) >> 1);
     let first = sum >> shift;
@@ -91,6 +101,7 @@ fn rounded_masses(
     // Σ min(m, C) and the large lights' count give the census without a test per light.
     let mut capped = 0u64;
     let mut large = 0u64;
+    let mut seen = 0u64;
     for ((word, slots), group) in heavy
         .iter_mut()
         .zip(masses.chunks_mut(64))
@@ -98,7 +109,16 @@ fn rounded_masses(
     {
         let mut bits = 0u64;
         for (b, (slot, &p)) in slots.iter_mut().zip(group).enumerate() {
-            sum += nearest_integer(fixed_of(p));
+            let v = fixed_of(p);
+            let x = if EXACT && v >= ONE_PRODUCT_BELOW {
+                ideal.fixed_exact(p)
+            } else {
+                nearest_integer(v)
+            };
+            // Every `x < 2^63`: their union has a bit from 50 up iff some `x ≥ 2^50`, which
+            // every `v ≥ 2^50` gives (rounding is monotone); one `or` per light.
+            seen |= x;
+            sum += x;
             let rounded = sum >> shift;
             let m = rounded - rounded_before;
             rounded_before = rounded;
@@ -109,16 +129,21 @@ fn rounded_masses(
         *word = bits;
         large += u64::from(bits.count_ones());
     }
+    if !EXACT && seen >= ONE_PRODUCT_BELOW as u64 {
+        return None;
+    }
     let census = ChunkCensus {
         small: chunk.len() as u64 - large,
         small_mass: capped - large * CAPACITY,
         mass: rounded_before - first,
     };
-    (census, rounded_before)
+    Some((census, rounded_before))
 }
 
 /// `v` rounded to the nearest integer, ties to even (`0 ≤ v < 2^63`): one instruction on
-/// x86-64 (`cvtsd2si` in the default rounding mode), exact for every such `v`.
+/// x86-64 (`cvtsd2si` in the default rounding mode), exact for every such `v`; elsewhere
+/// [`nearest_integer_portable`], the same integer (tested on ties, half-ulp neighbours and
+/// values up to `2^63`).
 #[inline]
 #[allow(unsafe_code)]
 pub(super) fn nearest_integer(v: f64) -> u64 {
@@ -131,18 +156,30 @@ pub(super) fn nearest_integer(v: f64) -> u64 {
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        v.round_ties_even() as u64
+        nearest_integer_portable(v)
     }
 }
 
+/// [`nearest_integer`] without the x86-64 instruction: `v` rounded to the nearest integer,
+/// ties to even (`0 ≤ v < 2^63`).
+#[inline]
+#[cfg_attr(target_arch = "x86_64", allow(dead_code, reason = "compared in tests"))]
+pub(super) fn nearest_integer_portable(v: f64) -> u64 {
+    v.round_ties_even() as u64
+}
+
 /// Moves `d` units of a chunk's masses so that they add up to the chunk's target: one unit
-/// each to lights whose ideal mass lies above theirs (`d > 0`) or below (`d < 0`), from the
-/// chunk's first light on, so every light stays within one unit of its ideal mass. Whatever
-/// no such light takes (never seen) goes to the chunk's largest mass. Needed where the
-/// fixed-point roundings moved the chunk's sum across a rounding boundary (at `N = 10^6`
-/// one chunk in a few hundred, at `1.6·10^7` one in three); `|d|` is 1 then. Returns the
-/// lights moved with their masses before and after.
-fn settle(
+/// each to lights whose ideal mass lies above theirs (`d > 0`) or below (`d < 0`), compared
+/// to about `2^-100` relative ([`IdealMass::gap`]), from the chunk's first light on, so every
+/// light stays within one unit of its ideal mass. Needed where the fixed-point roundings
+/// moved the chunk's sum across a rounding boundary (at `N = 10^6` one chunk in a few
+/// hundred, at `1.6·10^7` one in three); `|d|` is 1 then, and the chunk has such a light
+/// (its masses and ideal masses add up to within one unit of each other). Whatever no such
+/// light takes (never seen) goes one unit at a time to the light nearest to taking it, the
+/// largest `x_i − m_i` (`d > 0`) or the smallest among positive masses (`d < 0`): the chunk
+/// always ends on its target, because its target is `≥ 0`. Returns the lights moved with
+/// their masses before and after (a light may appear more than once).
+pub(super) fn settle(
     chunk: &[f64],
     ideal: IdealMass,
     masses: &mut [u64],
@@ -154,11 +191,10 @@ fn settle(
             return moved;
         }
         let m = *slot & !REACH_FLAG;
-        let fixed = nearest_integer(ideal.fixed_of(p));
-        let own = m << ideal.shift;
-        let after = if d > 0 && fixed > own {
+        let gap = ideal.gap(p, m);
+        let after = if d > 0 && gap > 0.0 {
             m + 1
-        } else if d < 0 && fixed < own {
+        } else if d < 0 && gap < 0.0 {
             m - 1
         } else {
             continue;
@@ -167,13 +203,24 @@ fn settle(
         *slot = flagged(after, p);
         moved.push((i, m, after));
     }
-    if d != 0
-        && let Some(largest) = (0..masses.len()).max_by_key(|&i| masses[i] & !REACH_FLAG)
-    {
-        let m = masses[largest] & !REACH_FLAG;
-        let after = m.saturating_add_signed(d);
-        masses[largest] = flagged(after, chunk[largest]);
-        moved.push((largest, m, after));
+    while d != 0 {
+        let mass = |i: usize| masses[i] & !REACH_FLAG;
+        let gap = |i: &usize| ideal.gap(chunk[*i], mass(*i));
+        let nearest = if d > 0 {
+            (0..masses.len()).max_by(|a, b| gap(a).total_cmp(&gap(b)))
+        } else {
+            (0..masses.len())
+                .filter(|&i| mass(i) > 0)
+                .min_by(|a, b| gap(a).total_cmp(&gap(b)))
+        };
+        let Some(i) = nearest else {
+            unreachable!("a chunk's target is at least 0 and its masses are not");
+        };
+        let m = mass(i);
+        let after = if d > 0 { m + 1 } else { m - 1 };
+        d -= after as i64 - m as i64;
+        masses[i] = flagged(after, chunk[i]);
+        moved.push((i, m, after));
     }
     moved
 }
@@ -226,6 +273,10 @@ fn chunk_totals(powers: &[f64]) -> Vec<ChunkTotal> {
         })
         .collect()
 }
+
+/// Where the one-product fixed point [`IdealMass::fixed_of`] stops being within a quarter of
+/// a unit of the ideal `X` (its two roundings are half an ulp each, at most `2^-3` there).
+const ONE_PRODUCT_BELOW: f64 = (1u64 << 50) as f64;
 
 /// `x·2^k` for `k ≤ 0` (down to any `k`), exact unless the result is subnormal.
 fn times_pow2(mut x: f64, mut k: i32) -> f64 {
@@ -338,13 +389,60 @@ impl IdealMass {
         w * self.k_hi + w * self.k_lo
     }
 
-    /// The fixed-point `x` the way the quantization computes it (`< 2^63`).
-    pub(super) fn fixed_of(self, p: f64) -> f64 {
+    /// The fixed-point `x` in `f64` the way the quantization computes it (`< 2^63`; within
+    /// `1/4` of the product `w·(k_hi + k_lo)` below [`ONE_PRODUCT_BELOW`], not above).
+    #[cfg(test)]
+    fn fixed_of(self, p: f64) -> f64 {
         if self.folded {
             self.folded_of(p)
         } else {
             self.scaled_of(p)
         }
+    }
+
+    /// The ideal mass of power `p` in fixed point as an integer `X̂` with `|X̂ − X| < 1`
+    /// (`X = w·(k_hi + k_lo)` exactly), by the quantization's rule: the one-product value
+    /// `v = fixed_of(p)` rounded where it is below [`ONE_PRODUCT_BELOW`] (each of its two
+    /// roundings is then at most `2^-3`, so `|X̂ − X| ≤ 1/2 + 1/4`), else
+    /// [`IdealMass::fixed_exact`] (at most `2^13` lights of any set: each holds over `2^-13`
+    /// of the total `< 2^63`).
+    #[cfg(test)]
+    pub(super) fn fixed(self, p: f64) -> u64 {
+        let v = self.fixed_of(p);
+        if v < ONE_PRODUCT_BELOW {
+            nearest_integer(v)
+        } else {
+            self.fixed_exact(p)
+        }
+    }
+
+    /// `X` of a large product rounded to the nearest integer (`|X̂ − X| ≤ 1/2` up to the
+    /// double-double's `2^-100`), where one `f64` product would be off by up to
+    /// `ulp(X)/2 = 2^9` fixed-point units (`X` up to `2^63`).
+    #[cold]
+    #[inline(never)]
+    fn fixed_exact(self, p: f64) -> u64 {
+        let (whole, fraction) = self.ideal_parts(p);
+        whole.saturating_add_signed((fraction + 0.5).floor() as i64)
+    }
+
+    /// `X = whole + fraction` for power `p` as a double-double product `w·(k_hi + k_lo)`
+    /// (`w` the scaled power), `whole` an integer and `|fraction|` below `2^12`.
+    fn ideal_parts(self, p: f64) -> (u64, f64) {
+        let w = self.scale.apply(p);
+        let (hi, error) = two_product(w, self.k_hi);
+        let lo = error + w * self.k_lo;
+        let whole = hi.floor();
+        (whole as u64, (hi - whole) + lo)
+    }
+
+    /// `X − m·2^shift` for power `p` and mass `m`: its sign exact for the double-double `X`
+    /// (`> 0` when the ideal mass lies above `m`), its value to `f64` precision.
+    pub(super) fn gap(self, p: f64, m: u64) -> f64 {
+        let (whole, fraction) = self.ideal_parts(p);
+        // Both below 2^64: the difference is exact in i128, and rounding it and adding the
+        // fraction keeps the sign (a rounded sum is 0 only where the exact one is).
+        (i128::from(whole) - (i128::from(m) << self.shift)) as f64 + fraction
     }
 
     /// `round(z)` of a fixed-point running sum: the whole units of its nearest integer

@@ -2,22 +2,20 @@
 //! masses by the quantization's rule written plainly, one pair of global index lists, and
 //! one sweep. Tests only.
 
-use super::quantize::{IdealMass, nearest_integer};
+use super::quantize::IdealMass;
 use super::units::{CAPACITY, CHUNK, REACH_FLAG, full};
 use crate::alias::packed::packed_word;
 
 /// The masses (with [`REACH_FLAG`]) by the quantization's rule, written plainly: per chunk,
 /// the cumulative rounding of the fixed-point ideal masses from the chunk's anchor, then
 /// the difference to the next anchor's rounding settled one unit per light from the
-/// chunk's first light on (the largest mass takes what is left).
+/// chunk's first light on (what is left goes one unit at a time to the light nearest to
+/// taking it).
 pub(super) fn masses(powers: &[f64]) -> Vec<u64> {
     let (ideal, anchors) = IdealMass::with_anchors(powers);
     let mut masses = Vec::with_capacity(powers.len());
     for (c, chunk) in powers.chunks(CHUNK).enumerate() {
-        let fixed: Vec<u64> = chunk
-            .iter()
-            .map(|&p| nearest_integer(ideal.fixed_of(p)))
-            .collect();
+        let fixed: Vec<u64> = chunk.iter().map(|&p| ideal.fixed(p)).collect();
         let mut sum = anchors[c];
         let mut own: Vec<u64> = fixed
             .iter()
@@ -28,18 +26,27 @@ pub(super) fn masses(powers: &[f64]) -> Vec<u64> {
             })
             .collect();
         let mut d = ideal.rounded(anchors[c + 1]) as i64 - ideal.rounded(sum) as i64;
-        for (m, &x) in own.iter_mut().zip(&fixed) {
-            if d > 0 && x > *m << ideal.shift {
+        for (m, &p) in own.iter_mut().zip(chunk) {
+            if d > 0 && ideal.gap(p, *m) > 0.0 {
                 *m += 1;
                 d -= 1;
-            } else if d < 0 && x < *m << ideal.shift {
+            } else if d < 0 && ideal.gap(p, *m) < 0.0 {
                 *m -= 1;
                 d += 1;
             }
         }
-        if d != 0 {
-            let largest = (0..own.len()).max_by_key(|&i| own[i]).expect("a light");
-            own[largest] = own[largest].saturating_add_signed(d);
+        while d != 0 {
+            let gaps = (0..own.len()).map(|i| (ideal.gap(chunk[i], own[i]), i));
+            let i = if d > 0 {
+                gaps.max_by(|a, b| a.0.total_cmp(&b.0))
+            } else {
+                gaps.filter(|&(_, i)| own[i] > 0)
+                    .min_by(|a, b| a.0.total_cmp(&b.0))
+            }
+            .expect("a light to take the unit")
+            .1;
+            own[i] = own[i].saturating_add_signed(d.signum());
+            d -= d.signum();
         }
         masses.extend(
             own.iter()
