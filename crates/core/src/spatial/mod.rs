@@ -164,8 +164,9 @@ impl SpatialSampler {
 
     /// New powers for the same lights: `scene` has the positions, cones and ranges this
     /// sampler was built over ([`Scene::same_geometry`]) and new powers. The light tree is
-    /// refitted bottom up ([`LightTree::refit`], `O(N)`, no allocation) and then equals a
-    /// fresh [`SpatialSampler::for_scene`] bit for bit; the exact pick (`N ≤ 16`) is rebuilt.
+    /// refitted bottom up ([`LightTree::refit`]: `O(N)` and no allocation for point lights;
+    /// spot and range maps recomputed as a build does) and then equals a fresh
+    /// [`SpatialSampler::for_scene`] bit for bit; the exact pick (`N ≤ 16`) is rebuilt.
     ///
     /// # Panics
     /// If `scene` holds a different number of lights.

@@ -37,4 +37,5 @@ mod scene_files;
 mod scene_import;
 mod spatial;
 mod spatial_emission;
+mod spatial_rims;
 mod statistics;

@@ -46,9 +46,19 @@ pub(super) fn time_tree(
         tree.sample(x, &mut rng).map_or(0, |p| p.light)
     });
     let repower_ns = time_app_repower(&positions, powers, other, reps);
-    ["tree-build", "tree-refit", "app-repower"]
+    let mut cases = vec![
+        ("tree-build", build_ns),
+        ("tree-refit", refit_ns),
+        ("app-repower", repower_ns),
+    ];
+    if n <= SPOT_REFIT_MAX_LIGHTS {
+        cases.push((
+            "tree-refit-spots",
+            time_spot_refit(&positions, powers, other, seed, reps),
+        ));
+    }
+    cases
         .into_iter()
-        .zip([build_ns, refit_ns, repower_ns])
         .map(|(method, build_ns)| Case {
             n,
             method,
@@ -61,6 +71,49 @@ pub(super) fn time_tree(
             rebuild_faults: None,
         })
         .collect()
+}
+
+/// The most lights the spot tree's refit is timed at (its maps make it the dearest case).
+const SPOT_REFIT_MAX_LIGHTS: usize = 100_000;
+
+/// `tree-refit-spots`: the refit of a tree over the same positions as spots (each aimed down
+/// within 0.6 rad, cones of 0.1–0.8 rad) mapped over the unit square, in `build_ns`: the
+/// lanes' bounds bottom up and every lane's map recomputed from its lights (see
+/// [`lightpick_core::spatial::LightTree::refit`]).
+fn time_spot_refit(
+    positions: &[DVec3],
+    powers: &LightPowers,
+    other: &LightPowers,
+    seed: u64,
+    reps: usize,
+) -> f64 {
+    use lightpick_core::scene::{Emission, Spot};
+    let unit = |i: usize, salt: u64| {
+        f64::from(lightpick_core::pcg_hash(
+            (i as u32) ^ (seed as u32) ^ salt as u32,
+        )) / f64::from(u32::MAX)
+    };
+    let emission: Vec<Emission> = (0..positions.len())
+        .map(|i| {
+            let (tilt, turn) = (0.6 * unit(i, 7), std::f64::consts::TAU * unit(i, 8));
+            let outer = 0.1 + 0.7 * unit(i, 9);
+            let spot = Spot {
+                direction: glam::dvec3(
+                    tilt.sin() * turn.cos(),
+                    tilt.sin() * turn.sin(),
+                    -tilt.cos(),
+                ),
+                inner_cone: 0.5 * outer,
+                outer_cone: outer,
+            };
+            Emission::new(Some(spot), None).unwrap_or(Emission::POINT)
+        })
+        .collect();
+    let region = Some([glam::dvec2(0.0, 0.0), glam::dvec2(1.0, 1.0)]);
+    let mut tree = LightTree::build_over(positions, powers, Some(&emission), region);
+    median_ns(reps.min(5), 1, |rep| {
+        tree.refit(if rep % 2 == 0 { other } else { powers });
+    })
 }
 
 /// The app's answer to a power drag, in `build_ns`: from `AppState::powers_changed` (new

@@ -169,10 +169,15 @@ impl LightTree {
     }
 
     /// New powers for the same lights (same positions, cones and ranges): each light's
-    /// normalized power is replaced and every lane recomputed bottom up, `O(N)`, in
-    /// parallel, without allocating; the tree then equals [`LightTree::build`] over the new
-    /// powers bit for bit (the layout depends on positions only, and both fill the lanes
-    /// with the same pass).
+    /// normalized power is replaced and every lane recomputed bottom up, in parallel; the
+    /// tree then equals [`LightTree::build`] over the new powers bit for bit (the layout
+    /// depends on positions only, and both fill the lanes with the same pass).
+    ///
+    /// Its cost: for point lights `O(N)` with no allocation. For a tree with spots or ranges
+    /// mapped over a region, every lane's map ([`crate::spatial::grid`]) is recomputed from
+    /// its lights as a build does: each light is integrated into the maps of the lanes above
+    /// it, `O(N · depth)` footprint integrations, and one array of lane ranges (a word pair
+    /// per node lane) is allocated. `lightpick bench` times it as `tree-refit-spots`.
     ///
     /// # Panics
     /// If `powers` holds a different number of lights.
