@@ -32,10 +32,19 @@ impl GpuNodeBounds {
             let [lo, hi] = b.footprint;
             let [map_x, map_y, per_x, per_y, scale] = mapped.map;
             let [weight, c_x, c_y, c_z] = mapped.unbounded;
-            v[7 * k] = b.min.as_vec3().extend(b.intensity as f32);
-            v[7 * k + 1] = b.max.as_vec3().extend(b.range as f32);
-            v[7 * k + 2] = b.axis.as_vec3().extend(b.cos_spread as f32);
-            v[7 * k + 3] = Vec4::new(b.cos_emission as f32, scale[k] as f32, 0.0, 0.0);
+            // Every bound rounded outwards into f32, so the f32 lane still reaches every
+            // point the f64 one does: the box grows, the range grows, and the cones' cosines
+            // drop by more than the axis's own rounding can turn it (3 f32 ulps of a unit
+            // vector's components, under 2·10^-7 rad).
+            v[7 * k] = Vec4::new(
+                down(b.min.x),
+                down(b.min.y),
+                down(b.min.z),
+                b.intensity as f32,
+            );
+            v[7 * k + 1] = Vec4::new(up(b.max.x), up(b.max.y), up(b.max.z), up(b.range));
+            v[7 * k + 2] = b.axis.as_vec3().extend(cos_down(b.cos_spread));
+            v[7 * k + 3] = Vec4::new(cos_down(b.cos_emission), scale[k] as f32, 0.0, 0.0);
             // Rounded outwards, so the f32 box still holds every lit point.
             v[7 * k + 4] = Vec4::new(down(lo.x), down(lo.y), up(hi.x), up(hi.y));
             v[7 * k + 5] = Vec4::new(
@@ -65,6 +74,16 @@ fn down(x: f64) -> f32 {
 fn up(x: f64) -> f32 {
     let f = x as f32;
     if f64::from(f) < x { f.next_up() } else { f }
+}
+
+/// A cone's cosine as the GPU bound uses it: lowered by `4·10^-7` (wider than the axis's
+/// `f32` rounding can narrow it) and rounded down; `−1` and below (no cone) stay as they are.
+fn cos_down(cos: f64) -> f32 {
+    if cos <= -1.0 {
+        down(cos)
+    } else {
+        down((cos - 4e-7).max(-1.0))
+    }
 }
 
 /// The split-array layout of the node bounds.

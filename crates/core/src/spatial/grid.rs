@@ -485,6 +485,67 @@ mod tests {
         assert!(value > 1e3 * wide_only, "{value} vs {wide_only}");
     }
 
+    /// The descent's own cell lookup ([`MappedLanes::weights`], the production path) reads
+    /// the cell a point lies in, by an index computed here apart from the code: four lanes
+    /// whose maps differ in origin and cell size, every cell a different code, probed at cell
+    /// centres and a hair inside every cell edge, where an off-by-one cell would show.
+    #[test]
+    fn the_descent_reads_the_cell_each_point_lies_in() {
+        let origins = [(-3.0, -2.0), (0.5, -1.25), (-1.0, 0.75), (-4.0, -4.0)];
+        let sizes = [(6.0, 4.0), (2.0, 3.5), (1.0, 1.0), (8.0, 5.0)];
+        let grids: [LaneGrid; 4] = std::array::from_fn(|k| {
+            let mut grid = LaneGrid::EMPTY;
+            grid.lo = DVec2::new(origins[k].0, origins[k].1);
+            grid.cells_per_unit =
+                DVec2::splat(GRID_SIDE as f64) / DVec2::new(sizes[k].0, sizes[k].1);
+            grid.scale = 1.0 + k as f64;
+            for (c, code) in grid.codes.iter_mut().enumerate() {
+                // 255 different codes, none 0; cell 255 shares cell 0's, far away.
+                *code = 1 + ((c + 37 * k) % 255) as u8;
+            }
+            grid
+        });
+        let mut bounds = [super::super::LaneBounds::EMPTY; 4];
+        for (k, b) in bounds.iter_mut().enumerate() {
+            // Footprints holding the whole map, so only the map decides.
+            b.footprint = [DVec2::splat(-1e3), DVec2::splat(1e3)];
+            b.intensity = 1.0 + k as f64;
+        }
+        let lanes = MappedLanes::new(&bounds, &grids);
+        let side = GRID_SIDE as f64;
+        let mut probes = 0;
+        for k in 0..4 {
+            let (w, h) = (sizes[k].0 / side, sizes[k].1 / side);
+            for cy in 0..GRID_SIDE {
+                for cx in 0..GRID_SIDE {
+                    let x0 = origins[k].0 + cx as f64 * w;
+                    let y0 = origins[k].1 + cy as f64 * h;
+                    let hair = 1e-9;
+                    for (fx, fy) in [
+                        (0.5, 0.5),
+                        (hair, hair),
+                        (1.0 - hair, 1.0 - hair),
+                        (hair, 1.0 - hair),
+                    ] {
+                        let x = DVec2::new(x0 + fx * w, y0 + fy * h);
+                        let expected = grids[k].scale * decode(grids[k].codes[cy * GRID_SIDE + cx]);
+                        let (importance, share) = lanes.weights(&bounds, x);
+                        assert_eq!(
+                            importance[k], expected,
+                            "lane {k}, cell ({cx}, {cy}), point {x}"
+                        );
+                        assert_eq!(share[k], bounds[k].intensity);
+                        probes += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(probes, 4 * GRID_CELLS * 4);
+        // Outside a map: nothing from it, though the footprint holds the point.
+        let (importance, _) = lanes.weights(&bounds, DVec2::new(-3.5, 0.0));
+        assert_eq!(importance[0], 0.0);
+    }
+
     #[test]
     fn codes_round_trip_within_half_an_eighth_octave() {
         assert_eq!(decode(0), 0.0);
