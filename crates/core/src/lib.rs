@@ -10,7 +10,7 @@
 //!   [`Uniform`] are the peers it is compared with; all three implement [`LightSampler`].
 //! * [`Rng`] is the one counter-based random number generator (the PCG hash of Jarzynski &
 //!   Olano 2020) that the CPU and the WGSL shaders both implement.
-//! * [`Welford`], [`analytic_moments`] and [`chi_square`] measure estimators and samplers;
+//! * [`Welford`], [`analytic_moments`] and [`chi_square()`] measure estimators and samplers;
 //!   [`point_estimate`] runs the estimator at one shading point under several pick rules at
 //!   once (the seed's 18, converging faster by power than uniformly).
 //! * [`precision`] measures what each numerical choice of the alias table costs.
@@ -25,6 +25,14 @@
 //!   the CPU (rayon) and the GPU (wgpu compute, feature `gpu`), error metrics.
 //! * `draw` renders the diagrams, plots and image sheets headless (tiny-skia → PNG,
 //!   feature `draw`).
+//!
+//! # Map
+//! The folders are the topics: [`sampling`] (powers, the alias table and its peers, the one
+//! interface, the RNG), [`stats`] (moments, chi-square, [`Scaled`] figures), [`lesson`] (the
+//! worked example, the walkthrough, the construction trace, one shading point), [`scene`],
+//! [`spatial`], [`render`], `gpu`, `draw`, [`precision`] and [`atomic_file`]. The types are
+//! re-exported here, and the modules' former paths (`lightpick_core::walkthrough`, …) still
+//! work.
 //!
 //! # Quick start
 //! Build a table, sample one light and a batch (the batch holds exactly the picks of as
@@ -104,35 +112,29 @@
 //! and equals the one-thread build bit for bit ([`AliasTable::build`]); its exactness
 //! guarantees do not depend on the split. Tested on pools of 1, 2, 3 and 16 threads.
 
-mod alias;
 pub mod atomic_file;
-mod cdf;
-mod chi_square;
-pub mod construction;
 mod cpu_lights;
 #[cfg(feature = "draw")]
 pub mod draw;
-pub mod fraction;
 #[cfg(feature = "gpu")]
 pub mod gpu;
-pub mod inspect;
-mod moments;
-pub mod point_estimate;
-mod powers;
+pub mod lesson;
 pub mod precision;
 #[cfg(feature = "rand")]
 pub mod rand_support;
 pub mod render;
-mod rng;
-mod sampler;
-mod scaled;
+pub mod sampling;
 pub mod scene;
 mod scene_samplers;
-mod seed_example;
 pub mod spatial;
-mod uniform;
-pub mod walkthrough;
-mod welford;
+pub mod stats;
+
+// The modules' paths before the folders by topic, kept for whoever depends on them (and
+// used inside the crate): `lightpick_core::walkthrough::…` still works.
+pub(crate) use lesson::seed_example;
+pub use lesson::{construction, fraction, inspect, point_estimate, walkthrough};
+pub(crate) use sampling::{alias, cdf, powers, rng, sampler, uniform};
+pub(crate) use stats::{chi_square, moments, scaled, welford};
 
 pub use alias::{AliasTable, Construction, PackedAliasEntry};
 pub use cdf::CdfTable;

@@ -1,7 +1,7 @@
 //! The scene as the user edits it ([`SceneEdit`]: powers exactly as typed, valid or not)
 //! and the edits the lights panel makes: one power, the powers text field, adding, removing
 //! and duplicating lights, random powers, generated scenes, the receiver's height. Each edit
-//! ends in [`AppState::powers_changed`] ([`super::build`]), which validates and rebuilds.
+//! ends in [`AppState::powers_changed`] ([`super::rebuild`]), which validates and rebuilds.
 
 use std::sync::Arc;
 

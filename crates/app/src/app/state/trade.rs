@@ -117,7 +117,7 @@ fn timed_series(renderer: &mut CpuRenderer, reference: &Reference) -> Vec<Series
 ///
 /// Each point of a series is the core time of the passes alone up to it
 /// ([`pool_core_seconds`] around each `accumulate`: the CPU time of the render threads,
-/// without the RMSE computed between points), the fastest of [`TRADE_REPEATS`] runs, so the
+/// without the RMSE computed between points), the fastest of three runs, so the
 /// plot's curve and the table's `T` (its last point over its pixel samples) are one
 /// measurement. The app pauses its images while this runs ([`AppState::trade_pauses_images`]),
 /// so no live render shares the threads being timed.
