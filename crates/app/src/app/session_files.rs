@@ -5,9 +5,10 @@
 //! - **A scene of any size comes back.** A scene too large for `app.ron` (over
 //!   `PERSIST_SCENE_LIMIT` lights) that is not an unedited preset is written to
 //!   [`SCENE_FILE`], atomically (`lightpick_core::atomic_file::write_bytes_atomically`),
-//!   each time the session is saved with a new scene: a header line of JSON (name, plane, light count) and the positions
-//!   and powers as little-endian `f64`s, 32 bytes a light (a scene with spots, ranges or
-//!   names is kept as lightpick JSON instead). It is read back at the next start.
+//!   each time the session is saved with a new scene: a header line of JSON (name,
+//!   plane, light count) and the positions and powers as little-endian `f64`s, 32 bytes a
+//!   light (a scene with spots, ranges or names is kept as lightpick JSON instead). It is
+//!   read back at the next start.
 //! - **A damaged session is reported, never dropped in silence.** eframe starts on empty
 //!   storage when `app.ron` cannot be parsed; [`damaged_session`] reads the file itself, and
 //!   when it holds something that does not parse, moves it aside
