@@ -116,7 +116,7 @@ pub struct AppState {
     /// undo of the next scene change restores).
     installed: (f64, Option<String>),
     next_generation: u64,
-    pending: Option<TableBuild>,
+    pending: TableBuild,
     rebuild_queued: bool,
     /// The samplers a large scene's last install replaced, and when: the next power edit
     /// rebuilds into their table and tree ([`Built::repowered`]) instead of copying the
@@ -161,7 +161,7 @@ impl AppState {
             history: history::History::default(),
             installed: (0.0, None),
             next_generation: 2,
-            pending: None,
+            pending: TableBuild::default(),
             rebuild_queued: false,
             earlier: None,
         };

@@ -13,17 +13,14 @@ use super::edit::{SceneEdit, describe_powers_error, powers_to_text};
 use super::history::SceneState;
 use super::settings::{auto_exposure, nice_ceiling};
 use super::{AppState, MessageKind};
-use crate::app::background::{Polled, Worker};
+use crate::app::background::{Job, JobPolled};
 use crate::app::scene_io;
 
 /// Tables of at most this many lights are rebuilt on the UI thread, within the frame.
 pub const SYNC_BUILD_LIMIT: usize = 50_000;
 
-/// A table (with its samplers) being built on a worker for one scene generation.
-pub(super) struct TableBuild {
-    generation: u64,
-    worker: Worker<Built>,
-}
+/// The table (with its samplers) being built on a worker, keyed by its scene generation.
+pub(super) type TableBuild = Job<u64, Built>;
 
 /// Seconds the replaced samplers of a large scene are kept for the next power edit.
 const EARLIER_KEPT_S: f64 = 1.0;
@@ -31,7 +28,7 @@ const EARLIER_KEPT_S: f64 = 1.0;
 impl AppState {
     /// Whether a table is being built in the background.
     pub fn is_building(&self) -> bool {
-        self.pending.is_some()
+        self.pending.is_running()
     }
 
     /// Replaces the whole scene (preset, file, generated): the edit, the text field and the
@@ -45,7 +42,7 @@ impl AppState {
         self.settings.slider_max = nice_ceiling(2.0 * scene.powers.max());
         self.settings.exposure = auto_exposure(&scene);
         let n = scene.light_count();
-        self.pending = None;
+        self.pending.cancel();
         self.rebuild_queued = false;
         if n <= SYNC_BUILD_LIMIT {
             let generation = self.take_generation();
@@ -76,7 +73,7 @@ impl AppState {
     /// and keeps the last good table.
     pub fn powers_changed(&mut self) {
         self.unedited_preset = None;
-        if self.edit.powers.len() > SYNC_BUILD_LIMIT && self.pending.is_some() {
+        if self.edit.powers.len() > SYNC_BUILD_LIMIT && self.pending.is_running() {
             // One background build at a time: this edit is validated and built as soon as
             // the running build lands (the latest values win; intermediate ones are skipped).
             self.rebuild_queued = true;
@@ -98,12 +95,12 @@ impl AppState {
                 scene.emission.clone_from(&self.edit.emission);
                 scene.names.clone_from(&self.edit.names);
                 if scene.light_count() <= SYNC_BUILD_LIMIT {
-                    self.pending = None;
+                    self.pending.cancel();
                     self.rebuild_queued = false;
                     let generation = self.take_generation();
                     let built = Built::from_edit(generation, scene, &self.built.samplers, None);
                     self.install(built);
-                } else if self.pending.is_some() {
+                } else if self.pending.is_running() {
                     self.rebuild_queued = true;
                 } else {
                     // A power edit keeps the geometry: the worker refits the tree, into the
@@ -164,16 +161,19 @@ impl AppState {
         previous: Option<(SceneSamplers, Option<SceneSamplers>)>,
     ) {
         let generation = self.take_generation();
-        let spawned = Worker::spawn("lightpick-table", move || match previous {
-            Some((previous, earlier)) => Built::from_edit(generation, scene, &previous, earlier),
-            None => Built::new(generation, scene),
-        });
-        match spawned {
-            Ok(worker) => self.pending = Some(TableBuild { generation, worker }),
-            Err(e) => self.message(
+        let spawned = self
+            .pending
+            .start(generation, "lightpick-table", move || match previous {
+                Some((previous, earlier)) => {
+                    Built::from_edit(generation, scene, &previous, earlier)
+                }
+                None => Built::new(generation, scene),
+            });
+        if let Err(e) = spawned {
+            self.message(
                 format!("cannot start the table builder: {e}"),
                 MessageKind::Error,
-            ),
+            );
         }
     }
 
@@ -186,21 +186,16 @@ impl AppState {
         {
             self.earlier = None;
         }
-        let Some(pending) = &self.pending else {
-            return;
-        };
-        match pending.worker.poll() {
-            Polled::Done(built) => {
-                debug_assert_eq!(built.generation, pending.generation);
-                self.pending = None;
+        match self.pending.poll() {
+            JobPolled::Done(generation, built) => {
+                debug_assert_eq!(built.generation, generation);
                 self.install(built);
                 if std::mem::take(&mut self.rebuild_queued) {
                     self.powers_changed();
                 }
             }
-            Polled::Running => {}
-            Polled::Lost => {
-                self.pending = None;
+            JobPolled::Idle => {}
+            JobPolled::Lost(_) => {
                 self.message("the table builder stopped unexpectedly", MessageKind::Error);
             }
         }

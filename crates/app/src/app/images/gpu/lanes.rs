@@ -209,6 +209,8 @@ pub(super) struct Lanes {
     /// Computed on a background thread (up to a second for huge scenes).
     pub(super) reference: Option<Reference>,
     pub(super) reference_note: Option<String>,
+    /// The reference's computation stopped without one (not tried again for these lanes).
+    pub(super) reference_failed: bool,
     pub(super) uniform: Lane,
     pub(super) power: Lane,
     pub(super) spatial: Lane,
@@ -230,6 +232,7 @@ impl Lanes {
             scene: Arc::clone(scene),
             reference: None,
             reference_note: Some("computing the reference…".to_owned()),
+            reference_failed: false,
             uniform: Lane::new(uniform, ids[0]),
             power: Lane::new(power, ids[1]),
             spatial: Lane::new(spatial, ids[2]),

@@ -25,7 +25,7 @@ use lightpick_core::gpu::GpuContext;
 use lightpick_core::render::Reference;
 use lightpick_core::scene::Scene;
 
-use crate::app::background::{Polled, Worker};
+use crate::app::background::{Job, JobPolled};
 use crate::app::images::frame_budget::{self, FrameBudget, LaneWork};
 use crate::app::images::published::{EngineConfig, Published, RendererBytes};
 use crate::app::images::reference::reference;
@@ -35,16 +35,12 @@ use lanes::{Lanes, Trio, build_trio, register_textures};
 /// Read the sums back (RMSE, error maps, curves) every this many frames.
 const READBACK_EVERY: u64 = 4;
 
-/// A scene's renderers being uploaded on a worker thread.
-struct RendererUpload {
-    generation: u64,
-    seed: u64,
-    samplers: SceneSamplers,
-    worker: Worker<Result<Trio, String>>,
-}
+/// A scene's renderers being uploaded on a worker thread, keyed by scene generation and
+/// seed; the job hands back the scene with the trio.
+type RendererUpload = Job<(u64, u64), (Arc<Scene>, Result<Trio, String>)>;
 
-/// A reference computed on a worker thread, for one scene generation.
-type ReferenceJob = (u64, Worker<(Reference, Option<String>)>);
+/// A reference computed on a worker thread, keyed by its scene generation.
+type ReferenceJob = Job<u64, (Reference, Option<String>)>;
 
 /// The GPU side of the images panel.
 pub struct GpuImages {
@@ -55,9 +51,9 @@ pub struct GpuImages {
     /// Texture ids kept across scenes (re-pointed at each new renderer's output).
     ids: Option<[egui::TextureId; 3]>,
     latest: Option<Arc<Published>>,
-    pending: Option<RendererUpload>,
+    pending: RendererUpload,
     /// The reference being computed, and for which scene generation.
-    reference_job: Option<ReferenceJob>,
+    reference_job: ReferenceJob,
     /// How much GPU work each UI frame may take.
     budget: FrameBudget,
 }
@@ -77,8 +73,8 @@ impl GpuImages {
             exposure: None,
             ids: None,
             latest: None,
-            pending: None,
-            reference_job: None,
+            pending: RendererUpload::default(),
+            reference_job: ReferenceJob::default(),
             budget: FrameBudget::default(),
         }
     }
@@ -94,8 +90,8 @@ impl GpuImages {
     /// while the CPU renders the images; the next [`GpuImages::frame`] builds them again.
     pub fn release(&mut self) {
         self.lanes = None;
-        self.pending = None;
-        self.reference_job = None;
+        self.pending.cancel();
+        self.reference_job.cancel();
         self.latest = None;
         self.exposure = None;
     }
@@ -245,35 +241,26 @@ impl GpuImages {
         samplers: &SceneSamplers,
         seed: u64,
     ) -> Result<(), String> {
-        if self
-            .pending
-            .as_ref()
-            .is_some_and(|p| p.generation == generation && p.seed == seed)
-        {
+        if self.pending.running_key() == Some(&(generation, seed)) {
             return Ok(());
         }
         if samplers.scene().light_count() <= SYNC_BUILD_LIMIT {
             let trio = build_trio(&self.ctx, samplers, seed)?;
-            self.pending = None;
+            self.pending.cancel();
             self.install(generation, seed, samplers.scene(), trio);
             return Ok(());
         }
-        if self.pending.is_some() {
+        if self.pending.is_running() {
             // Let the running build finish; `poll_pending` asks again for the newest scene.
             return Ok(());
         }
         let (ctx, for_build) = (self.ctx.clone(), samplers.clone());
-        let worker = Worker::spawn("lightpick-gpu-upload", move || {
-            build_trio(&ctx, &for_build, seed)
-        })
-        .map_err(|e| e.to_string())?;
-        self.pending = Some(RendererUpload {
-            generation,
-            seed,
-            samplers: samplers.clone(),
-            worker,
-        });
-        Ok(())
+        self.pending
+            .start((generation, seed), "lightpick-gpu-upload", move || {
+                let trio = build_trio(&ctx, &for_build, seed);
+                (Arc::clone(for_build.scene()), trio)
+            })
+            .map_err(|e| e.to_string())
     }
 
     /// Installs a finished background build (and asks for a newer scene if there is one).
@@ -283,23 +270,11 @@ impl GpuImages {
         samplers: &SceneSamplers,
         seed: u64,
     ) -> Result<(), String> {
-        let Some(pending) = &self.pending else {
-            return Ok(());
+        let ((built_generation, built_seed), built_scene, trio) = match self.pending.poll() {
+            JobPolled::Done(key, (scene, trio)) => (key, scene, trio?),
+            JobPolled::Idle => return Ok(()),
+            JobPolled::Lost(_) => return Err("the GPU upload thread stopped".to_owned()),
         };
-        let trio = match pending.worker.poll() {
-            Polled::Done(result) => result?,
-            Polled::Running => return Ok(()),
-            Polled::Lost => {
-                self.pending = None;
-                return Err("the GPU upload thread stopped".to_owned());
-            }
-        };
-        let (built_generation, built_seed, built_scene) = (
-            pending.generation,
-            pending.seed,
-            Arc::clone(pending.samplers.scene()),
-        );
-        self.pending = None;
         self.install(built_generation, built_seed, &built_scene, trio);
         if built_generation != generation || built_seed != seed {
             self.request(generation, samplers, seed)?;
@@ -320,23 +295,29 @@ impl GpuImages {
 /// Takes the reference of `lanes` when it is ready (returns whether it arrived now), and
 /// starts computing it when none is running: one at a time (up to a second of both cores
 /// for huge scenes), so a drag through many tables computes only the newest one's.
-fn poll_reference(job: &mut Option<ReferenceJob>, lanes: &mut Lanes) -> bool {
+fn poll_reference(job: &mut ReferenceJob, lanes: &mut Lanes) -> bool {
     let mut arrived = false;
-    if let Some((job_generation, worker)) = job.as_ref()
-        && let Polled::Done((reference, note)) = worker.poll()
-    {
-        if *job_generation == lanes.generation {
+    match job.poll() {
+        JobPolled::Done(job_generation, (reference, note))
+            if job_generation == lanes.generation =>
+        {
             lanes.reference = Some(reference);
             lanes.reference_note = note;
             arrived = true;
         }
-        *job = None;
+        // A reference that failed is not tried again for these lanes (it would fail again).
+        JobPolled::Lost(job_generation) if job_generation == lanes.generation => {
+            lanes.reference_note = Some("no reference: its computation stopped".to_owned());
+            lanes.reference_failed = true;
+        }
+        _ => {}
     }
-    if lanes.reference.is_none() && job.is_none() {
+    if lanes.reference.is_none() && !lanes.reference_failed && !job.is_running() {
         let for_reference = Arc::clone(&lanes.scene);
-        match Worker::spawn("lightpick-reference", move || reference(&for_reference)) {
-            Ok(worker) => *job = Some((lanes.generation, worker)),
-            Err(e) => lanes.reference_note = Some(format!("no reference: {e}")),
+        if let Err(e) = job.start(lanes.generation, "lightpick-reference", move || {
+            reference(&for_reference)
+        }) {
+            lanes.reference_note = Some(format!("no reference: {e}"));
         }
     }
     arrived
