@@ -47,12 +47,11 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// The `use` statements of `text`, each without `use` and `;`, joined over their lines and
-/// with the inline module they sit in (`mod tests { use super::*; }` is `(["tests"], …)`:
-/// its `super` is the file's own module).
-fn use_statements(text: &str) -> Vec<(Vec<String>, String)> {
-    let mut statements = Vec::new();
-    let mut current: Option<String> = None;
+/// The code lines of `text` (trimmed; comment lines and trailing comments dropped), each
+/// with the inline modules it sits in (`mod tests { use super::*; }`: `["tests"]`, whose
+/// `super` is the file's own module).
+fn code_lines(text: &str) -> Vec<(Vec<String>, &str)> {
+    let mut out = Vec::new();
     // Inline modules open at a brace depth: (name, depth inside).
     let mut inline: Vec<(String, i32)> = Vec::new();
     let mut depth = 0;
@@ -61,52 +60,7 @@ fn use_statements(text: &str) -> Vec<(Vec<String>, String)> {
         if line.starts_with("//") {
             continue;
         }
-        let declaration = line
-            .trim_start_matches("pub(crate) ")
-            .trim_start_matches("pub ")
-            .strip_prefix("mod ")
-            .and_then(|rest| rest.strip_suffix('{'))
-            .map(str::trim);
-        if let Some(name) = declaration {
-            inline.push((name.to_owned(), depth + 1));
-        }
-        if let Some(open) = current.as_mut() {
-            open.push(' ');
-            open.push_str(line);
-        } else if let Some(rest) = line
-            .strip_prefix("pub use ")
-            .or_else(|| line.strip_prefix("pub(crate) use "))
-            .or_else(|| line.strip_prefix("pub(super) use "))
-            .or_else(|| line.strip_prefix("use "))
-        {
-            current = Some(rest.to_owned());
-        }
-        if current.as_ref().is_some_and(|s| s.ends_with(';')) {
-            let statement = current.take().expect("open");
-            let within = inline.iter().map(|(name, _)| name.clone()).collect();
-            statements.push((within, statement.trim_end_matches(';').to_owned()));
-        }
-        depth += line.matches('{').count() as i32 - line.matches('}').count() as i32;
-        while inline.last().is_some_and(|(_, d)| *d > depth) {
-            inline.pop();
-        }
-    }
-    statements
-}
-
-/// Paths written in code outside `use` lines (`super::diagram_ui::diagram_ui(ui)`,
-/// `crate::numbers::short(x)`), with the inline module they sit in; comments and doc
-/// comments (intra-doc links) are no imports.
-fn inline_paths(text: &str) -> Vec<(Vec<String>, String)> {
-    let mut out = Vec::new();
-    let mut inline: Vec<(String, i32)> = Vec::new();
-    let mut depth = 0;
-    for line in text.lines() {
-        let code = line.trim();
-        if code.starts_with("//") {
-            continue;
-        }
-        let code = code.split("//").next().unwrap_or(code);
+        let code = line.split("//").next().unwrap_or(line).trim_end();
         let declaration = code
             .trim_start_matches("pub(crate) ")
             .trim_start_matches("pub ")
@@ -116,30 +70,65 @@ fn inline_paths(text: &str) -> Vec<(Vec<String>, String)> {
         if let Some(name) = declaration {
             inline.push((name.to_owned(), depth + 1));
         }
-        let is_use = ["use ", "pub use ", "pub(crate) use ", "pub(super) use "]
-            .iter()
-            .any(|p| code.starts_with(p));
-        if !is_use {
-            let within: Vec<String> = inline.iter().map(|(name, _)| name.clone()).collect();
-            for start in ["crate::", "super::"] {
-                for (at, _) in code.match_indices(start) {
-                    // A whole path: not the end of `my_crate::` nor the second `super` of
-                    // `super::super::x`.
-                    let before = code[..at].chars().next_back();
-                    if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
-                        continue;
-                    }
-                    let path: String = code[at..]
-                        .chars()
-                        .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':')
-                        .collect();
-                    out.push((within.clone(), path.trim_end_matches(':').to_owned()));
-                }
-            }
-        }
+        out.push((inline.iter().map(|(name, _)| name.clone()).collect(), code));
         depth += code.matches('{').count() as i32 - code.matches('}').count() as i32;
         while inline.last().is_some_and(|(_, d)| *d > depth) {
             inline.pop();
+        }
+    }
+    out
+}
+
+/// The start of a `use` line, if `code` is one.
+fn use_start(code: &str) -> Option<&str> {
+    ["pub use ", "pub(crate) use ", "pub(super) use ", "use "]
+        .iter()
+        .find_map(|p| code.strip_prefix(p))
+}
+
+/// The `use` statements of `text`, each without `use` and `;`, joined over their lines and
+/// with the inline modules they sit in.
+fn use_statements(text: &str) -> Vec<(Vec<String>, String)> {
+    let mut statements = Vec::new();
+    let mut current: Option<String> = None;
+    for (within, code) in code_lines(text) {
+        if let Some(open) = current.as_mut() {
+            open.push(' ');
+            open.push_str(code);
+        } else if let Some(rest) = use_start(code) {
+            current = Some(rest.to_owned());
+        }
+        if current.as_ref().is_some_and(|s| s.ends_with(';')) {
+            let statement = current.take().unwrap_or_default();
+            statements.push((within, statement.trim_end_matches(';').to_owned()));
+        }
+    }
+    statements
+}
+
+/// Paths written in code outside `use` lines (`super::diagram_ui::diagram_ui(ui)`,
+/// `crate::numbers::short(x)`), with the inline modules they sit in; comments and doc
+/// comments (intra-doc links) are no imports.
+fn inline_paths(text: &str) -> Vec<(Vec<String>, String)> {
+    let mut out = Vec::new();
+    for (within, code) in code_lines(text) {
+        if use_start(code).is_some() {
+            continue;
+        }
+        for start in ["crate::", "super::"] {
+            for (at, _) in code.match_indices(start) {
+                // A whole path: not the end of `my_crate::` nor the second `super` of
+                // `super::super::x`.
+                let before = code[..at].chars().next_back();
+                if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
+                    continue;
+                }
+                let path: String = code[at..]
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':')
+                    .collect();
+                out.push((within.clone(), path.trim_end_matches(':').to_owned()));
+            }
         }
     }
     out

@@ -8,26 +8,10 @@ use egui_kittest::kittest::Queryable as _;
 use lightpick::app::state::estimator::EstimatorPoint;
 use lightpick::app::{LightpickApp, PanelKind};
 
-use crate::common::painted::{click_at, image_widths, painted, painted_rects, painted_texts};
+use crate::common::painted::{
+    click_at, image_widths, painted, painted_rects, painted_texts, seed_with_inspector,
+};
 use crate::common::{click, panel, shows_containing, step_paused, window};
-
-/// The whole app on the seed at `size`, one step rendered, a pixel of the power image
-/// clicked (the inspector opens).
-fn seed_with_inspector(size: [f32; 2]) -> Harness<'static, LightpickApp> {
-    let mut harness = window(LightpickApp::for_tests(), size);
-    harness.run();
-    step_paused(&mut harness, 1);
-    let caption = harness.get_by_label("Power (alias)").rect();
-    click_at(
-        &mut harness,
-        egui::pos2(caption.left() + 30.0, caption.bottom() + 30.0),
-    );
-    assert!(
-        harness.state().state.inspector.pixel.is_some(),
-        "a pixel is inspected"
-    );
-    harness
-}
 
 #[test]
 fn a_window_opened_by_a_click_comes_to_the_front() {

@@ -3,8 +3,6 @@
 //! one name for the Trade window, the walkthrough kept at its step, and figures printed with
 //! the digits that show their difference.
 
-use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable as _;
 use lightpick::app::state::BudgetMode;
 use lightpick::app::state::estimator::EstimatorPoint;
 use lightpick::app::{LightpickApp, PanelKind};
@@ -12,7 +10,7 @@ use lightpick::numbers;
 use lightpick_core::inspect::PointInspection;
 use lightpick_core::scene::pixel_center;
 
-use crate::common::painted::{click_at, painted};
+use crate::common::painted::{painted, seed_with_inspector};
 use crate::common::{click, panel, shows, shows_containing, step_paused, window};
 
 /// Each "N× word" in `text` whose word is a direction: the factor must be at least 1.
@@ -38,24 +36,6 @@ fn assert_factors_at_least_one(text: &str) {
             .unwrap_or_else(|_| panic!("'{factor}' before × in {text}"));
         assert!(factor >= 1.0, "'{factor}× {word}' in: {text}");
     }
-}
-
-/// The whole app on the seed at `size`, one step rendered, a pixel of the importance image
-/// clicked (the inspector opens).
-fn seed_with_inspector(size: [f32; 2]) -> Harness<'static, LightpickApp> {
-    let mut harness = window(LightpickApp::for_tests(), size);
-    harness.run();
-    step_paused(&mut harness, 1);
-    let caption = harness.get_by_label("Power (alias)").rect();
-    click_at(
-        &mut harness,
-        egui::pos2(caption.left() + 30.0, caption.bottom() + 30.0),
-    );
-    assert!(
-        harness.state().state.inspector.pixel.is_some(),
-        "a pixel is inspected"
-    );
-    harness
 }
 
 #[test]

@@ -5,25 +5,13 @@
 use lightpick::app::LightpickApp;
 use lightpick::app::state::MessageKind;
 
+use crate::common::painted::light_bits;
 use crate::common::session::{MemoryStorage, restored_in};
 use crate::common::{scratch, step_paused, window};
 
-/// A scene's powers and positions as bits.
+/// The app's scene's powers and positions as bits.
 fn bits(app: &LightpickApp) -> (Vec<u64>, Vec<[u64; 3]>) {
-    let scene = &app.state.built.scene;
-    (
-        scene
-            .powers
-            .as_slice()
-            .iter()
-            .map(|p| p.to_bits())
-            .collect(),
-        scene
-            .positions
-            .iter()
-            .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
-            .collect(),
-    )
+    light_bits(&app.state.built.scene)
 }
 
 /// Waits until the app has installed a scene of `n` lights (a build on a worker).

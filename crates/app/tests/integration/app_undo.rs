@@ -9,22 +9,15 @@ use lightpick::app::LightpickApp;
 use lightpick::app::state::FileAction;
 use lightpick_core::scene::Scene;
 
+use crate::common::painted::light_bits;
 use crate::common::{click, fixtures, shows_containing, window};
 
 /// A scene's every number as bits: powers, positions, name and plane.
 fn bits(scene: &Scene) -> (Vec<u64>, Vec<[u64; 3]>, String, String) {
+    let (powers, positions) = light_bits(scene);
     (
-        scene
-            .powers
-            .as_slice()
-            .iter()
-            .map(|p| p.to_bits())
-            .collect(),
-        scene
-            .positions
-            .iter()
-            .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
-            .collect(),
+        powers,
+        positions,
         scene.name.clone(),
         format!("{:?}", scene.plane),
     )

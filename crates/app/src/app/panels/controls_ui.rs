@@ -89,34 +89,30 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
 
 /// The Edit menu: Undo and Redo, each with the name of its step ("Undo drag of light 3").
 fn edit_menu_ui(ui: &mut Ui, state: &mut AppState) {
-    let undo = state
-        .history
-        .undo_name()
-        .map_or_else(|| "Undo".to_owned(), |name| format!("Undo {name}"));
-    if ui
-        .add_enabled(
-            state.history.undo_name().is_some(),
-            egui::Button::new(undo).shortcut_text("Ctrl+Z"),
-        )
-        .clicked()
-    {
+    let undo = state.history.undo_name().map(str::to_owned);
+    if history_item_ui(ui, "Undo", undo.as_deref(), "Ctrl+Z") {
         state.undo();
-        ui.close();
     }
-    let redo = state
-        .history
-        .redo_name()
-        .map_or_else(|| "Redo".to_owned(), |name| format!("Redo {name}"));
-    if ui
-        .add_enabled(
-            state.history.redo_name().is_some(),
-            egui::Button::new(redo).shortcut_text("Ctrl+Shift+Z"),
-        )
-        .clicked()
-    {
+    let redo = state.history.redo_name().map(str::to_owned);
+    if history_item_ui(ui, "Redo", redo.as_deref(), "Ctrl+Shift+Z") {
         state.redo();
+    }
+}
+
+/// One item of the Edit menu: `verb` and the step's name, greyed without a step; returns
+/// whether it was clicked (the menu then closes).
+fn history_item_ui(ui: &mut Ui, verb: &str, step: Option<&str>, shortcut: &str) -> bool {
+    let text = step.map_or_else(|| verb.to_owned(), |name| format!("{verb} {name}"));
+    let clicked = ui
+        .add_enabled(
+            step.is_some(),
+            egui::Button::new(text).shortcut_text(shortcut),
+        )
+        .clicked();
+    if clicked {
         ui.close();
     }
+    clicked
 }
 
 /// Opens the path dialog for `action` with a sensible default path.

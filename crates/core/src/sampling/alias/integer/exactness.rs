@@ -9,6 +9,7 @@ use proptest::prelude::*;
 
 use super::build;
 use super::quantize::{IdealMass, nearest_integer, nearest_integer_portable, settle};
+use super::tests::uniforms;
 use super::units::{CHUNK, REACH_FLAG};
 use crate::alias::PackedAliasEntry;
 
@@ -221,20 +222,6 @@ fn check(powers: &[f64], table: &[u64]) -> Result<Worst, String> {
         }
     }
     Ok(worst)
-}
-
-/// A reproducible stream of uniforms in `[0, 1)` (`SplitMix64`).
-fn uniforms(seed: u64, n: usize) -> Vec<f64> {
-    let mut state = seed;
-    (0..n)
-        .map(|_| {
-            state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-        })
-        .collect()
 }
 
 fn built(powers: &[f64]) -> Vec<u64> {

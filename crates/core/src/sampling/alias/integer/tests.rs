@@ -5,7 +5,7 @@ use super::units::CHUNK;
 use super::{build, quantize, reference};
 
 /// A reproducible stream of uniforms in `[0, 1)` (`SplitMix64`).
-fn uniforms(seed: u64, n: usize) -> Vec<f64> {
+pub(super) fn uniforms(seed: u64, n: usize) -> Vec<f64> {
     let mut state = seed;
     (0..n)
         .map(|_| {
