@@ -174,3 +174,58 @@ fn the_rig_has_what_it_claims() {
         .count();
     assert!(twins > 30, "{twins} coincident twins");
 }
+
+/// Pixel by pixel, sampled: at pixels of a rig (lit and unlit, near rims), the mean of
+/// many spatial estimates lies within 5σ of the exact value there, `σ² = Var/n` with the
+/// exact variance of one sample `Σ_{q>0} c_i²/q_i − E²` (`c_i = p_i·G_i(x)`). A local bias
+/// larger than a few σ would show at some pixel; a whole-image mean could hide it.
+#[test]
+fn estimates_average_to_the_exact_value_pixel_by_pixel() {
+    let scene = rig(300, 21);
+    let sampler = SpatialSampler::for_scene(&scene);
+    let pmf = scene.powers.pmf();
+    let plane = &scene.plane;
+    let draws = 4000u64;
+    let (mut checked, mut lit) = (0, 0);
+    for (py, px) in (0..plane.height)
+        .step_by(5)
+        .flat_map(|y| (0..plane.width).step_by(5).map(move |x| (y, x)))
+    {
+        let x = lightpick_core::scene::pixel_center(plane, px, py);
+        let pdfs = sampler.pdfs(x);
+        let c: Vec<f64> = (0..scene.light_count())
+            .map(|i| pmf[i] * scene.light_term(i, x))
+            .collect();
+        let exact: f64 = c.iter().sum();
+        let second: f64 = c
+            .iter()
+            .zip(&pdfs)
+            .filter(|(_, q)| **q > 0.0)
+            .map(|(c, q)| c * c / q)
+            .sum();
+        let variance = (second - exact * exact).max(0.0);
+        let mean = (0..draws)
+            .map(|k| {
+                sampler.estimate(
+                    x,
+                    &mut lightpick_core::Rng::new(9, (k << 16) | u64::from(py * 64 + px)),
+                )
+            })
+            .sum::<f64>()
+            / draws as f64;
+        let sigma = (variance / draws as f64).sqrt();
+        // 5σ, and the rounding of the sums where the variance is (near) zero.
+        let bound = 5.0 * sigma + 1e-12 * exact.abs() + f64::MIN_POSITIVE;
+        assert!(
+            (mean - exact).abs() <= bound,
+            "pixel ({px}, {py}): mean {mean:e} vs exact {exact:e}, σ {sigma:e}"
+        );
+        checked += 1;
+        lit += usize::from(exact > 0.0 && variance > 0.0);
+    }
+    assert!(checked >= 80, "{checked} pixels checked");
+    assert!(
+        lit * 2 >= checked,
+        "only {lit} of {checked} pixels lit with some noise"
+    );
+}
