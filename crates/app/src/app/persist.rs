@@ -26,6 +26,15 @@ const SCENE_FILE_KEY: &str = "lightpick.scene_file";
 const VERSION_KEY: &str = "lightpick.session_version";
 /// The session format this build writes: a session of a later version is not read.
 pub const SESSION_VERSION: u32 = 2;
+/// Every key lightpick keeps in eframe's storage.
+const ALL_KEYS: [&str; 6] = [
+    VERSION_KEY,
+    SETTINGS_KEY,
+    LAYOUT_KEY,
+    SCENE_KEY,
+    SCENE_PRESET_KEY,
+    SCENE_FILE_KEY,
+];
 /// Scenes with more lights are not persisted light by light in eframe's storage.
 const PERSIST_SCENE_LIMIT: usize = 20_000;
 
@@ -43,28 +52,47 @@ impl LightpickApp {
         let mut scene = None;
         let mut problems: Vec<String> = Vec::new();
         let mut layout = None;
-        if let Some(problem) = session_dir
+        let damaged = session_dir
             .as_deref()
-            .and_then(session_files::damaged_session)
-        {
-            problems.push(problem);
-        }
-        let storage = cc
+            .and_then(session_files::damaged_session);
+        // eframe's file damaged (or without lightpick's keys) while the session's own copy,
+        // written whole or not at all, is there: restore from the copy.
+        let eframe_has_settings = cc
             .storage
-            .filter(|storage| match session_version(*storage) {
-                Some(v) if v > SESSION_VERSION => {
-                    let kept = session_dir
-                        .as_deref()
-                        .map_or_else(String::new, |dir| keep_copy(dir, "newer"));
-                    problems.push(format!(
-                        "last session could not be read: it was written by a newer lightpick \
+            .is_some_and(|s| s.get_string(SETTINGS_KEY).is_some());
+        let copy = session_dir
+            .as_deref()
+            .filter(|_| damaged.is_some() || !eframe_has_settings)
+            .and_then(session_files::read_session_copy)
+            .map(session_files::MapStorage);
+        if let Some(problem) = damaged {
+            problems.push(if copy.is_some() {
+                format!(
+                    "{problem}; restored from its copy {}",
+                    session_files::SESSION_COPY
+                )
+            } else {
+                problem
+            });
+        }
+        let from: Option<&dyn eframe::Storage> = match &copy {
+            Some(copy) => Some(copy),
+            None => cc.storage,
+        };
+        let storage = from.filter(|storage| match session_version(*storage) {
+            Some(v) if v > SESSION_VERSION => {
+                let kept = session_dir
+                    .as_deref()
+                    .map_or_else(String::new, |dir| keep_copy(dir, "newer"));
+                problems.push(format!(
+                    "last session could not be read: it was written by a newer lightpick \
                      (session version {v}, this one reads {SESSION_VERSION}){kept}; the app \
                      starts on defaults"
-                    ));
-                    false
-                }
-                _ => true,
-            });
+                ));
+                false
+            }
+            _ => true,
+        });
         if let Some(storage) = storage {
             layout = eframe::get_value::<layout::Layout>(storage, LAYOUT_KEY);
             match eframe::get_value::<Settings>(storage, SETTINGS_KEY) {
@@ -106,6 +134,27 @@ impl LightpickApp {
     /// Writes the settings, the layout and the scene to `storage` (a large scene to the
     /// compact file in the session folder, when it changed since the last save).
     pub fn save_to(&mut self, storage: &mut dyn eframe::Storage) {
+        let mut keys = session_files::MapStorage::default();
+        self.save_keys(&mut keys);
+        for key in ALL_KEYS {
+            match keys.0.get(key) {
+                Some(value) => storage.set_string(key, value.clone()),
+                None => storage.remove_string(key),
+            }
+        }
+        // The session's own copy, written whole or not at all.
+        if let Some(dir) = &self.session_dir
+            && let Err(e) = session_files::write_session_copy(dir, &keys.0)
+        {
+            self.state.message(
+                format!("the session could not be kept: {e}"),
+                MessageKind::Error,
+            );
+        }
+    }
+
+    /// Writes the settings, the layout and the scene's key to `storage`.
+    fn save_keys(&mut self, storage: &mut dyn eframe::Storage) {
         storage.set_string(VERSION_KEY, SESSION_VERSION.to_string());
         eframe::set_value(storage, SETTINGS_KEY, &self.state.settings);
         eframe::set_value(storage, LAYOUT_KEY, &self.layout);

@@ -13,6 +13,9 @@
 //!   storage when `app.ron` cannot be parsed; [`damaged_session`] reads the file itself, and
 //!   when it holds something that does not parse, moves it aside
 //!   (`app.ron.damaged-SECONDS`) before eframe overwrites it, and says why.
+//! - **The session is written whole or not at all.** eframe writes `app.ron` in place; each
+//!   save also writes lightpick's keys to [`SESSION_COPY`] atomically, and a start whose
+//!   `app.ron` is damaged restores from that copy.
 
 use std::io::Read as _;
 use std::path::{Path, PathBuf};
@@ -23,6 +26,10 @@ use lightpick_core::scene::{ReceiverPlane, Scene};
 
 /// The compact scene file's name in the session folder.
 pub const SCENE_FILE: &str = "last-scene.lpscene";
+/// The session's own copy of what lightpick keeps in eframe's storage, written whole or not
+/// at all (eframe writes `app.ron` in place): what the app restores when `app.ron` is
+/// damaged.
+pub const SESSION_COPY: &str = "session.json";
 /// eframe's session file in its storage folder.
 const RON_FILE: &str = "app.ron";
 /// The first line of a compact scene file (point lights, raw `f64`s).
@@ -115,6 +122,39 @@ pub fn read_scene(path: &Path) -> Result<Scene, String> {
     let powers: Vec<f64> = (0..n).map(|i| float(3 * n + i)).collect();
     let powers = LightPowers::new(powers).map_err(|e| fail(e.to_string()))?;
     Ok(Scene::new(header.name, header.plane, positions, powers))
+}
+
+/// Writes the session's keys to [`SESSION_COPY`] in `dir`, atomically.
+pub fn write_session_copy(
+    dir: &Path,
+    keys: &std::collections::BTreeMap<String, String>,
+) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    let json = serde_json::to_vec(keys).map_err(std::io::Error::other)?;
+    lightpick_core::atomic_file::write_bytes_atomically(&dir.join(SESSION_COPY), &json)
+}
+
+/// The session's keys from [`SESSION_COPY`] in `dir`, when it is there and reads.
+pub fn read_session_copy(dir: &Path) -> Option<std::collections::BTreeMap<String, String>> {
+    let bytes = std::fs::read(dir.join(SESSION_COPY)).ok()?;
+    serde_json::from_slice(&bytes).ok()
+}
+
+/// eframe's storage as a map of keys (what the session copy restores through).
+#[derive(Debug, Default)]
+pub struct MapStorage(pub std::collections::BTreeMap<String, String>);
+
+impl eframe::Storage for MapStorage {
+    fn get_string(&self, key: &str) -> Option<String> {
+        self.0.get(key).cloned()
+    }
+    fn set_string(&mut self, key: &str, value: String) {
+        self.0.insert(key.to_owned(), value);
+    }
+    fn remove_string(&mut self, key: &str) {
+        self.0.remove(key);
+    }
+    fn flush(&mut self) {}
 }
 
 /// When eframe's session file in `dir` holds something that does not parse (eframe then

@@ -149,3 +149,39 @@ fn a_session_from_a_newer_or_an_older_lightpick_is_said() {
     assert!(message.contains("settings could not be read"), "{message}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_session_whose_file_is_cut_comes_back_from_its_copy() {
+    let dir = scratch("session-copy");
+    let mut app = restored_in(&MemoryStorage::default(), &dir);
+    app.state.settings.seed = 99;
+    app.state.settings.spp_per_frame = 4;
+    app.state.edit.powers_mut()[0] = 7.0;
+    app.state.powers_changed();
+    let mut storage = MemoryStorage::default();
+    eframe::App::save(&mut app, &mut storage);
+    assert!(
+        dir.join(lightpick::app::session_files::SESSION_COPY)
+            .exists()
+    );
+    // eframe's own file, cut in half mid-write: eframe would start on empty storage.
+    std::fs::write(
+        dir.join("app.ron"),
+        "{\n    \"lightpick.settings\": \"(spp_per_fr",
+    )
+    .expect("w");
+    let back = restored_in(&MemoryStorage::default(), &dir);
+    let (message, _) = back.state.status.clone().expect("a message");
+    assert!(
+        message.starts_with("last session could not be read: "),
+        "{message}"
+    );
+    assert!(
+        message.contains("restored from its copy session.json"),
+        "{message}"
+    );
+    assert_eq!(back.state.settings.seed, 99);
+    assert_eq!(back.state.settings.spp_per_frame, 4);
+    assert_eq!(back.state.built.scene.powers.as_slice(), [7.0, 5.0, 20.0]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
