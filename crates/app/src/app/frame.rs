@@ -10,7 +10,7 @@ use egui::{Key, KeyboardShortcut, Modifiers, Ui};
 use super::LightpickApp;
 use super::images::renderer_choice;
 use super::images::{Engine, EngineConfig, GpuImages, Published};
-use super::panels::{controls_ui, file_dialog_ui};
+use super::panels::{controls_ui, file_dialog_ui, shortcuts_ui};
 use super::state::MessageKind;
 use super::state::file_dialog::FileAction;
 use super::window::install_fonts;
@@ -81,7 +81,9 @@ impl LightpickApp {
     }
 
     /// Keyboard: Space pauses, R resets, N steps, Escape restores a maximized panel,
-    /// Ctrl+O / Ctrl+S open and save, Ctrl+Z undoes, Ctrl+Shift+Z and Ctrl+Y redo.
+    /// Ctrl+O / Ctrl+S open and save, Ctrl+Z undoes, Ctrl+Shift+Z and Ctrl+Y redo, F1 or ?
+    /// shows the shortcuts, 1–5 bring a panel to the front, Alt+1…Alt+0 load the presets
+    /// ([`shortcuts_ui`]).
     fn shortcuts(&mut self, ctx: &egui::Context) {
         let open = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
         let save = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
@@ -91,10 +93,32 @@ impl LightpickApp {
         if ctx.input_mut(|i| i.consume_shortcut(&save)) {
             controls_ui::open_dialog(&mut self.state, FileAction::SaveScene);
         }
+        if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F1)) {
+            self.state.settings.show_shortcuts = !self.state.settings.show_shortcuts;
+        }
         // Plain keys only when no text field (or drag value being typed into) has focus:
         // a text field keeps its own undo.
         if ctx.text_edit_focused() || self.state.file_dialog.action.is_some() {
             return;
+        }
+        if ctx.input_mut(|i| {
+            i.consume_key(Modifiers::NONE, Key::Questionmark)
+                || i.consume_key(Modifiers::SHIFT, Key::Questionmark)
+        }) {
+            self.state.settings.show_shortcuts = !self.state.settings.show_shortcuts;
+        }
+        for (key, panel) in shortcuts_ui::PANEL_KEYS {
+            if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, key)) {
+                self.layout.select(panel);
+            }
+        }
+        let presets = super::scene_io::preset_names();
+        for key in shortcuts_ui::PRESET_DIGITS {
+            if ctx.input_mut(|i| i.consume_key(Modifiers::ALT, key))
+                && let Some(name) = shortcuts_ui::preset_key(key, &presets)
+            {
+                self.state.load_preset(name);
+            }
         }
         let undo = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
         let redo = KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);

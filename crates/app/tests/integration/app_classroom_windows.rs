@@ -270,3 +270,40 @@ fn a_linear_slider_reaches_every_integer_power() {
         "powers no drag reaches on 0–{max}: {missing:?}"
     );
 }
+
+#[test]
+fn presenter_keys_show_the_shortcuts_the_panels_and_the_presets() {
+    let mut harness = window(LightpickApp::for_tests(), [1024.0, 768.0]);
+    harness.run();
+    harness.key_press(egui::Key::F1);
+    harness.run();
+    assert!(harness.state().state.settings.show_shortcuts);
+    assert!(shows_containing(&harness, "Keyboard shortcuts"));
+    for words in [
+        "run or pause",
+        "undo the last scene edit",
+        "show the Images panel",
+        "preset 'grid'",
+    ] {
+        assert!(shows_containing(&harness, words), "{words} is not listed");
+    }
+    // 4: the Images tab in front (at 1024×768 it shares a column with two others).
+    harness.key_press(egui::Key::Num4);
+    harness.run();
+    assert_eq!(harness.state().layout.recent[0], PanelKind::Images);
+    assert!(
+        harness
+            .state()
+            .layout
+            .pane_rect(PanelKind::Images)
+            .is_some()
+    );
+    // Alt+8: the eighth preset of the Lights panel's row.
+    harness.key_press_modifiers(egui::Modifiers::ALT, egui::Key::Num8);
+    harness.run();
+    assert_eq!(harness.state().state.built.scene.name, "grid");
+    // F1 again closes the list.
+    harness.key_press(egui::Key::F1);
+    harness.run();
+    assert!(!harness.state().state.settings.show_shortcuts);
+}

@@ -76,6 +76,8 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
                 );
             ui.checkbox(&mut state.settings.show_stepper, "Construction stepper")
                 .on_hover_text("Vose's algorithm building the alias table, one pairing at a time");
+            ui.checkbox(&mut state.settings.show_shortcuts, "Keyboard shortcuts")
+                .on_hover_text("Every key the app has, for a presenter (F1 or ?)");
             ui.checkbox(&mut state.estimator.open, "Estimator at one point")
                 .on_hover_text(
                     "The running estimate at the seed's shading point (or a clicked pixel), \

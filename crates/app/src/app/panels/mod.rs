@@ -22,6 +22,7 @@ pub mod log_axes;
 pub mod panel_kind;
 pub mod precision_ui;
 pub mod sampling_ui;
+pub mod shortcuts_ui;
 pub mod stepper_ui;
 pub mod table_ui;
 pub mod table_words;
@@ -124,6 +125,7 @@ pub fn windows_ui(ctx: &egui::Context, state: &mut AppState, placed: &[(PanelKin
     inspector_ui::inspector_window(ctx, state);
     walkthrough_ui::walkthrough_window(ctx, state);
     stepper_ui::stepper_window(ctx, state, table);
+    shortcuts_ui::shortcuts_window(ctx, state);
     estimator_ui::estimator_window(ctx, state);
 }
 

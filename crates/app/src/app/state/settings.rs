@@ -78,6 +78,8 @@ pub struct Settings {
     pub show_walkthrough: bool,
     /// Show the construction stepper window.
     pub show_stepper: bool,
+    /// Show the keyboard shortcuts overlay (F1 or ?).
+    pub show_shortcuts: bool,
     /// The folder of the last file opened or saved: where File → Open starts.
     pub last_folder: Option<std::path::PathBuf>,
 }
@@ -100,6 +102,7 @@ impl Default for Settings {
             generate_count: 16,
             dark: true,
             show_trade: false,
+            show_shortcuts: false,
             last_folder: None,
             show_precision: false,
             show_walkthrough: false,
