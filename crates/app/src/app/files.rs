@@ -59,32 +59,43 @@ impl LightpickApp {
     /// Carries out a confirmed file action; on failure the message is shown in the dialog
     /// and the status bar, and the current scene is kept.
     pub fn file_action(&mut self, action: FileAction, path: &str, published: Option<&Published>) {
-        let result = match action {
-            FileAction::OpenScene => self.open_scene(Path::new(path)),
-            FileAction::SaveScene => scene_io::save(Path::new(path), &self.state.built.scene)
-                .map(|()| format!("saved {path}")),
-            FileAction::ExportImages => {
-                // GPU images are native textures: read them back first.
-                let exposure = self.state.settings.exposure;
-                let from_gpu = if self.uses_gpu() {
-                    self.gpu.as_mut().map(|gpu| gpu.frame_with_images(exposure))
-                } else {
-                    None
-                };
-                match from_gpu {
-                    Some(Ok(frame)) => Ok(frame),
-                    Some(Err(e)) => Err(e),
-                    None => published
-                        .cloned()
-                        .ok_or_else(|| "no image has been rendered yet".to_owned()),
+        let result =
+            match action {
+                FileAction::OpenScene => self.open_scene(Path::new(path)),
+                FileAction::SaveScene => scene_io::save(Path::new(path), &self.state.built.scene)
+                    .map(|()| format!("saved {path}")),
+                FileAction::ExportImages => {
+                    // GPU images are native textures: read them back first.
+                    let exposure = self.state.settings.exposure;
+                    let from_gpu = if self.uses_gpu() {
+                        self.gpu.as_mut().map(|gpu| gpu.frame_with_images(exposure))
+                    } else {
+                        None
+                    };
+                    match from_gpu {
+                        Some(Ok(frame)) => Ok(frame),
+                        Some(Err(e)) => Err(e),
+                        None => published
+                            .cloned()
+                            .ok_or_else(|| "no image has been rendered yet".to_owned()),
+                    }
+                    .and_then(|frame| export_images(Path::new(path), &frame))
+                    .map(|()| format!("exported {path}"))
                 }
-                .and_then(|frame| export_images(Path::new(path), &frame))
-                .map(|()| format!("exported {path}"))
-            }
-            FileAction::ExportDiagram => {
-                export_diagram(Path::new(path), &self.state).map(|()| format!("exported {path}"))
-            }
-        };
+                FileAction::ExportData => {
+                    super::data_export::export_data(Path::new(path), &mut self.state, published)
+                        .map(|files| {
+                            let names: Vec<String> = files
+                                .iter()
+                                .filter_map(|f| f.file_name())
+                                .map(|n| n.to_string_lossy().into_owned())
+                                .collect();
+                            format!("exported {}", names.join(", "))
+                        })
+                }
+                FileAction::ExportDiagram => export_diagram(Path::new(path), &self.state)
+                    .map(|()| format!("exported {path}")),
+            };
         match result {
             Ok(message) => {
                 // The next dialog starts in this file's folder, in this session and the next.

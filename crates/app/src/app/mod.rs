@@ -18,6 +18,7 @@
 
 pub mod background;
 pub mod colors;
+pub mod data_export;
 mod files;
 mod frame;
 pub mod generated;

@@ -307,3 +307,57 @@ fn presenter_keys_show_the_shortcuts_the_panels_and_the_presets() {
     harness.run();
     assert!(!harness.state().state.settings.show_shortcuts);
 }
+
+#[test]
+fn the_data_behind_the_figures_exports_as_csv() {
+    use lightpick::app::state::FileAction;
+    let dir = crate::common::scratch("data-export");
+    let mut app = LightpickApp::for_tests();
+    app.state.settings.show_trade = true;
+    app.state.inspector.pixel = Some([100, 120]);
+    let mut harness = window(app, [1560.0, 960.0]);
+    harness.run();
+    step_paused(&mut harness, 4);
+    let published = harness.state_mut().published();
+    let path = dir.join("lesson.csv");
+    let text = path.to_str().expect("utf-8").to_owned();
+    harness
+        .state_mut()
+        .file_action(FileAction::ExportData, &text, published.as_deref());
+    let read = |what: &str| {
+        std::fs::read_to_string(dir.join(format!("lesson-{what}.csv")))
+            .unwrap_or_else(|e| panic!("{what}: {e}"))
+    };
+    // Convergence: every point of the three series, as the images hold them.
+    let convergence = read("convergence");
+    let p = published.expect("a frame");
+    let points = p.uniform.series.len() + p.power.series.len() + p.spatial.series.len();
+    assert_eq!(convergence.lines().count(), 1 + points);
+    assert!(convergence.starts_with("scheme,spp,seconds,rmse\n"));
+    // Histograms: the three lights, the counts adding up to the picks made.
+    let histogram = read("histogram");
+    let rows: Vec<Vec<&str>> = histogram
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 3);
+    let picks = harness.state().state.sampling.picks;
+    let sum = |col: usize| {
+        rows.iter()
+            .map(|r| r[col].parse::<u64>().expect("a count"))
+            .sum::<u64>()
+    };
+    assert_eq!(sum(2), picks);
+    assert_eq!(sum(3), picks);
+    // Trade: one row per scheme; inspector: one row per light of the seed.
+    assert_eq!(read("trade").lines().count(), 1 + 5);
+    let inspector = read("inspector");
+    assert_eq!(
+        inspector.lines().filter(|l| !l.starts_with('#')).count(),
+        1 + 3
+    );
+    let (message, _) = harness.state().state.status.clone().expect("a message");
+    assert!(message.contains("lesson-convergence.csv"), "{message}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -21,6 +21,7 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
                 (FileAction::SaveScene, "Ctrl+S"),
                 (FileAction::ExportImages, ""),
                 (FileAction::ExportDiagram, ""),
+                (FileAction::ExportData, ""),
             ] {
                 if ui
                     .add(egui::Button::new(format!("{}…", action.title())).shortcut_text(shortcut))
@@ -125,6 +126,8 @@ pub fn open_dialog(state: &mut AppState, action: FileAction) {
         FileAction::SaveScene => format!("{}.json", state.edit.name),
         FileAction::ExportImages => format!("{}-images.png", state.edit.name),
         FileAction::ExportDiagram => format!("{}-alias-table.png", state.edit.name),
+        // NAME.csv gives NAME-convergence.csv, NAME-histogram.csv, …
+        FileAction::ExportData => format!("{}.csv", state.edit.name),
     };
     if state.file_dialog.path.is_empty() || state.file_dialog.action != Some(action) {
         state.file_dialog.path = default;

@@ -12,6 +12,8 @@ pub enum FileAction {
     ExportImages,
     /// Export the alias-table diagram as a PNG file.
     ExportDiagram,
+    /// Export the data behind the figures as CSV files.
+    ExportData,
 }
 
 impl FileAction {
@@ -22,6 +24,7 @@ impl FileAction {
             FileAction::SaveScene => "Save scene",
             FileAction::ExportImages => "Export images (PNG)",
             FileAction::ExportDiagram => "Export alias-table diagram (PNG)",
+            FileAction::ExportData => "Export data (CSV)",
         }
     }
 
@@ -34,6 +37,7 @@ impl FileAction {
             ),
             FileAction::SaveScene => ("lightpick JSON", &["json"]),
             FileAction::ExportImages | FileAction::ExportDiagram => ("PNG images", &["png"]),
+            FileAction::ExportData => ("CSV tables", &["csv"]),
         }
     }
 }
