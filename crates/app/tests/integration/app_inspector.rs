@@ -213,3 +213,47 @@ fn spot_scenes_show_the_cone_term_and_why_power_picking_fails() {
         "the note under the images"
     );
 }
+
+/// The top views' numbers are the inspector's: for every light the table lists, the
+/// overlay's power, spatial and ideal probabilities equal the inspection's, bit for bit;
+/// each view's probabilities sum to one (spatial: at most one).
+#[test]
+fn the_pick_overlay_shows_the_inspectors_numbers() {
+    for preset in ["seed", "grid", "stage"] {
+        let mut app = LightpickApp::for_tests_on(preset);
+        app.state.inspector.pixel = Some([37, 91]);
+        let mut harness = crate::common::window(app, [1560.0, 960.0]);
+        harness.run();
+        assert!(
+            shows_containing(&harness, "Where each scheme picks at this pixel"),
+            "{preset}: no top views"
+        );
+        let state = &mut harness.state_mut().state;
+        let built = std::sync::Arc::clone(&state.built);
+        let inspection = state
+            .inspector
+            .inspection(&built)
+            .expect("inspected")
+            .clone();
+        let overlay = state.inspector.overlay(&built).expect("drawn").clone();
+        assert_eq!(overlay.x, inspection.x);
+        for l in &inspection.lights {
+            assert_eq!(overlay.power[l.index], l.pmf, "{preset} light {}", l.index);
+            assert_eq!(
+                Some(overlay.spatial[l.index]),
+                l.spatial,
+                "{preset} light {}",
+                l.index
+            );
+            assert_eq!(
+                overlay.ideal[l.index], l.share,
+                "{preset} light {}",
+                l.index
+            );
+        }
+        let sum = |v: &[f64]| v.iter().sum::<f64>();
+        assert!((sum(&overlay.power) - 1.0).abs() < 1e-12);
+        assert!((sum(&overlay.ideal) - 1.0).abs() < 1e-12 || inspection.irradiance == 0.0);
+        assert!(sum(&overlay.spatial) <= 1.0 + 1e-9);
+    }
+}

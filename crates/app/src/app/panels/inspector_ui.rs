@@ -117,6 +117,8 @@ pub fn inspector_ui(ui: &mut Ui, state: &mut AppState) {
     ui.add_space(4.0);
     let names = state.built.scene.names.as_deref();
     shares_table_ui(ui, inspection, names, dark);
+    ui.add_space(4.0);
+    super::pick_overlay_ui::pick_overlay_ui(ui, state);
 }
 
 /// The variance of uniform, power, spatial and ideal picking at the point.

@@ -20,6 +20,7 @@ pub mod layout_ui;
 pub mod lights_ui;
 pub mod log_axes;
 pub mod panel_kind;
+pub mod pick_overlay_ui;
 pub mod precision_ui;
 pub mod sampling_ui;
 pub mod shortcuts_ui;

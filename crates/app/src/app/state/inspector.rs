@@ -5,6 +5,7 @@ use lightpick_core::inspect::PointInspection;
 use lightpick_core::scene::pixel_center;
 
 use super::built::Built;
+use super::pick_overlay::PickOverlay;
 
 /// Which pixel is inspected, and its inspection for the current scene.
 #[derive(Debug, Default)]
@@ -14,6 +15,7 @@ pub struct Inspector {
     /// Bring the window to the front on its next frame (a pixel was just clicked).
     pub raise: bool,
     cached: Option<Cached>,
+    overlay: Option<(u64, [u32; 2], Option<PickOverlay>)>,
 }
 
 #[derive(Debug)]
@@ -49,12 +51,42 @@ impl Inspector {
         self.cached.as_ref().map(|c| &c.inspection)
     }
 
-    /// Heap bytes of the cached inspection: only the lights it lists (at most
-    /// `2·LISTED_PER_RANKING`), whatever the scene's size.
+    /// Every light's pick probability under power, spatial and ideal picking at the selected
+    /// pixel ([`PickOverlay`]), computed when the pixel or the scene changed; `None` without a
+    /// pixel or beyond the overlay's light count.
+    pub fn overlay(&mut self, built: &Built) -> Option<&PickOverlay> {
+        let pixel = self.pixel?;
+        let scene = &built.scene;
+        if pixel[0] >= scene.plane.width || pixel[1] >= scene.plane.height {
+            return None;
+        }
+        if !self
+            .overlay
+            .as_ref()
+            .is_some_and(|(g, p, _)| *g == built.generation && *p == pixel)
+        {
+            let x = pixel_center(&scene.plane, pixel[0], pixel[1]);
+            self.overlay = Some((built.generation, pixel, PickOverlay::at(&built.samplers, x)));
+        }
+        self.overlay.as_ref().and_then(|(_, _, o)| o.as_ref())
+    }
+
+    /// Heap bytes of the cached inspection (only the lights it lists, at most
+    /// `2·LISTED_PER_RANKING`) and of the top views' overlay (40 bytes a light, only up to
+    /// [`super::pick_overlay::OVERLAY_MAX_LIGHTS`] lights).
     pub fn heap_bytes(&self) -> usize {
-        self.cached.as_ref().map_or(0, |c| {
-            c.inspection.lights.capacity()
-                * std::mem::size_of::<lightpick_core::inspect::LightShare>()
-        })
+        let overlay = self
+            .overlay
+            .as_ref()
+            .and_then(|(_, _, o)| o.as_ref())
+            .map_or(0, |o| {
+                o.lights.capacity() * 16
+                    + (o.power.capacity() + o.spatial.capacity() + o.ideal.capacity()) * 8
+            });
+        overlay
+            + self.cached.as_ref().map_or(0, |c| {
+                c.inspection.lights.capacity()
+                    * std::mem::size_of::<lightpick_core::inspect::LightShare>()
+            })
     }
 }

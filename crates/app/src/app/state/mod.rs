@@ -32,6 +32,7 @@ pub mod file_dialog;
 pub mod history;
 pub mod inspector;
 mod memory;
+pub mod pick_overlay;
 pub mod precision;
 pub mod rebuild;
 pub mod sampling;
