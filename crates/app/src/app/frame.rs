@@ -112,12 +112,15 @@ impl LightpickApp {
                 self.layout.select(panel);
             }
         }
-        let presets = super::scene_io::preset_names();
-        for key in shortcuts_ui::PRESET_DIGITS {
-            if ctx.input_mut(|i| i.consume_key(Modifiers::ALT, key))
-                && let Some(name) = shortcuts_ui::preset_key(key, &presets)
-            {
-                self.state.load_preset(name);
+        // The presets' keys only while Alt is held (no list made every frame).
+        if ctx.input(|i| i.modifiers.alt) {
+            let presets = super::scene_io::preset_names();
+            for key in shortcuts_ui::PRESET_DIGITS {
+                if ctx.input_mut(|i| i.consume_key(Modifiers::ALT, key))
+                    && let Some(name) = shortcuts_ui::preset_key(key, &presets)
+                {
+                    self.state.load_preset(name);
+                }
             }
         }
         let undo = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);

@@ -159,45 +159,36 @@ impl LightpickApp {
         eframe::set_value(storage, SETTINGS_KEY, &self.state.settings);
         eframe::set_value(storage, LAYOUT_KEY, &self.layout);
         // While the walkthrough shows the classic scene, the user's own scene is the one kept.
-        let scene = std::sync::Arc::new(
-            self.state
-                .walkthrough
-                .saved_scene
-                .clone()
-                .unwrap_or_else(|| (*self.state.built.scene).clone()),
-        );
-        storage.remove_string(SCENE_KEY);
-        storage.remove_string(SCENE_PRESET_KEY);
-        storage.remove_string(SCENE_FILE_KEY);
+        let built = std::sync::Arc::clone(&self.state.built.scene);
+        let saved = self.state.walkthrough.saved_scene.as_ref();
+        let scene = saved.unwrap_or(&built);
         let preset = self
             .state
             .unedited_preset
             .as_ref()
-            .filter(|_| self.state.walkthrough.saved_scene.is_none());
+            .filter(|_| saved.is_none());
         if scene.light_count() <= PERSIST_SCENE_LIMIT {
-            storage.set_string(SCENE_KEY, scene_io::to_json(&scene));
+            storage.set_string(SCENE_KEY, scene_io::to_json(scene));
         } else if let Some(name) = preset {
             storage.set_string(SCENE_PRESET_KEY, name.clone());
         } else if let Some(dir) = &self.session_dir {
             let path = dir.join(session_files::SCENE_FILE);
-            let key = (
-                self.state.built.generation,
-                self.state.walkthrough.saved_scene.is_some(),
-            );
-            let written = self.saved_scene == Some(key) && path.exists();
-            let ok = written
-                || std::fs::create_dir_all(dir)
-                    .and_then(|()| session_files::write_scene(&path, &scene))
-                    .map(|()| self.saved_scene = Some(key))
-                    .map_err(|e| {
-                        self.state.message(
-                            format!("the scene could not be kept for the next session: {e}"),
-                            MessageKind::Error,
-                        );
-                    })
-                    .is_ok();
-            if ok {
-                storage.set_string(SCENE_FILE_KEY, path.display().to_string());
+            // The compact file is written again only for a new scene.
+            let key = (self.state.built.generation, saved.is_some());
+            let written = if self.saved_scene == Some(key) && path.exists() {
+                Ok(())
+            } else {
+                std::fs::create_dir_all(dir).and_then(|()| session_files::write_scene(&path, scene))
+            };
+            match written {
+                Ok(()) => {
+                    self.saved_scene = Some(key);
+                    storage.set_string(SCENE_FILE_KEY, path.display().to_string());
+                }
+                Err(e) => self.state.message(
+                    format!("the scene could not be kept for the next session: {e}"),
+                    MessageKind::Error,
+                ),
             }
         }
     }

@@ -61,12 +61,15 @@ pub struct Step {
     pub change: Change,
     /// The gesture it belongs to (a drag): steps of one gesture merge into one.
     gesture: Option<u64>,
+    /// The heap bytes it keeps alive ([`Change::heap_bytes`], counted once: a scene's names
+    /// take `O(N)` to count).
+    bytes: usize,
 }
 
-impl Step {
-    /// Heap bytes this step keeps alive.
+impl Change {
+    /// Heap bytes this change keeps alive.
     fn heap_bytes(&self) -> usize {
-        match &self.change {
+        match self {
             Change::Powers(changes) => changes.capacity() * std::mem::size_of::<(u32, f64, f64)>(),
             Change::Scene { before, .. } => before
                 .scene
@@ -127,11 +130,7 @@ impl History {
 
     /// Heap bytes the history keeps (its steps' own, and the replaced scenes they keep).
     pub fn heap_bytes(&self) -> usize {
-        self.undo
-            .iter()
-            .chain(&self.redo)
-            .map(Step::heap_bytes)
-            .sum()
+        self.undo.iter().chain(&self.redo).map(|s| s.bytes).sum()
     }
 
     /// Records the change from `before` to `after` (called when `after` is installed),
@@ -153,17 +152,21 @@ impl History {
             && let (Change::Powers(old), Change::Powers(new)) = (&mut last.change, &change)
         {
             merge(old, new);
-            if old.is_empty() {
+            let back_where_it_started = old.is_empty();
+            last.bytes = last.change.heap_bytes();
+            if back_where_it_started {
                 // The drag came back to where it started: nothing to undo.
                 self.undo.pop();
             }
             self.redo.clear();
             return;
         }
+        let bytes = change.heap_bytes();
         self.undo.push(Step {
             name,
             change,
             gesture,
+            bytes,
         });
         self.redo.clear();
         self.trim();

@@ -153,17 +153,9 @@ fn seed_reason(powers: &[f64], power_vs_uniform: &str, spatial_vs_power: &str) -
         .zip(CLASSIC_GEOMETRY)
         .map(|(p, g)| p * g)
         .collect();
-    let exact: f64 = f.iter().sum();
     let n = f.len() as f64;
-    let second_uniform: f64 = f.iter().map(|v| n * v * v).sum();
-    let second_power: f64 = f
-        .iter()
-        .zip(powers)
-        .filter(|(_, p)| **p > 0.0)
-        .map(|(v, p)| v * v * total / p)
-        .sum();
-    let uniform_point = second_uniform - exact * exact;
-    let power_point = second_power - exact * exact;
+    let uniform_point = lightpick_core::analytic_moments(&f, |_| 1.0 / n).variance;
+    let power_point = lightpick_core::analytic_moments(&f, |i| powers[i] / total).variance;
     format!(
         "At the seed's shading point (g = 1/2, 2/5, 3/4) power picking's variance is {} than \
          uniform's ({} against {}); over the images it is {power_vs_uniform}: the geometry \

@@ -1,26 +1,10 @@
 //! The app's session between runs, in memory: eframe's storage as a map, and the app
 //! eframe would create from it.
 
-use std::collections::HashMap;
-
 use lightpick::app::LightpickApp;
 
-/// eframe's storage, in memory.
-#[derive(Default)]
-pub struct MemoryStorage(pub HashMap<String, String>);
-
-impl eframe::Storage for MemoryStorage {
-    fn get_string(&self, key: &str) -> Option<String> {
-        self.0.get(key).cloned()
-    }
-    fn set_string(&mut self, key: &str, value: String) {
-        self.0.insert(key.to_owned(), value);
-    }
-    fn remove_string(&mut self, key: &str) {
-        self.0.remove(key);
-    }
-    fn flush(&mut self) {}
-}
+/// eframe's storage, in memory: the app's own map storage.
+pub use lightpick::app::session_files::MapStorage as MemoryStorage;
 
 /// The app eframe creates from `storage`, without a session folder (tests never touch the
 /// user's own).

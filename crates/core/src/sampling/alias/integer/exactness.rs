@@ -7,9 +7,8 @@ use std::cmp::Ordering;
 
 use proptest::prelude::*;
 
-use super::build;
 use super::quantize::{IdealMass, nearest_integer, nearest_integer_portable, settle};
-use super::tests::uniforms;
+use super::tests::{built, pool, uniforms};
 use super::units::{CHUNK, REACH_FLAG};
 use crate::alias::PackedAliasEntry;
 
@@ -222,19 +221,6 @@ fn check(powers: &[f64], table: &[u64]) -> Result<Worst, String> {
         }
     }
     Ok(worst)
-}
-
-fn built(powers: &[f64]) -> Vec<u64> {
-    let (mut table, mut heavy) = (Vec::new(), Vec::new());
-    build(powers, &mut table, &mut heavy);
-    table
-}
-
-fn pool(threads: usize) -> rayon::ThreadPool {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("a rayon pool")
 }
 
 /// `N` lights, light `at` of power `3N`, the rest uniform in `[0.5, 1.5)` (from `seed`):

@@ -53,13 +53,15 @@ fn cases(n: usize) -> Vec<(&'static str, Vec<f64>)> {
     ]
 }
 
-fn built(powers: &[f64]) -> Vec<u64> {
+/// The packed table of `powers`, built into fresh buffers.
+pub(super) fn built(powers: &[f64]) -> Vec<u64> {
     let (mut table, mut heavy) = (Vec::new(), Vec::new());
     build(powers, &mut table, &mut heavy);
     table
 }
 
-fn pool(threads: usize) -> rayon::ThreadPool {
+/// A rayon pool of `threads` threads.
+pub(super) fn pool(threads: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
