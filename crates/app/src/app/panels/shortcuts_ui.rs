@@ -79,6 +79,8 @@ pub fn shortcuts_window(ctx: &egui::Context, state: &mut AppState) {
         .open(&mut open)
         .collapsible(false)
         .default_width(460.0)
+        // Below the menu bar, which it would otherwise cover.
+        .default_pos([40.0, 60.0])
         .show(ctx, |ui| shortcuts_ui(ui, &presets));
     state.settings.show_shortcuts = open;
 }
