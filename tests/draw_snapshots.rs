@@ -11,7 +11,7 @@ use lightpick_core::draw::{
     SheetImages, Style, Theme,
 };
 use lightpick_core::{
-    AliasTable, LightPowers, LightSampler as _, Rng, Sampler, Scheme, SeedExample,
+    AliasTable, LightPowers, PointFreeSampler as _, Rng, Sampler, Scheme, SeedExample,
 };
 use lightpick_tests::assert_snapshot;
 fn snapshot(name: &str, pixmap: &lightpick_core::draw::Pixmap) {

@@ -7,7 +7,10 @@
 //! * [`AliasTable`] is Walker's alias method in its packed `u32` form, shared bit for bit
 //!   with the GPU, built by one of two [`Construction`]s: an exact integer sweep (the fast
 //!   default) or Vose's algorithm in `f64` (exact seed fractions). [`CdfTable`] and
-//!   [`Uniform`] are the peers it is compared with; all three implement [`LightSampler`].
+//!   [`Uniform`] are the peers it is compared with.
+//! * [`LightSampler`] is the one interface of every scheme: `pick_at(ctx, rng)` and
+//!   `pmf_at(ctx, i)` at a [`ShadingContext`]; the point-free schemes ([`Sampler`]) ignore the
+//!   context, the spatial one reads it, and [`SchemeSampler`] holds any of them.
 //! * [`Rng`] is the one counter-based random number generator (the PCG hash of Jarzynski &
 //!   Olano 2020) that the CPU and the WGSL shaders both implement.
 //! * [`Welford`], [`analytic_moments`] and [`chi_square()`] measure estimators and samplers;
@@ -126,6 +129,7 @@ pub mod render;
 pub mod sampling;
 pub mod scene;
 mod scene_samplers;
+mod scheme_sampler;
 pub mod spatial;
 pub mod stats;
 
@@ -133,18 +137,20 @@ pub mod stats;
 // used inside the crate): `lightpick_core::walkthrough::…` still works.
 pub(crate) use lesson::seed_example;
 pub use lesson::{construction, fraction, inspect, point_estimate, walkthrough};
-pub(crate) use sampling::{alias, cdf, powers, rng, sampler, uniform};
+pub(crate) use sampling::{alias, cdf, light_sampler, powers, rng, sampler, uniform};
 pub(crate) use stats::{chi_square, moments, scaled, welford};
 
 pub use alias::{AliasTable, Construction, PackedAliasEntry};
 pub use cdf::CdfTable;
 pub use chi_square::{ChiSquare, chi_square, chi_square_cells};
+pub use light_sampler::{LightSampler, Pick, PointFreeSampler, ShadingContext};
 pub use moments::{EstimatorMoments, analytic_moments, contribution_unit};
 pub use powers::{LightPowers, PmfScale, PowersError};
 pub use rng::{Rng, pcg_hash, unit_f64};
-pub use sampler::{LightSampler, NeedsShadingPoint, Pick, Sampler, Scheme, UnknownScheme};
+pub use sampler::{NeedsShadingPoint, Sampler, Scheme, UnknownScheme};
 pub use scaled::Scaled;
 pub use scene_samplers::SceneSamplers;
+pub use scheme_sampler::SchemeSampler;
 pub use seed_example::SeedExample;
 pub use uniform::{Uniform, rejection_threshold};
 pub use welford::Welford;

@@ -11,9 +11,13 @@
 use std::sync::{Arc, OnceLock};
 
 use crate::alias::{AliasTable, Construction};
+use crate::cdf::CdfTable;
 use crate::cpu_lights::CpuLights;
+use crate::sampler::{Sampler, Scheme};
 use crate::scene::Scene;
+use crate::scheme_sampler::SchemeSampler;
 use crate::spatial::SpatialSampler;
+use crate::uniform::Uniform;
 
 /// A scene with its alias table and (built on first use, once) its spatial sampler and the
 /// CPU renderers' view of its lights. Cloning shares everything.
@@ -66,6 +70,21 @@ impl SceneSamplers {
     pub fn spatial(&self) -> &Arc<SpatialSampler> {
         self.spatial
             .get_or_init(|| Arc::new(SpatialSampler::for_scene(&self.scene)))
+    }
+
+    /// The sampler of `scheme` over the scene, sharing what is built: the alias schemes
+    /// take the table, the spatial scheme the spatial sampler (built now if no one has yet),
+    /// uniform and CDF are built (`O(1)`, `O(N)`).
+    pub fn sampler(&self, scheme: Scheme) -> SchemeSampler {
+        match scheme {
+            Scheme::Alias => Sampler::Alias(Arc::clone(&self.table)).into(),
+            Scheme::AliasOneRandom => Sampler::AliasOneRandom(Arc::clone(&self.table)).into(),
+            Scheme::Spatial => SchemeSampler::Spatial(Arc::clone(self.spatial())),
+            Scheme::Uniform => {
+                Sampler::Uniform(Uniform::new(self.scene.light_count() as u32)).into()
+            }
+            Scheme::Cdf => Sampler::Cdf(CdfTable::build(&self.scene.powers)).into(),
+        }
     }
 
     /// The samplers of `scene`, a scene with the same lights in the same places

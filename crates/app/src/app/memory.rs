@@ -7,9 +7,9 @@ use super::images::{Engine, GpuImages, RendererBytes};
 
 impl LightpickApp {
     /// The heap bytes each part of the app holds: the state's parts
-    /// ([`super::state::AppState::memory_by_part`]), then the CPU engine's lanes and the GPU
-    /// lanes, each split into what grows with the lights and what grows with the pixels. GPU
-    /// lanes count device bytes (in the process on a software device such as lavapipe).
+    /// ([`super::state::AppState::memory_by_part`]), then the CPU engine's runs and the GPU
+    /// runs, each split into what grows with the lights and what grows with the pixels. GPU
+    /// runs count device bytes (in the process on a software device such as lavapipe).
     pub fn memory_by_part(&self) -> Vec<(&'static str, usize)> {
         let mut parts = self.state.memory_by_part();
         let cpu = self
@@ -22,19 +22,19 @@ impl LightpickApp {
             .map_or_else(RendererBytes::default, GpuImages::bytes);
         parts.extend([
             (
-                "CPU lanes: light profiles (positions and powers are the scene's)",
+                "CPU runs: light profiles (positions and powers are the scene's)",
                 cpu.lights,
             ),
-            ("CPU lanes: pixel sums, reference", cpu.pixels),
-            ("GPU lanes: lights, tree", gpu.lights),
-            ("GPU lanes: pixel sums, outputs, reference", gpu.pixels),
+            ("CPU runs: pixel sums, reference", cpu.pixels),
+            ("GPU runs: lights, tree", gpu.lights),
+            ("GPU runs: pixel sums, outputs, reference", gpu.pixels),
         ]);
         parts
     }
 }
 
 /// Seconds after the scene or the renderer changed at which the allocator's free pages are
-/// given back: once the new table, tree and lanes are in place, and again as the slower
+/// given back: once the new table, tree and runs are in place, and again as the slower
 /// workers finish and free their scratch (the exact reference of a large scene takes a
 /// minute or more on two cores).
 const TRIM_AFTER_S: [f64; 4] = [3.0, 15.0, 60.0, 180.0];

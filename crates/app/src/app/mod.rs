@@ -4,7 +4,7 @@
 //!   palette in egui's colours), [`scene_io`] (presets, the session's JSON, saving) and
 //!   [`generated`] (random powers and positions);
 //! - [`state`]: the one [`AppState`] every panel reads and edits, split by concept;
-//! - [`images`]: where the progressive images are made (CPU engine, GPU lanes, renderer choice,
+//! - [`images`]: where the progressive images are made (CPU engine, GPU runs, renderer choice,
 //!   frame budget);
 //! - [`panels`]: one `*_ui.rs` per panel or window, and the layout;
 //! - the shell, here: [`LightpickApp`] wires them; [`window`] opens the eframe window

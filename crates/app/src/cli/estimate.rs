@@ -3,7 +3,9 @@
 use anyhow::bail;
 use clap::Args;
 use lightpick_core::point_estimate::sampled_mean;
-use lightpick_core::{Construction, LightSampler as _, Sampler, Scaled, Scheme, analytic_moments};
+use lightpick_core::{
+    Construction, PointFreeSampler as _, Sampler, Scaled, Scheme, analytic_moments,
+};
 use serde_json::json;
 
 use super::input::{PowersArgs, parse_numbers};

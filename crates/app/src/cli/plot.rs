@@ -12,7 +12,7 @@ use lightpick_core::draw::{
 };
 use lightpick_core::render::{CpuRenderer, Reference, cpu_convergence};
 use lightpick_core::scene::Scene;
-use lightpick_core::{AliasTable, LightSampler as _, Sampler, Scheme};
+use lightpick_core::{AliasTable, PointFreeSampler as _, Sampler, Scheme};
 
 use super::input::{PositionedArgs, PowersArgs};
 use super::sample::{check_count, count_cpu};

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use anyhow::bail;
 use clap::Args;
 use lightpick_core::{
-    ChiSquare, Construction, LightPowers, LightSampler as _, Rng, Sampler, Scheme, chi_square,
+    ChiSquare, Construction, LightPowers, PointFreeSampler as _, Rng, Sampler, Scheme, chi_square,
 };
 use rayon::prelude::*;
 use serde_json::json;

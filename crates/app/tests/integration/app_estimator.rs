@@ -46,18 +46,18 @@ fn the_walkthroughs_last_step_opens_the_seed_point_converging_to_18() {
     let n = e.samples();
     assert!(n > 20_000, "{n} samples");
     let analytic = [SeedExample::UNIFORM_VARIANCE, SeedExample::POWER_VARIANCE];
-    for (lane, variance) in e.lanes().iter().zip(analytic) {
+    for (run, variance) in e.runs().iter().zip(analytic) {
         assert!(
-            (lane.analytic.variance - variance).abs() < 1e-9,
+            (run.analytic.variance - variance).abs() < 1e-9,
             "{}",
-            lane.name
+            run.name
         );
         let sigma = (variance / n as f64).sqrt();
-        let mean = lane.running().mean();
+        let mean = run.running().mean();
         assert!(
             (mean - 18.0).abs() < 5.0 * sigma,
             "{}: {mean} after {n}",
-            lane.name
+            run.name
         );
     }
     // The table: analytic variances, samples for 1 % (366/0.0324 → 11 297, 14.85/0.0324 →
@@ -80,7 +80,7 @@ fn steps_are_the_cores_seeded_samples_and_reset_starts_over() {
     let seed = h.state().state.settings.seed;
     let mut core = PointEstimator::seed_example(seed);
     core.advance(1011);
-    for (app, core) in estimator(&h).lanes().iter().zip(core.lanes()) {
+    for (app, core) in estimator(&h).runs().iter().zip(core.runs()) {
         assert_eq!(app.running(), core.running(), "{}", app.name);
     }
     click(&mut h, "Reset samples");
@@ -119,12 +119,12 @@ fn the_inspector_opens_it_at_the_pixel_with_the_spatial_scheme() {
     h.state_mut().state.estimator.running = false;
     click(&mut h, "+1000");
     let e = estimator(&h);
-    let names: Vec<&str> = e.lanes().iter().map(|l| l.name).collect();
+    let names: Vec<&str> = e.runs().iter().map(|l| l.name).collect();
     assert_eq!(names, ["uniform", "power", "spatial"]);
     // Three lights: the spatial pick is exact, every sample the irradiance itself; the
     // analytic variance Σ f_i²/q_i − F² is then the cancellation of two terms of size F²,
     // each rounded to a few ulps.
-    let spatial = &e.lanes()[2];
+    let spatial = &e.runs()[2];
     assert!(spatial.analytic.variance <= 1e-12 * e.exact() * e.exact());
     assert!((spatial.running().mean() - e.exact()).abs() <= 1e-12 * e.exact());
     assert!(shows(&h, "1 (exact)"));

@@ -23,7 +23,7 @@ fn gpu_app() -> Harness<'static, LightpickApp> {
     harness
 }
 
-/// The app running (not paused) on `heavy-tail` at 512×512: 10^4 lights, the spatial lane a
+/// The app running (not paused) on `heavy-tail` at 512×512: 10^4 lights, the spatial run a
 /// 14-level tree whose sample pass costs more than a frame allows on lavapipe.
 fn running_on_a_costly_scene() -> Harness<'static, LightpickApp> {
     let mut harness = gpu_app();
@@ -125,7 +125,7 @@ fn equal_time_mode_runs_on_the_gpu_too() {
         published.device_note
     );
     for image in [&published.uniform, &published.power, &published.spatial] {
-        assert!(image.spp >= 7, "every lane advances: {} spp", image.spp);
+        assert!(image.spp >= 7, "every run advances: {} spp", image.spp);
         assert!(image.seconds > 0.0);
     }
 }
@@ -160,9 +160,9 @@ fn exporting_reads_the_gpu_images_back() {
 }
 
 /// Running (not stepping), each frame gets the GPU work its budget allows: whole passes or a
-/// band of rows of one. Either way every lane stays at equal samples per pixel and draws
+/// band of rows of one. Either way every run stays at equal samples per pixel and draws
 /// exactly the samples of whole passes, so the figures read back at pass boundaries are the
-/// CPU renderer's at that spp. `heavy-tail` at 512×512: 10^4 lights, the spatial lane a
+/// CPU renderer's at that spp. `heavy-tail` at 512×512: 10^4 lights, the spatial run a
 /// 14-level tree whose pass costs more than a frame allows on lavapipe, so bands are used.
 #[test]
 fn running_frames_within_the_budget_give_the_cpu_numbers() {
@@ -177,7 +177,7 @@ fn running_frames_within_the_budget_give_the_cpu_numbers() {
         let latest = harness.state_mut().published();
         banded |= latest.as_ref().is_some_and(|p| {
             let progress = [&p.uniform, &p.power, &p.spatial].map(|i| i.pass_progress);
-            // Equal samples: every lane is at the same row of the same pass.
+            // Equal samples: every run is at the same row of the same pass.
             assert!(progress.iter().all(|&f| f == progress[0]), "{progress:?}");
             progress[0] > 0.0
         });

@@ -18,10 +18,10 @@ const LIGHTS: usize = 1_000_000;
 /// by construction: the scene's positions and powers (24 + 8; the edit shares them), the
 /// packed table (8) and its pmf (8), the light tree (leaf-order lights 32, scene indices 4,
 /// 87 381 nodes of 144 + 4 bytes: 48.9) and the histograms' chi-square cells (62 500 cells
-/// of 16 lights, 4 + 4 + 8 bytes each: 1.0); the CPU lanes read the scene's arrays.
+/// of 16 lights, 4 + 4 + 8 bytes each: 1.0); the CPU runs read the scene's arrays.
 const CPU_BOUND: f64 = 98.0;
 
-/// The same with the GPU lanes (device bytes, in the process on lavapipe): lights 24, tree
+/// The same with the GPU runs (device bytes, in the process on lavapipe): lights 24, tree
 /// lights 16 and 80-byte nodes (7).
 const GPU_BOUND: f64 = 145.0;
 
@@ -120,16 +120,16 @@ fn a_million_generated_lights_cost_what_the_accounting_bounds_on_the_cpu() {
     let harness = window(LightpickApp::for_tests(), [1560.0, 960.0]);
     let (seed, large) = seed_and_generated(harness);
     let part = |name: &str| large.iter().find(|(n, _)| *n == name).map(|p| p.1);
-    // The CPU lanes render (their sums exist) and read the scene's own positions and powers:
+    // The CPU runs render (their sums exist) and read the scene's own positions and powers:
     // for point lights they hold nothing per light.
-    let sums = part("CPU lanes: pixel sums, reference");
+    let sums = part("CPU runs: pixel sums, reference");
     assert!(sums.is_some_and(|b| b > 0), "{sums:?}");
-    let lights = part("CPU lanes: light profiles (positions and powers are the scene's)");
+    let lights = part("CPU runs: light profiles (positions and powers are the scene's)");
     assert_eq!(lights, Some(0));
     check(&seed, &large, CPU_BOUND);
 }
 
-/// The GPU lanes on kittest's wgpu device (lavapipe here), whose buffers count as uploaded.
+/// The GPU runs on kittest's wgpu device (lavapipe here), whose buffers count as uploaded.
 #[test]
 fn a_million_generated_lights_cost_what_the_accounting_bounds_on_the_gpu() {
     if !gpu_expected() {
@@ -139,7 +139,7 @@ fn a_million_generated_lights_cost_what_the_accounting_bounds_on_the_gpu() {
     let (seed, large) = seed_and_generated(harness);
     let gpu = large
         .iter()
-        .find(|(name, _)| *name == "GPU lanes: lights, tree")
+        .find(|(name, _)| *name == "GPU runs: lights, tree")
         .map(|p| p.1);
     assert!(gpu.is_some_and(|b| b > 0), "{gpu:?}");
     check(&seed, &large, GPU_BOUND);

@@ -44,7 +44,7 @@ fn app_frame_t(image: &SchemeImage, pixels: f64, spp: u32) -> f64 {
     image.last_frame_seconds / (pixels * f64::from(spp))
 }
 
-/// Samples per pixel each lane adds per frame (and the bench per measurement).
+/// Samples per pixel each run adds per frame (and the bench per measurement).
 const SPP: u32 = 32;
 /// Measurements of the whole comparison before the bounds are declared missed.
 const ATTEMPTS: usize = 3;

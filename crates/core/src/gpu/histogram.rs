@@ -3,7 +3,7 @@
 use super::scheme::scheme_code;
 use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
 use super::{GpuContext, GpuError, PICK_WGSL, WORKGROUP_SIZE};
-use crate::{LightSampler as _, PackedAliasEntry, Sampler};
+use crate::{PackedAliasEntry, PointFreeSampler as _, Sampler};
 
 pub(crate) const HISTOGRAM_WGSL: &str = include_str!("histogram.wgsl");
 

@@ -22,8 +22,8 @@
 
 use glam::DVec2;
 
+use crate::light_sampler::{LightSampler, ShadingContext};
 use crate::scene::Scene;
-use crate::spatial::SpatialSampler;
 
 /// Lights listed individually per ranking (largest share, largest pmf) in an inspection.
 pub const LISTED_PER_RANKING: usize = 8;
@@ -90,18 +90,25 @@ impl PointInspection {
         Self::compute(scene, x, None)
     }
 
-    /// [`PointInspection::at`] with the spatial scheme too: `spatial` must be the sampler of
-    /// `scene` ([`SpatialSampler::for_scene`]); `O(N)`.
+    /// [`PointInspection::at`] with a contribution-aware scheme too, through the one
+    /// interface: `spatial` is a sampler of `scene` (usually
+    /// [`SpatialSampler::for_scene`](crate::spatial::SpatialSampler::for_scene)),
+    /// whose `q_i(x)` ([`LightSampler::pmfs_at`], one traversal) fills the spatial column;
+    /// `O(N)` for the spatial sampler.
     ///
     /// # Panics
     /// If `spatial` was built for a different number of lights.
-    pub fn at_with_spatial(scene: &Scene, x: DVec2, spatial: &SpatialSampler) -> Self {
+    pub fn at_with_spatial(
+        scene: &Scene,
+        x: DVec2,
+        spatial: &(impl LightSampler + ?Sized),
+    ) -> Self {
         assert_eq!(
             spatial.light_count(),
             scene.light_count(),
             "sampler built for another scene"
         );
-        Self::compute(scene, x, Some(&spatial.pdfs(x)))
+        Self::compute(scene, x, Some(&spatial.pmfs_at(&ShadingContext::at(x))))
     }
 
     fn compute(scene: &Scene, x: DVec2, spatial: Option<&[f64]>) -> Self {

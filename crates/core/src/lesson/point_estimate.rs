@@ -16,82 +16,23 @@
 //! `Var = 366` and needs `n_1% = 11 296` samples; picking by power (`q = 2/27, 5/27, 20/27`)
 //! has `Var = 14.85` and needs 459: 24.6 times fewer.
 //!
-//! Every lane accumulates in the unit `2^u` of [`crate::contribution_unit`] (contributions
-//! scaled by `2^-u`, exact): scaling every contribution by `2^k` leaves the lanes' sums
+//! Every run accumulates in the unit `2^u` of [`crate::contribution_unit`] (contributions
+//! scaled by `2^-u`, exact): scaling every contribution by `2^k` leaves the runs' sums
 //! unchanged bit for bit and scales each reported mean and standard error by `2^k`, each
 //! variance by `2^(2k)`, whatever `k` keeps the contributions finite.
 //!
-//! Each lane draws its `k`-th sample from `Rng::new(seed ^ salt, k)` with its own salt, so
+//! Each run draws its `k`-th sample from `Rng::new(seed ^ salt, k)` with its own salt, so
 //! a run is reproducible from its seed and [`PointEstimator::advance`] in any chunks draws
 //! the same samples.
 
 use std::sync::Arc;
 
+use crate::light_sampler::{LightSampler, PointFreeSampler as _, ShadingContext};
 use crate::moments::{EstimatorMoments, analytic_moments, contribution_unit};
-use crate::sampler::{LightSampler as _, Sampler};
-use crate::spatial::SpatialSampler;
+use crate::sampler::Sampler;
+use crate::scheme_sampler::SchemeSampler;
 use crate::{AliasTable, Rng, Scaled, Scheme, Uniform, Welford};
-use glam::DVec2;
 use rayon::prelude::*;
-
-/// How one lane picks a light at the shading point.
-#[derive(Clone, Debug)]
-pub enum PointPicker {
-    /// Every light with probability `1/N` ([`Uniform::sample`]).
-    Uniform(Uniform),
-    /// By power: the alias table's picks ([`AliasTable::sample`]), probability
-    /// [`AliasTable::pmf`].
-    Table(Arc<AliasTable>),
-    /// By contribution at `point_on_plane`: the spatial sampler's picks
-    /// ([`SpatialSampler::sample`]), probability `P(i | x)`.
-    Spatial {
-        /// The scene's spatial sampler.
-        sampler: Arc<SpatialSampler>,
-        /// The shading point `x` on the plane `z = 0`.
-        point_on_plane: DVec2,
-    },
-}
-
-impl PointPicker {
-    /// The light picked from the next draws of `rng` and its probability, or `None` when
-    /// the rule picks nothing (the spatial rule where no light contributes: estimate 0).
-    fn pick(&self, rng: &mut Rng) -> Option<(usize, f64)> {
-        match self {
-            PointPicker::Uniform(u) => Some((u.sample(rng) as usize, 1.0 / u.len() as f64)),
-            PointPicker::Table(t) => {
-                let i = t.sample(rng) as usize;
-                Some((i, t.pmf(i)))
-            }
-            PointPicker::Spatial {
-                sampler,
-                point_on_plane,
-            } => sampler
-                .sample(*point_on_plane, rng)
-                .map(|p| (p.light as usize, p.pdf)),
-        }
-    }
-
-    /// The number of lights the rule picks among.
-    fn light_count(&self) -> usize {
-        match self {
-            PointPicker::Uniform(u) => u.len(),
-            PointPicker::Table(t) => t.len(),
-            PointPicker::Spatial { sampler, .. } => sampler.light_count(),
-        }
-    }
-
-    /// The probability `q_i` of every light (`O(N)`).
-    fn probabilities(&self, n: usize) -> Vec<f64> {
-        match self {
-            PointPicker::Uniform(u) => vec![1.0 / u.len() as f64; n],
-            PointPicker::Table(t) => (0..n).map(|i| t.pmf(i)).collect(),
-            PointPicker::Spatial {
-                sampler,
-                point_on_plane,
-            } => sampler.pdfs(*point_on_plane),
-        }
-    }
-}
 
 /// One point of a running estimate.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -106,10 +47,10 @@ pub struct EstimatePoint {
 
 /// One pick rule's running estimate.
 #[derive(Clone, Debug)]
-pub struct EstimateLane {
-    /// The lane's name ("uniform", "power", "spatial").
+pub struct SchemeRun {
+    /// The run's name ("uniform", "power", "spatial").
     pub name: &'static str,
-    picker: PointPicker,
+    sampler: SchemeSampler,
     salt: u64,
     /// The exact mean and per-sample variance of this rule ([`analytic_moments`]).
     pub analytic: EstimatorMoments,
@@ -118,14 +59,10 @@ pub struct EstimateLane {
     next_recorded: u64,
 }
 
-impl EstimateLane {
-    /// The scheme the lane's rule realizes: uniform, power (the alias table) or spatial.
+impl SchemeRun {
+    /// The scheme the run's rule realizes: uniform, power (the alias table) or spatial.
     pub fn scheme(&self) -> Scheme {
-        match self.picker {
-            PointPicker::Uniform(_) => Scheme::Uniform,
-            PointPicker::Table(_) => Scheme::Alias,
-            PointPicker::Spatial { .. } => Scheme::Spatial,
-        }
+        self.sampler.scheme()
     }
 
     /// The running mean and variance of the samples so far.
@@ -173,12 +110,14 @@ pub fn samples_for_relative_error(variance: Scaled, exact: f64, epsilon: f64) ->
 #[derive(Clone, Debug)]
 pub struct PointEstimator {
     contributions: Vec<f64>,
-    /// `f_i·2^-u`, the contributions in the lanes' unit.
+    /// `f_i·2^-u`, the contributions in the runs' unit.
     contributions_in_unit: Vec<f64>,
     unit: i32,
     exact: f64,
     seed: u64,
-    lanes: Vec<EstimateLane>,
+    /// The shading point every run picks at.
+    at: ShadingContext,
+    runs: Vec<SchemeRun>,
 }
 
 /// Why a [`PointEstimator`] cannot be built.
@@ -195,24 +134,27 @@ pub enum PointEstimateError {
         /// Its contribution.
         value: f64,
     },
-    /// A picker covers another number of lights than there are contributions.
-    #[error("lane '{lane}' picks among {got} lights but the point has {expected}")]
+    /// A sampler covers another number of lights than there are contributions.
+    #[error("scheme '{run}' picks among {got} lights but the point has {expected}")]
     LightCountMismatch {
-        /// The lane's name.
-        lane: &'static str,
+        /// The run's name.
+        run: &'static str,
         /// The number of contributions.
         expected: usize,
-        /// The picker's number of lights.
+        /// The sampler's number of lights.
         got: usize,
     },
 }
 
 impl PointEstimator {
-    /// An estimator of `Σ contributions` with one lane per `(name, picker)`, drawing from
-    /// `seed`. Each lane's analytic moments are computed at once (`O(N)` per lane).
+    /// An estimator of `Σ contributions` at the shading context `at`, with one run per
+    /// `(name, sampler)` (each picks with [`LightSampler::pick_at`] at `at`, probability
+    /// [`LightSampler::pmf_at`]), drawing from `seed`. Each run's analytic moments are
+    /// computed at once (`O(N)` per run).
     pub fn new(
         contributions: Vec<f64>,
-        lanes: Vec<(&'static str, PointPicker)>,
+        at: ShadingContext,
+        runs: Vec<(&'static str, SchemeSampler)>,
         seed: u64,
     ) -> Result<Self, PointEstimateError> {
         if contributions.is_empty() {
@@ -233,23 +175,23 @@ impl PointEstimator {
             .iter()
             .map(|&f| Scaled::new(f, -unit).to_f64())
             .collect();
-        let lanes = lanes
+        let runs = runs
             .into_iter()
             .enumerate()
-            .map(|(k, (name, picker))| {
-                if picker.light_count() != n {
+            .map(|(k, (name, sampler))| {
+                if sampler.light_count() != n {
                     return Err(PointEstimateError::LightCountMismatch {
-                        lane: name,
+                        run: name,
                         expected: n,
-                        got: picker.light_count(),
+                        got: sampler.light_count(),
                     });
                 }
-                let q = picker.probabilities(n);
-                Ok(EstimateLane {
+                let q = sampler.pmfs_at(&at);
+                Ok(SchemeRun {
                     name,
                     analytic: analytic_moments(&contributions, |i| q[i]),
-                    picker,
-                    // Distinct, fixed streams per lane position.
+                    sampler,
+                    // Distinct, fixed streams per run position.
                     salt: 0x9E37_79B9_7F4A_7C15_u64.wrapping_mul(k as u64 + 1),
                     running: Welford::in_unit(unit),
                     series: Vec::new(),
@@ -264,20 +206,22 @@ impl PointEstimator {
             unit,
             exact,
             seed,
-            lanes,
+            at,
+            runs,
         })
     }
 
     /// The seed example's point: contributions `1, 2, 15` (exact 18) with uniform and
-    /// importance (alias table over powers `2, 5, 20`) lanes.
+    /// importance (alias table over powers `2, 5, 20`) runs.
     pub fn seed_example(seed: u64) -> Self {
         let table = Arc::new(AliasTable::build_exact(&crate::SeedExample::powers()));
         // The constant contributions are valid and match the table's three lights.
         Self::new(
             crate::SeedExample::CONTRIBUTIONS.to_vec(),
+            ShadingContext::default(),
             vec![
-                ("uniform", PointPicker::Uniform(Uniform::new(3))),
-                ("power", PointPicker::Table(table)),
+                ("uniform", Sampler::Uniform(Uniform::new(3)).into()),
+                ("power", Sampler::Alias(table).into()),
             ],
             seed,
         )
@@ -294,64 +238,63 @@ impl PointEstimator {
         &self.contributions
     }
 
-    /// The seed of every lane's stream.
+    /// The seed of every run's stream.
     pub fn seed(&self) -> u64 {
         self.seed
     }
 
-    /// The lanes, in the order given.
-    pub fn lanes(&self) -> &[EstimateLane] {
-        &self.lanes
+    /// The runs, in the order given.
+    pub fn runs(&self) -> &[SchemeRun] {
+        &self.runs
     }
 
-    /// Samples drawn so far (every lane has drawn as many).
+    /// Samples drawn so far (every run has drawn as many).
     pub fn samples(&self) -> u64 {
-        self.lanes.first().map_or(0, |l| l.running.count())
+        self.runs.first().map_or(0, |l| l.running.count())
     }
 
     /// Heap bytes held, by capacity: every light's contribution in two units (16 bytes per
-    /// light) and each lane's recorded series (its picker is shared, not counted).
+    /// light) and each run's recorded series (its sampler is shared, not counted).
     pub fn heap_bytes(&self) -> usize {
         use std::mem::size_of;
         (self.contributions.capacity() + self.contributions_in_unit.capacity()) * size_of::<f64>()
-            + self.lanes.capacity() * size_of::<EstimateLane>()
+            + self.runs.capacity() * size_of::<SchemeRun>()
             + self
-                .lanes
+                .runs
                 .iter()
                 .map(|l| l.series.capacity() * size_of::<EstimatePoint>())
                 .sum::<usize>()
     }
 
-    /// Adds `count` samples to every lane, continuing each lane's stream.
+    /// Adds `count` samples to every run, continuing each run's stream.
     pub fn advance(&mut self, count: u64) {
-        for lane in &mut self.lanes {
-            let start = lane.running.count();
+        for run in &mut self.runs {
+            let start = run.running.count();
             for k in start..start + count {
-                let mut rng = Rng::new(self.seed ^ lane.salt, k);
-                let estimate = lane
-                    .picker
-                    .pick(&mut rng)
-                    .map_or(0.0, |(i, q)| self.contributions_in_unit[i] / q);
-                lane.running.push_in_unit(estimate);
+                let mut rng = Rng::new(self.seed ^ run.salt, k);
+                let estimate = run.sampler.pick_at(&self.at, &mut rng).map_or(0.0, |p| {
+                    self.contributions_in_unit[p.light as usize] / p.probability
+                });
+                run.running.push_in_unit(estimate);
                 let n = k + 1;
-                if n >= lane.next_recorded {
-                    lane.series.push(lane.point());
-                    lane.next_recorded = (n + 1).max(n + n / 25);
+                if n >= run.next_recorded {
+                    run.series.push(run.point());
+                    run.next_recorded = (n + 1).max(n + n / 25);
                 }
             }
             // The latest point is always the series' last.
-            if lane.series.last().map(|p| p.samples) != Some(lane.running.count()) {
-                lane.series.push(lane.point());
+            if run.series.last().map(|p| p.samples) != Some(run.running.count()) {
+                run.series.push(run.point());
             }
         }
     }
 
     /// Forgets every sample (the streams start over from sample 0).
     pub fn reset(&mut self) {
-        for lane in &mut self.lanes {
-            lane.running = Welford::in_unit(self.unit);
-            lane.series.clear();
-            lane.next_recorded = 1;
+        for run in &mut self.runs {
+            run.running = Welford::in_unit(self.unit);
+            run.series.clear();
+            run.next_recorded = 1;
         }
     }
 }
@@ -398,7 +341,7 @@ mod tests {
     fn seed_example_has_the_documents_moments() {
         let e = PointEstimator::seed_example(1);
         assert_eq!(e.exact(), 18.0);
-        let [u, a] = [&e.lanes()[0], &e.lanes()[1]];
+        let [u, a] = [&e.runs()[0], &e.runs()[1]];
         assert!((u.analytic.variance - SeedExample::UNIFORM_VARIANCE).abs() < 1e-9);
         assert!((a.analytic.variance - SeedExample::POWER_VARIANCE).abs() < 1e-9);
         let n_u = samples_for_relative_error(u.analytic.variance_scaled, 18.0, 0.01);
@@ -415,28 +358,30 @@ mod tests {
         for _ in 0..10 {
             chunks.advance(100);
         }
-        for (a, b) in once.lanes().iter().zip(chunks.lanes()) {
+        for (a, b) in once.runs().iter().zip(chunks.runs()) {
             assert_eq!(a.running(), b.running());
         }
         chunks.reset();
         assert_eq!(chunks.samples(), 0);
-        assert!(chunks.lanes()[0].series().is_empty());
+        assert!(chunks.runs()[0].series().is_empty());
     }
 
     #[test]
     fn refuses_bad_contributions_by_index() {
-        let e = PointEstimator::new(vec![1.0, f64::NAN], vec![], 1).unwrap_err();
+        let e = PointEstimator::new(vec![1.0, f64::NAN], ShadingContext::default(), vec![], 1)
+            .unwrap_err();
         assert!(matches!(
             e,
             PointEstimateError::BadContribution { index: 1, .. }
         ));
         assert_eq!(
-            PointEstimator::new(vec![], vec![], 1).unwrap_err(),
+            PointEstimator::new(vec![], ShadingContext::default(), vec![], 1).unwrap_err(),
             PointEstimateError::Empty
         );
         let mismatch = PointEstimator::new(
             vec![1.0, 2.0],
-            vec![("uniform", PointPicker::Uniform(Uniform::new(3)))],
+            ShadingContext::default(),
+            vec![("uniform", Sampler::Uniform(Uniform::new(3)).into())],
             1,
         )
         .unwrap_err();
@@ -454,7 +399,7 @@ mod tests {
     fn series_is_sparse_and_ends_at_the_latest_sample() {
         let mut e = PointEstimator::seed_example(3);
         e.advance(100_000);
-        let s = e.lanes()[0].series();
+        let s = e.runs()[0].series();
         assert!(s.len() < 400, "{}", s.len());
         assert_eq!(s.last().map(|p| p.samples), Some(100_000));
         assert!(s.windows(2).all(|w| w[0].samples < w[1].samples));

@@ -13,22 +13,15 @@ use rayon::prelude::*;
 use super::Accumulator;
 use super::convergence::{ProgressiveRenderer, SchemeSeries, convergence_series};
 use super::reference::Reference;
+use crate::SceneSamplers;
 use crate::cpu_lights::CpuLights;
+use crate::light_sampler::LightSampler;
 use crate::powers::PmfScale;
 use crate::rng::Rng;
 use crate::sampler::{Sampler, Scheme};
 use crate::scene::{Emission, ReceiverPlane, Scene, light_term, pixel_center};
+use crate::scheme_sampler::SchemeSampler;
 use crate::spatial::SpatialSampler;
-use crate::{Construction, SceneSamplers};
-
-/// How lights are picked: a point-free [`Sampler`], or by contribution at the pixel.
-#[derive(Clone, Debug)]
-enum Picker {
-    /// A power-only (or uniform) sampler: `ê' = w_i · G_i(x)`.
-    Power(Sampler),
-    /// [`Scheme::Spatial`]: `ê = p_i·G_i(x) / P(i | x)` ([`SpatialSampler`]).
-    Spatial(Arc<SpatialSampler>),
-}
 
 /// A progressive CPU renderer of one scene with one scheme and one seed.
 ///
@@ -44,7 +37,9 @@ enum Picker {
 #[derive(Clone, Debug)]
 pub struct CpuRenderer {
     plane: ReceiverPlane,
-    picker: Picker,
+    /// The scheme's sampler; its two kinds have their own row loops ([`render_row`],
+    /// [`render_row_spatial`]), each drawing exactly the picks of [`LightSampler::pick_at`].
+    picker: SchemeSampler,
     /// The scene's lights and emission profiles (shared with the scene's other renderers
     /// when built through [`CpuRenderer::from_samplers`]).
     lights: CpuLights,
@@ -76,9 +71,17 @@ impl CpuRenderer {
     /// Builds the sampler of `scheme` over the scene's powers (`O(N)`; the spatial light
     /// tree `O(N log N)`) and an empty accumulator with scale `Φ_total`.
     pub fn new(scene: &Scene, scheme: Scheme, seed: u64) -> Self {
-        match Sampler::try_build(scheme, &scene.powers) {
-            Ok(sampler) => Self::with_sampler(scene, sampler, seed),
-            Err(_) => Self::with_spatial(scene, SpatialSampler::for_scene(scene), seed),
+        Self::with_scheme_sampler(scene, SchemeSampler::for_scene(scene, scheme), seed)
+    }
+
+    /// A renderer picking with `sampler`, already built over `scene` (any scheme).
+    ///
+    /// # Panics
+    /// If the sampler's light count differs from the scene's.
+    pub fn with_scheme_sampler(scene: &Scene, sampler: SchemeSampler, seed: u64) -> Self {
+        match sampler {
+            SchemeSampler::PointFree(sampler) => Self::with_sampler(scene, sampler, seed),
+            SchemeSampler::Spatial(spatial) => Self::with_spatial(scene, spatial, seed),
         }
     }
 
@@ -90,20 +93,12 @@ impl CpuRenderer {
     /// the scene's other renderers).
     pub fn from_samplers(samplers: &SceneSamplers, scheme: Scheme, seed: u64) -> Self {
         let scene = samplers.scene();
-        let sampler = match scheme {
-            Scheme::Alias => Sampler::Alias(Arc::clone(samplers.table())),
-            Scheme::AliasOneRandom => Sampler::AliasOneRandom(Arc::clone(samplers.table())),
-            Scheme::Spatial => {
-                return Self::with_spatial(scene, Arc::clone(samplers.spatial()), seed);
+        match samplers.sampler(scheme) {
+            SchemeSampler::PointFree(sampler) => {
+                Self::with_lights(scene, sampler, samplers.cpu_lights().clone(), seed)
             }
-            Scheme::Uniform | Scheme::Cdf => {
-                match Sampler::try_build_with(scheme, &scene.powers, Construction::default()) {
-                    Ok(sampler) => sampler,
-                    Err(_) => unreachable!("uniform and cdf need no shading point"),
-                }
-            }
-        };
-        Self::with_lights(scene, sampler, samplers.cpu_lights().clone(), seed)
+            SchemeSampler::Spatial(spatial) => Self::with_spatial(scene, spatial, seed),
+        }
     }
 
     /// A [`Scheme::Spatial`] renderer with a spatial sampler already built over the scene
@@ -121,7 +116,7 @@ impl CpuRenderer {
         let (accumulator, to_unit) = accumulator_for(scene);
         Self {
             plane: scene.plane.clone(),
-            picker: Picker::Spatial(spatial),
+            picker: SchemeSampler::Spatial(spatial),
             lights: CpuLights::none(),
             uniform_n: None,
             seed,
@@ -141,9 +136,8 @@ impl CpuRenderer {
 
     /// [`CpuRenderer::with_sampler`] over records already built for `scene`.
     fn with_lights(scene: &Scene, sampler: Sampler, lights: CpuLights, seed: u64) -> Self {
-        use crate::sampler::LightSampler as _;
         assert_eq!(
-            sampler.light_count(),
+            LightSampler::light_count(&sampler),
             scene.light_count(),
             "sampler built for another scene"
         );
@@ -151,7 +145,7 @@ impl CpuRenderer {
         let (accumulator, to_unit) = accumulator_for(scene);
         Self {
             plane: scene.plane.clone(),
-            picker: Picker::Power(sampler),
+            picker: SchemeSampler::PointFree(sampler),
             lights,
             uniform_n: uniform.then_some(scene.light_count() as f64),
             seed,
@@ -193,7 +187,7 @@ impl CpuRenderer {
             .zip(accumulator.sum_sq.par_chunks_mut(width))
             .enumerate()
             .for_each(|(py, (sum_row, sq_row))| match picker {
-                Picker::Power(sampler) => {
+                SchemeSampler::PointFree(sampler) => {
                     render_row(
                         plane,
                         sampler,
@@ -205,7 +199,7 @@ impl CpuRenderer {
                         sq_row,
                     );
                 }
-                Picker::Spatial(spatial) => {
+                SchemeSampler::Spatial(spatial) => {
                     render_row_spatial(
                         plane,
                         (spatial, to_unit),
@@ -237,25 +231,27 @@ impl CpuRenderer {
 
     /// The scheme lights are picked with.
     pub fn scheme(&self) -> Scheme {
-        match &self.picker {
-            Picker::Power(sampler) => sampler.scheme(),
-            Picker::Spatial(_) => Scheme::Spatial,
-        }
+        self.picker.scheme()
+    }
+
+    /// The sampler lights are picked with, whatever its scheme.
+    pub fn scheme_sampler(&self) -> &SchemeSampler {
+        &self.picker
     }
 
     /// The point-free sampler lights are picked with (`None` for [`Scheme::Spatial`]).
     pub fn sampler(&self) -> Option<&Sampler> {
         match &self.picker {
-            Picker::Power(sampler) => Some(sampler),
-            Picker::Spatial(_) => None,
+            SchemeSampler::PointFree(sampler) => Some(sampler),
+            SchemeSampler::Spatial(_) => None,
         }
     }
 
     /// The spatial sampler (`Some` only for [`Scheme::Spatial`]).
     pub fn spatial(&self) -> Option<&SpatialSampler> {
         match &self.picker {
-            Picker::Power(_) => None,
-            Picker::Spatial(spatial) => Some(spatial),
+            SchemeSampler::PointFree(_) => None,
+            SchemeSampler::Spatial(spatial) => Some(spatial),
         }
     }
 

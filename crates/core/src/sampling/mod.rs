@@ -4,6 +4,7 @@
 
 pub mod alias;
 pub mod cdf;
+pub mod light_sampler;
 pub mod powers;
 pub mod rng;
 pub mod sampler;

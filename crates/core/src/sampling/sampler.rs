@@ -1,37 +1,15 @@
-//! One interface over the light-selection schemes: each returns a light and the
-//! probability with which it was picked, which is all an estimator `f/p` needs.
+//! The selection schemes by name ([`Scheme`]) and the point-free ones built ([`Sampler`]):
+//! each returns a light and the probability with which it was picked, which is all an
+//! estimator `f/p` needs ([`crate::light_sampler`]).
 
 use std::sync::Arc;
 
 use crate::alias::{AliasTable, Construction};
 use crate::cdf::CdfTable;
+use crate::light_sampler::{Pick, PointFreeSampler};
 use crate::powers::LightPowers;
 use crate::rng::Rng;
 use crate::uniform::Uniform;
-
-/// A picked light and the probability `p(light)` of that pick.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Pick {
-    /// The light's index.
-    pub light: u32,
-    /// The probability the scheme assigns to it (`1/N` or `Φ_i / ΣΦ`).
-    pub probability: f64,
-}
-
-/// A way of picking one light at random.
-pub trait LightSampler {
-    /// Number of lights.
-    fn light_count(&self) -> usize;
-    /// The probability `p(i)` that a pick returns light `i`.
-    fn probability(&self, i: usize) -> f64;
-    /// Picks a light from `rng` (consuming at least [`LightSampler::draws_per_pick`] draws).
-    fn pick(&self, rng: &mut Rng) -> Pick;
-    /// The fewest 32-bit draws one pick consumes. Uniform and alias picks take one more per
-    /// draw rejected by Lemire's exact column pick (probability `(2^32 mod N)/2^32 < N·2^-32`
-    /// per draw, none when `N` is a power of two); the one-random alias and the CDF always
-    /// take exactly this many.
-    fn draws_per_pick(&self) -> u32;
-}
 
 /// The selection schemes lightpick compares.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -203,7 +181,7 @@ impl Sampler {
     }
 }
 
-impl LightSampler for Sampler {
+impl PointFreeSampler for Sampler {
     fn light_count(&self) -> usize {
         match self {
             Sampler::Uniform(u) => u.len(),

@@ -51,6 +51,7 @@ pub use tree::{Child, ChildRef, LEAF_SIZE, LightTree, TREE_WIDTH, TreeNode};
 
 use glam::{DVec2, DVec3};
 
+use crate::light_sampler::{LightSampler, Pick, ShadingContext};
 use crate::powers::LightPowers;
 use crate::rng::Rng;
 use crate::scene::{Emission, Scene, geometry_term, light_term};
@@ -245,6 +246,31 @@ impl SpatialSampler {
             SpatialSampler::Exact(s) => s.heap_bytes(),
             SpatialSampler::Tree(t) => t.heap_bytes(),
         }
+    }
+}
+
+impl LightSampler for SpatialSampler {
+    fn light_count(&self) -> usize {
+        SpatialSampler::light_count(self)
+    }
+
+    /// `P(i | x)` at the context's point ([`SpatialSampler::pdf`]).
+    fn pmf_at(&self, ctx: &ShadingContext, i: usize) -> f64 {
+        self.pdf(ctx.point_on_plane, i)
+    }
+
+    /// [`SpatialSampler::sample`] at the context's point, with the same draws.
+    #[inline]
+    fn pick_at(&self, ctx: &ShadingContext, rng: &mut Rng) -> Option<Pick> {
+        self.sample(ctx.point_on_plane, rng).map(|pick| Pick {
+            light: pick.light,
+            probability: pick.pdf,
+        })
+    }
+
+    /// [`SpatialSampler::pdfs`] at the context's point (one traversal).
+    fn pmfs_at(&self, ctx: &ShadingContext) -> Vec<f64> {
+        self.pdfs(ctx.point_on_plane)
     }
 }
 

@@ -7,10 +7,12 @@
 use glam::{DVec2, DVec3, dvec2, dvec3};
 use std::sync::Arc;
 
-use lightpick_core::point_estimate::{PointEstimator, PointPicker, samples_for_relative_error};
+use lightpick_core::point_estimate::{PointEstimator, samples_for_relative_error};
 use lightpick_core::scene::{Scene, geometry_term};
 use lightpick_core::spatial::SpatialSampler;
-use lightpick_core::{AliasTable, LightPowers, SeedExample, Uniform};
+use lightpick_core::{
+    AliasTable, LightPowers, Sampler, SchemeSampler, SeedExample, ShadingContext, Uniform,
+};
 
 /// The exact central moments `(σ², μ4)` of `f_I/q_I` for `I ~ q`.
 fn central_moments(f: &[f64], q: &[f64]) -> (f64, f64) {
@@ -37,16 +39,16 @@ fn seed_point_converges_to_18_with_variances_366_and_14_85() {
         vec![2.0 / 27.0, 5.0 / 27.0, 20.0 / 27.0],
     ];
     let analytic = [SeedExample::UNIFORM_VARIANCE, SeedExample::POWER_VARIANCE];
-    for ((lane, q), var) in e.lanes().iter().zip(&qs).zip(analytic) {
+    for ((run, q), var) in e.runs().iter().zip(&qs).zip(analytic) {
         let (m2, m4) = central_moments(&f, q);
-        assert!((m2 - var).abs() < 1e-9, "{}: {m2}", lane.name);
-        assert!((lane.analytic.variance - var).abs() < 1e-9);
-        let w = lane.running();
+        assert!((m2 - var).abs() < 1e-9, "{}: {m2}", run.name);
+        assert!((run.analytic.variance - var).abs() < 1e-9);
+        let w = run.running();
         let mean_sd = (var / n as f64).sqrt();
         assert!(
             (w.mean() - 18.0).abs() < 5.0 * mean_sd,
             "{}: mean {} vs 18 (σ {mean_sd})",
-            lane.name,
+            run.name,
             w.mean()
         );
         // The sample variance has variance (μ4 − σ⁴)/n to first order.
@@ -54,15 +56,15 @@ fn seed_point_converges_to_18_with_variances_366_and_14_85() {
         assert!(
             (w.variance() - var).abs() < 5.0 * var_sd,
             "{}: variance {} vs {var} (σ {var_sd})",
-            lane.name,
+            run.name,
             w.variance()
         );
         // The last point of the series is the running state.
-        let last = lane.series().last().unwrap();
+        let last = run.series().last().unwrap();
         assert_eq!(last.samples, n);
         assert_eq!(last.mean, w.mean());
     }
-    let [u, a] = [&e.lanes()[0], &e.lanes()[1]];
+    let [u, a] = [&e.runs()[0], &e.runs()[1]];
     let ratio = samples_for_relative_error(u.analytic.variance_scaled, 18.0, 0.01)
         / samples_for_relative_error(a.analytic.variance_scaled, 18.0, 0.01);
     assert!((ratio - 366.0 / 14.85).abs() < 1e-9, "{ratio}");
@@ -78,21 +80,17 @@ fn pixel_estimator(scene: &Scene, x: DVec2, seed: u64) -> PointEstimator {
         .map(|(&light_in_world, p)| total * p * geometry_term(light_in_world, x))
         .collect();
     let n = scene.light_count();
+    let spatial = Arc::new(SpatialSampler::build(&scene.positions, &scene.powers));
     PointEstimator::new(
         contributions,
+        ShadingContext::at(x),
         vec![
-            ("uniform", PointPicker::Uniform(Uniform::new(n as u32))),
+            ("uniform", Sampler::Uniform(Uniform::new(n as u32)).into()),
             (
                 "power",
-                PointPicker::Table(Arc::new(AliasTable::build(&scene.powers))),
+                Sampler::Alias(Arc::new(AliasTable::build(&scene.powers))).into(),
             ),
-            (
-                "spatial",
-                PointPicker::Spatial {
-                    sampler: Arc::new(SpatialSampler::build(&scene.positions, &scene.powers)),
-                    point_on_plane: x,
-                },
-            ),
+            ("spatial", SchemeSampler::Spatial(spatial)),
         ],
         seed,
     )
@@ -104,7 +102,7 @@ fn spatial_rule_is_exact_on_few_lights() {
     let scene = Scene::preset("seed").unwrap();
     let mut e = pixel_estimator(&scene, dvec2(0.3, -0.2), 5);
     e.advance(1000);
-    let spatial = &e.lanes()[2];
+    let spatial = &e.runs()[2];
     let exact = e.exact();
     // Every sample equals the exact total up to the rounding of p_i·G_i/P(i|x); the
     // analytic variance cancels two terms of size F², each within a few ulps.
@@ -132,16 +130,16 @@ fn every_rule_is_unbiased_at_a_pixel_of_a_tree_scene() {
     let n = 100_000u64;
     let mut e = pixel_estimator(&scene, dvec2(0.5, 0.25), 9);
     e.advance(n);
-    for lane in e.lanes() {
-        let sd = (lane.analytic.variance / n as f64).sqrt();
+    for run in e.runs() {
+        let sd = (run.analytic.variance / n as f64).sqrt();
         assert!(
-            (lane.running().mean() - e.exact()).abs() < 5.0 * sd,
+            (run.running().mean() - e.exact()).abs() < 5.0 * sd,
             "{}: {} vs {} (σ {sd})",
-            lane.name,
-            lane.running().mean(),
+            run.name,
+            run.running().mean(),
             e.exact()
         );
     }
     // The tree's rule beats power picking where the geometry varies this much.
-    assert!(e.lanes()[2].analytic.variance < e.lanes()[1].analytic.variance);
+    assert!(e.runs()[2].analytic.variance < e.runs()[1].analytic.variance);
 }

@@ -16,7 +16,7 @@ use lightpick_core::render::{
     Accumulator, CpuRenderer, Reference, convergence_series, mean_variance_per_sample,
 };
 use lightpick_core::scene::{ReceiverPlane, Scene, geometry_term, pixel_center};
-use lightpick_core::{LightSampler as _, Rng, Sampler, Scheme, analytic_moments};
+use lightpick_core::{PointFreeSampler as _, Rng, Sampler, Scheme, analytic_moments};
 
 /// Standard deviations allowed between a statistic and its exact expectation.
 const K: f64 = 5.0;

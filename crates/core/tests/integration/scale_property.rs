@@ -3,10 +3,13 @@
 //! figure unchanged: the estimators and metrics run in a unit that follows the scale.
 
 use glam::{dvec2, dvec3};
-use lightpick_core::point_estimate::{PointEstimator, PointPicker};
+use lightpick_core::point_estimate::{PointEstimator, SchemeRun};
 use lightpick_core::render::{CpuRenderer, Reference, efficiency, error_metrics};
 use lightpick_core::scene::{ReceiverPlane, Scene};
-use lightpick_core::{AliasTable, LightPowers, Scaled, Scheme, Uniform, Welford, analytic_moments};
+use lightpick_core::{
+    AliasTable, LightPowers, Sampler, Scaled, Scheme, ShadingContext, Uniform, Welford,
+    analytic_moments,
+};
 use proptest::prelude::*;
 use std::sync::Arc;
 
@@ -86,9 +89,10 @@ proptest! {
         let estimator = |contributions: Vec<f64>| {
             let mut e = PointEstimator::new(
                 contributions,
+                ShadingContext::default(),
                 vec![
-                    ("uniform", PointPicker::Uniform(Uniform::new(7))),
-                    ("power", PointPicker::Table(Arc::clone(&table))),
+                    ("uniform", Sampler::Uniform(Uniform::new(7)).into()),
+                    ("power", Sampler::Alias(Arc::clone(&table)).into()),
                 ],
                 5,
             )
@@ -99,7 +103,7 @@ proptest! {
         let a = estimator(f.clone());
         let b = estimator(f.iter().map(|&x| pow2(x, k)).collect());
         prop_assert_eq!(pow2(a.exact(), k).to_bits(), b.exact().to_bits());
-        for (la, lb) in a.lanes().iter().zip(b.lanes()) {
+        for (la, lb) in a.runs().iter().zip(b.runs()) {
             let (ra, rb) = (la.running(), lb.running());
             prop_assert_eq!(ra.mean_in_unit().to_bits(), rb.mean_in_unit().to_bits());
             prop_assert!(scaled_by(ra.mean_scaled(), rb.mean_scaled(), k));
@@ -111,7 +115,7 @@ proptest! {
                 2 * k
             ));
             // The z-score of the running mean against the analytic mean, in the unit.
-            let z = |l: &lightpick_core::point_estimate::EstimateLane| {
+            let z = |l: &SchemeRun| {
                 let w = l.running();
                 let unit = Scaled::pow2(-w.unit_exponent());
                 (w.mean_in_unit() - (Scaled::from_f64(l.analytic.mean) * unit).to_f64())

@@ -7,7 +7,7 @@
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
 use lightpick_core::{
-    AliasTable, LightPowers, LightSampler as _, Rng, Sampler, Scheme, SeedExample, Welford,
+    AliasTable, LightPowers, PointFreeSampler as _, Rng, Sampler, Scheme, SeedExample, Welford,
     analytic_moments, chi_square,
 };
 

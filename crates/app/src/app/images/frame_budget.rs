@@ -66,33 +66,33 @@ impl FrameBudget {
     }
 }
 
-/// The GPU work of one lane (one scheme's image) in one frame.
+/// The GPU work of one run (one scheme's image) in one frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LaneWork {
+pub enum RunWork {
     /// This many whole sample passes (every pixel gets this many samples).
     Passes(u32),
     /// The next this many rows of the sample pass in progress.
     Rows(u32),
 }
 
-/// Rows a lane renders in its first frame, before its cost per row is known.
+/// Rows a run renders in its first frame, before its cost per row is known.
 pub const FIRST_ROWS: u32 = 8;
-/// Most passes one lane runs in a frame of equal-time mode.
+/// Most passes one run runs in a frame of equal-time mode.
 pub const MAX_PASSES: u32 = 1 << 12;
 
-/// The frame's work for each lane, within `budget` GPU seconds: `row_seconds[l]` is lane
+/// The frame's work for each run, within `budget` GPU seconds: `row_seconds[l]` is run
 /// `l`'s measured time per row of one sample pass (`None` before it is measured), `height`
 /// the image's rows.
 ///
 /// * Any cost unknown: [`FIRST_ROWS`] rows each (a cheap first measurement).
-/// * Equal samples: every lane does the same work, so they stay at the same samples per
+/// * Equal samples: every run does the same work, so they stay at the same samples per
 ///   pixel. `spp_per_frame` passes each if they fit in the budget, else as many passes as
 ///   fit, else the rows that fit, `⌊b / Σ_l t_l⌋` (at least one).
-/// * Equal time: each lane gets a slice of `b`: the passes of its own cost that fit (at least
+/// * Equal time: each run gets a slice of `b`: the passes of its own cost that fit (at least
 ///   one), or the rows that fit (at least one), so a cheaper scheme gets more samples. The
-///   slices follow the lanes' totals so far (`seconds`): lane `l` wants `m + b/3 − t_l`
+///   slices follow the runs' totals so far (`seconds`): run `l` wants `m + b/3 − t_l`
 ///   (`m` the largest total), scaled so they add up to `b`. Equal totals give `b/3` each; a
-///   lane behind (a whole pass that did not fit its slice last frame) gets more until it
+///   run behind (a whole pass that did not fit its slice last frame) gets more until it
 ///   has caught up, so the totals stay equal over the run, not only frame by frame.
 pub fn plan(
     budget: f64,
@@ -101,13 +101,13 @@ pub fn plan(
     mode: BudgetMode,
     spp_per_frame: u32,
     seconds: [f64; 3],
-) -> [LaneWork; 3] {
+) -> [RunWork; 3] {
     let Some(rows) = row_seconds
         .iter()
         .map(|t| t.filter(|t| *t > 0.0))
         .collect::<Option<Vec<f64>>>()
     else {
-        return [LaneWork::Rows(FIRST_ROWS); 3];
+        return [RunWork::Rows(FIRST_ROWS); 3];
     };
     let height_f = f64::from(height.max(1));
     let fit = |seconds: f64, unit: f64, max: f64| (seconds / unit).floor().clamp(1.0, max) as u32;
@@ -116,9 +116,9 @@ pub fn plan(
             let row_all: f64 = rows.iter().sum();
             let pass_all = row_all * height_f;
             let work = if pass_all <= budget {
-                LaneWork::Passes(fit(budget, pass_all, f64::from(spp_per_frame.max(1))))
+                RunWork::Passes(fit(budget, pass_all, f64::from(spp_per_frame.max(1))))
             } else {
-                LaneWork::Rows(fit(budget, row_all, height_f))
+                RunWork::Rows(fit(budget, row_all, height_f))
             };
             [work; 3]
         }
@@ -136,9 +136,9 @@ pub fn plan(
             let work = |row: f64, slice: f64| {
                 let pass = row * height_f;
                 if pass <= slice {
-                    LaneWork::Passes(fit(slice, pass, f64::from(MAX_PASSES)))
+                    RunWork::Passes(fit(slice, pass, f64::from(MAX_PASSES)))
                 } else {
-                    LaneWork::Rows(fit(slice, row, height_f))
+                    RunWork::Rows(fit(slice, row, height_f))
                 }
             };
             [
@@ -209,51 +209,51 @@ mod tests {
             4,
             [0.0; 3],
         );
-        assert_eq!(work, [LaneWork::Rows(FIRST_ROWS); 3]);
+        assert_eq!(work, [RunWork::Rows(FIRST_ROWS); 3]);
     }
 
     #[test]
     fn equal_samples_runs_whole_passes_when_they_fit() {
-        // 1 µs per row and lane: a pass of the three lanes is 1.5 ms.
+        // 1 µs per row and run: a pass of the three runs is 1.5 ms.
         let rows = [Some(1e-6); 3];
         let work = plan(0.010, rows, H, BudgetMode::EqualSamples, 4, [0.0; 3]);
-        assert_eq!(work, [LaneWork::Passes(4); 3]);
+        assert_eq!(work, [RunWork::Passes(4); 3]);
         // A budget for two passes only: two, not the four asked for.
         let work = plan(0.0035, rows, H, BudgetMode::EqualSamples, 4, [0.0; 3]);
-        assert_eq!(work, [LaneWork::Passes(2); 3]);
+        assert_eq!(work, [RunWork::Passes(2); 3]);
     }
 
     #[test]
-    fn equal_samples_splits_a_costly_pass_into_rows_alike_for_every_lane() {
-        // The million-light case: the tree lane costs 0.18 ms per row, a pass 94 ms.
+    fn equal_samples_splits_a_costly_pass_into_rows_alike_for_every_run() {
+        // The million-light case: the tree run costs 0.18 ms per row, a pass 94 ms.
         let rows = [Some(18e-6), Some(21e-6), Some(180e-6)];
         let work = plan(0.005, rows, H, BudgetMode::EqualSamples, 1, [0.0; 3]);
-        // ⌊5 ms / 219 µs⌋ = 22 rows of every lane: they stay at equal samples.
-        assert_eq!(work, [LaneWork::Rows(22); 3]);
+        // ⌊5 ms / 219 µs⌋ = 22 rows of every run: they stay at equal samples.
+        assert_eq!(work, [RunWork::Rows(22); 3]);
         // Even a tiny budget advances by a row.
         let work = plan(1e-6, rows, H, BudgetMode::EqualSamples, 1, [0.0; 3]);
-        assert_eq!(work, [LaneWork::Rows(1); 3]);
+        assert_eq!(work, [RunWork::Rows(1); 3]);
     }
 
     #[test]
-    fn equal_time_gives_each_lane_a_third_of_the_budget() {
-        // 12 ms budget, 4 ms per lane. Lane 0: 1 µs per row, a 0.512 ms pass: 7 passes;
-        // lane 1 four times as costly: 1 pass; lane 2: 50 µs per row: 80 rows.
+    fn equal_time_gives_each_run_a_third_of_the_budget() {
+        // 12 ms budget, 4 ms per run. SchemeRun 0: 1 µs per row, a 0.512 ms pass: 7 passes;
+        // run 1 four times as costly: 1 pass; run 2: 50 µs per row: 80 rows.
         let rows = [Some(1e-6), Some(4e-6), Some(50e-6)];
         let work = plan(0.012, rows, H, BudgetMode::EqualTime, 1, [0.0; 3]);
         assert_eq!(
             work,
-            [LaneWork::Passes(7), LaneWork::Passes(1), LaneWork::Rows(80)]
+            [RunWork::Passes(7), RunWork::Passes(1), RunWork::Rows(80)]
         );
-        // Very cheap lanes are capped.
+        // Very cheap runs are capped.
         let work = plan(1.0, [Some(1e-12); 3], H, BudgetMode::EqualTime, 1, [0.0; 3]);
-        assert_eq!(work, [LaneWork::Passes(MAX_PASSES); 3]);
+        assert_eq!(work, [RunWork::Passes(MAX_PASSES); 3]);
     }
 
     #[test]
     fn equal_time_keeps_the_totals_equal_over_the_run() {
-        // Lane 0's pass takes 0.6 of a third of the budget (one pass a frame would give it
-        // 60 % of the others' time), lane 1's 1.5 thirds (never a whole pass: rows), lane 2
+        // SchemeRun 0's pass takes 0.6 of a third of the budget (one pass a frame would give it
+        // 60 % of the others' time), run 1's 1.5 thirds (never a whole pass: rows), run 2
         // is cheap. Over many frames the totals stay within one frame's budget of each other.
         let budget = 0.012;
         let third = budget / 3.0;
@@ -270,8 +270,8 @@ mod tests {
             );
             for (l, w) in work.iter().enumerate() {
                 totals[l] += match w {
-                    LaneWork::Passes(p) => f64::from(*p) * row_seconds[l] * f64::from(H),
-                    LaneWork::Rows(r) => f64::from(*r) * row_seconds[l],
+                    RunWork::Passes(p) => f64::from(*p) * row_seconds[l] * f64::from(H),
+                    RunWork::Rows(r) => f64::from(*r) * row_seconds[l],
                 };
             }
         }
@@ -279,7 +279,7 @@ mod tests {
         let least = totals.iter().copied().fold(f64::MAX, f64::min);
         assert!(most - least <= budget, "{totals:?}");
         // Whole passes no longer than the slice fill at least half of it (`⌊s/p⌋·p ≥ s/2`), and
-        // rows lose less than a row: the lanes, kept equal, use at least half the budget.
+        // rows lose less than a row: the runs, kept equal, use at least half the budget.
         assert!(
             least >= 0.5 * 500.0 * third,
             "{totals:?}: the budget is used"

@@ -1,5 +1,5 @@
 //! Where the progressive images are made: the CPU [`engine`] (a render thread in the app,
-//! inline in tests) and the [`gpu`] lanes on eframe's own wgpu device, both publishing the
+//! inline in tests) and the [`gpu`] runs on eframe's own wgpu device, both publishing the
 //! same [`Published`] frame; the [`renderer_choice`] that picks one of them, and the
 //! [`frame_budget`] that keeps the GPU's share of a UI frame small enough for the window.
 //!

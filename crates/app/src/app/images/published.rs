@@ -1,5 +1,5 @@
 //! What the image renderers are asked and what they show: the settings both the CPU engine
-//! and the GPU lanes render with ([`EngineConfig`]), and the frame they publish for the
+//! and the GPU runs render with ([`EngineConfig`]), and the frame they publish for the
 //! panels ([`Published`]: one [`SchemeImage`] per scheme, with its numbers and convergence
 //! series), and what they hold beside the scene ([`RendererBytes`]).
 
@@ -100,7 +100,7 @@ pub struct Published {
     pub power: SchemeImage,
     /// Contribution-aware selection (exact for few lights, light tree for many).
     pub spatial: SchemeImage,
-    /// Lights in the scene rendered (whether the spatial lane is the exact pick).
+    /// Lights in the scene rendered (whether the spatial run is the exact pick).
     pub light_count: usize,
     /// The tonemapped exact reference.
     pub reference_rgba: Option<Vec<u8>>,
@@ -108,7 +108,7 @@ pub struct Published {
     pub reference_note: Option<String>,
     /// Where it was rendered ("CPU (rayon, 2 threads)").
     pub device_note: String,
-    /// What each lane's time `T` measures, in words (for the figures' hover text).
+    /// What each run's time `T` measures, in words (for the figures' hover text).
     pub time_source: String,
 }
 
@@ -135,9 +135,9 @@ impl Published {
 /// software device such as lavapipe keeps in the process).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RendererBytes {
-    /// Per light: what the lanes hold beyond the scene's arrays (CPU: emission profiles'
-    /// copies; GPU: uploaded lights and trees), each counted once where lanes share them.
+    /// Per light: what the runs hold beyond the scene's arrays (CPU: emission profiles'
+    /// copies; GPU: uploaded lights and trees), each counted once where runs share them.
     pub lights: usize,
-    /// Per pixel: the lanes' sums and outputs and the exact reference.
+    /// Per pixel: the runs' sums and outputs and the exact reference.
     pub pixels: usize,
 }

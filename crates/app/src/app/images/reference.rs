@@ -1,4 +1,4 @@
-//! What the CPU engine and the GPU lanes compute alike from their sums: the exact
+//! What the CPU engine and the GPU runs compute alike from their sums: the exact
 //! reference and its note, the error maps, and the thinning of the convergence series.
 
 use lightpick_core::render::Reference;

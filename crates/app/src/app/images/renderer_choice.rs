@@ -3,7 +3,7 @@
 //!
 //! On a real GPU the device wins without asking. On a software rasterizer
 //! (`AdapterInfo::device_type == Cpu`: llvmpipe / lavapipe) both choices run on the same
-//! cores, and the GPU lanes also share the UI thread's frame (their work waits inside it),
+//! cores, and the GPU runs also share the UI thread's frame (their work waits inside it),
 //! so which is faster depends on the scene and the machine: in `Auto` the app measures it.
 //! While the images run it renders [`TRIAL_SECONDS`] on the GPU, then as long on the CPU,
 //! counting the samples per pixel each image gains per second (the mean of the three
@@ -20,7 +20,7 @@ pub const TRIAL_SECONDS: f64 = 1.5;
 /// Where the images render this frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Renderer {
-    /// The GPU lanes on eframe's device.
+    /// The GPU runs on eframe's device.
     Gpu,
     /// The CPU renderer on its worker thread.
     Cpu,

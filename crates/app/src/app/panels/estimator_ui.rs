@@ -55,16 +55,8 @@ pub fn estimator_window(ctx: &egui::Context, state: &mut AppState) {
 /// The view's contents: the point, the controls, the plot and the table.
 pub fn estimator_ui(ui: &mut Ui, state: &mut AppState) {
     let built = std::sync::Arc::clone(&state.built);
-    let spatial = match state.estimator.point {
-        EstimatorPoint::Pixel(_) => Some(std::sync::Arc::clone(built.samplers.spatial())),
-        EstimatorPoint::Seed => None,
-    };
     let seed = state.settings.seed;
-    if state
-        .estimator
-        .sync(&built, spatial.as_ref(), seed)
-        .is_none()
-    {
+    if state.estimator.sync(&built, seed).is_none() {
         point_choice_ui(ui, state);
         let problem = state.estimator.problem.clone().unwrap_or_default();
         ui.colored_label(colors::error(state.dark()), problem);
@@ -195,7 +187,7 @@ fn figures_ui(ui: &mut Ui, estimator: &PointEstimator) {
     let exact = estimator.exact();
     let needed = |var: Scaled| samples_for_relative_error(var, exact, TARGET_RELATIVE_ERROR);
     let uniform_variance = estimator
-        .lanes()
+        .runs()
         .first()
         .map_or(Scaled::ZERO, |l| l.analytic.variance_scaled);
     let uniform_needed = (uniform_variance.significand() > 0.0).then(|| needed(uniform_variance));
@@ -230,9 +222,9 @@ fn figures_ui(ui: &mut Ui, estimator: &PointEstimator) {
                 ui.strong(text).on_hover_text(tip);
             }
             ui.end_row();
-            for lane in estimator.lanes() {
-                let w = lane.running();
-                ui.colored_label(colors::scheme(lane.scheme()), lane.name);
+            for run in estimator.runs() {
+                let w = run.running();
+                ui.colored_label(colors::scheme(run.scheme()), run.name);
                 if w.count() == 0 {
                     ui.label("–");
                     ui.label("–");
@@ -248,7 +240,7 @@ fn figures_ui(ui: &mut Ui, estimator: &PointEstimator) {
                         numbers::short_scaled(w.variance_scaled())
                     });
                 }
-                let variance = lane.analytic.variance_scaled;
+                let variance = run.analytic.variance_scaled;
                 // The exact pick's variance is the rounding of zero (the same rule as the
                 // Convergence panel's), compared as a ratio: the same at any scale.
                 let exact_pick = variance.significand() == 0.0
@@ -303,9 +295,9 @@ fn plot_ui(ui: &mut Ui, estimator: &PointEstimator, dark: bool) {
                 .color(colors::foreground(dark))
                 .width(1.5),
             );
-            for lane in estimator.lanes() {
-                let color = colors::scheme(lane.scheme());
-                let series = lane.series();
+            for run in estimator.runs() {
+                let color = colors::scheme(run.scheme());
+                let series = run.series();
                 let at = |p: &lightpick_core::point_estimate::EstimatePoint, k: f64| {
                     [(p.samples as f64).log10(), p.mean + k * p.std_error]
                 };
@@ -315,14 +307,14 @@ fn plot_ui(ui: &mut Ui, estimator: &PointEstimator, dark: bool) {
                 let upper: Vec<[f64; 2]> = banded.clone().map(|p| at(p, 2.0)).collect();
                 let lower: Vec<[f64; 2]> = banded.map(|p| at(p, -2.0)).collect();
                 plot_ui.line(
-                    Line::new(lane.name, PlotPoints::new(mean))
+                    Line::new(run.name, PlotPoints::new(mean))
                         .color(color)
                         .width(2.0),
                 );
                 // The same name and colour as the mean: one legend entry per scheme.
                 for band in [upper, lower] {
                     plot_ui.line(
-                        Line::new(lane.name, PlotPoints::new(band))
+                        Line::new(run.name, PlotPoints::new(band))
                             .color(color)
                             .style(LineStyle::dashed_loose())
                             .width(1.0),

@@ -5,11 +5,12 @@
 use std::sync::Arc;
 
 use glam::DVec2;
-use lightpick_core::point_estimate::{PointEstimator, PointPicker};
+use lightpick_core::point_estimate::PointEstimator;
 use lightpick_core::scene::{Scene, pixel_center};
-use lightpick_core::spatial::SpatialSampler;
 use lightpick_core::walkthrough::{CLASSIC_GEOMETRY, CLASSIC_POWERS};
-use lightpick_core::{AliasTable, LightPowers, Uniform};
+use lightpick_core::{
+    AliasTable, LightPowers, Sampler, Scheme, SchemeSampler, ShadingContext, Uniform,
+};
 
 use super::built::Built;
 
@@ -37,7 +38,6 @@ struct BuiltFor {
     generation: u64,
     point: EstimatorPoint,
     seed: u64,
-    with_spatial: bool,
 }
 
 /// The estimator view's state (in `AppState::estimator`).
@@ -86,24 +86,17 @@ impl EstimatorState {
         }
     }
 
-    /// The running estimator for `built` (and `spatial`, the scene's spatial sampler when
-    /// ready), rebuilt from sample 0 when the scene generation, the point or the seed
-    /// changed. `None` when the point cannot be estimated ([`EstimatorState::problem`]).
-    pub fn sync(
-        &mut self,
-        built: &Built,
-        spatial: Option<&Arc<SpatialSampler>>,
-        seed: u64,
-    ) -> Option<&mut PointEstimator> {
-        let with_spatial = matches!(self.point, EstimatorPoint::Pixel(_)) && spatial.is_some();
+    /// The running estimator for `built`, rebuilt from sample 0 when the scene generation,
+    /// the point or the seed changed. `None` when the point cannot be estimated
+    /// ([`EstimatorState::problem`]).
+    pub fn sync(&mut self, built: &Built, seed: u64) -> Option<&mut PointEstimator> {
         let key = BuiltFor {
             generation: built.generation,
             point: self.point,
             seed,
-            with_spatial,
         };
         if self.estimator.as_ref().is_none_or(|(k, _)| *k != key) {
-            match build(built, self.point, spatial.filter(|_| with_spatial), seed) {
+            match build(built, self.point, seed) {
                 Ok(estimator) => {
                     self.problem = None;
                     self.estimator = Some((key, estimator));
@@ -165,39 +158,43 @@ impl EstimatorState {
     }
 }
 
-/// The estimator of `point` on `built`'s scene (see [`EstimatorPoint`]).
-fn build(
-    built: &Built,
-    point: EstimatorPoint,
-    spatial: Option<&Arc<SpatialSampler>>,
-    seed: u64,
-) -> Result<PointEstimator, String> {
+/// The estimator of `point` on `built`'s scene (see [`EstimatorPoint`]): uniform and power
+/// picking everywhere, spatial picking too at a pixel, each the scene's own sampler through
+/// the one interface ([`lightpick_core::LightSampler`]).
+fn build(built: &Built, point: EstimatorPoint, seed: u64) -> Result<PointEstimator, String> {
     let scene = &built.scene;
-    let n = built.len();
-    let mut lanes = vec![("uniform", PointPicker::Uniform(Uniform::new(n as u32)))];
-    let contributions = match point {
-        EstimatorPoint::Seed if seed_point_uses_scene(built) => {
-            lanes.push(("power", PointPicker::Table(Arc::clone(&built.table))));
+    let schemes = |schemes: &[(&'static str, Scheme)]| -> Vec<(&'static str, SchemeSampler)> {
+        schemes
+            .iter()
+            .map(|&(name, scheme)| (name, built.samplers.sampler(scheme)))
+            .collect()
+    };
+    let point_free = [("uniform", Scheme::Uniform), ("power", Scheme::Alias)];
+    let (contributions, at, runs) = match point {
+        EstimatorPoint::Seed if seed_point_uses_scene(built) => (
             scene
                 .powers
                 .as_slice()
                 .iter()
                 .zip(CLASSIC_GEOMETRY)
                 .map(|(power, g)| power * g)
-                .collect()
-        }
+                .collect(),
+            ShadingContext::default(),
+            schemes(&point_free),
+        ),
         EstimatorPoint::Seed => {
             let powers = LightPowers::new(CLASSIC_POWERS.to_vec()).map_err(|e| e.to_string())?;
-            let table = AliasTable::build_exact(&powers);
-            lanes = vec![
-                ("uniform", PointPicker::Uniform(Uniform::new(3))),
-                ("power", PointPicker::Table(Arc::new(table))),
-            ];
-            CLASSIC_POWERS
+            let table = Arc::new(AliasTable::build_exact(&powers));
+            let contributions = CLASSIC_POWERS
                 .iter()
                 .zip(CLASSIC_GEOMETRY)
                 .map(|(power, g)| power * g)
-                .collect()
+                .collect();
+            let runs = vec![
+                ("uniform", Sampler::Uniform(Uniform::new(3)).into()),
+                ("power", Sampler::Alias(table).into()),
+            ];
+            (contributions, ShadingContext::default(), runs)
         }
         EstimatorPoint::Pixel(pixel) => {
             if pixel[0] >= scene.plane.width || pixel[1] >= scene.plane.height {
@@ -207,20 +204,16 @@ fn build(
                 ));
             }
             let point_on_plane = pixel_center(&scene.plane, pixel[0], pixel[1]);
-            lanes.push(("power", PointPicker::Table(Arc::clone(&built.table))));
-            if let Some(sampler) = spatial {
-                lanes.push((
-                    "spatial",
-                    PointPicker::Spatial {
-                        sampler: Arc::clone(sampler),
-                        point_on_plane,
-                    },
-                ));
-            }
-            pixel_contributions(scene, point_on_plane)?
+            let contributions = pixel_contributions(scene, point_on_plane)?;
+            let runs = schemes(&[
+                ("uniform", Scheme::Uniform),
+                ("power", Scheme::Alias),
+                ("spatial", Scheme::Spatial),
+            ]);
+            (contributions, ShadingContext::at(point_on_plane), runs)
         }
     };
-    PointEstimator::new(contributions, lanes, seed).map_err(|e| e.to_string())
+    PointEstimator::new(contributions, at, runs, seed).map_err(|e| e.to_string())
 }
 
 /// `f_i = Φ_i·G_i(x)·S_i(x)` of every light at `point_on_plane`, refused when no light

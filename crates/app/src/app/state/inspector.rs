@@ -1,6 +1,7 @@
 //! The pixel inspector's state: the selected pixel and the cached inspection of it (the
 //! scene's spatial sampler comes shared with the scene, built once per generation).
 
+use lightpick_core::Scheme;
 use lightpick_core::inspect::PointInspection;
 use lightpick_core::scene::pixel_center;
 
@@ -41,7 +42,11 @@ impl Inspector {
             .is_some_and(|c| c.generation == built.generation && c.pixel == pixel);
         if !fresh {
             let x = pixel_center(&scene.plane, pixel[0], pixel[1]);
-            let inspection = PointInspection::at_with_spatial(scene, x, built.samplers.spatial());
+            let inspection = PointInspection::at_with_spatial(
+                scene,
+                x,
+                &built.samplers.sampler(Scheme::Spatial),
+            );
             self.cached = Some(Cached {
                 generation: built.generation,
                 pixel,

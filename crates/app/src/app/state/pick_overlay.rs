@@ -5,7 +5,7 @@
 //! computes the same three for the lights it lists).
 
 use glam::DVec2;
-use lightpick_core::SceneSamplers;
+use lightpick_core::{LightSampler as _, SceneSamplers, Scheme, ShadingContext};
 
 /// The most lights the overlay draws (beyond, it says the scene is too large to draw light
 /// by light and the inspector's table stands).
@@ -47,7 +47,9 @@ impl PickOverlay {
             x,
             lights: scene.positions.iter().map(|p| p.truncate()).collect(),
             power,
-            spatial: samplers.spatial().pdfs(x),
+            spatial: samplers
+                .sampler(Scheme::Spatial)
+                .pmfs_at(&ShadingContext::at(x)),
             ideal,
         })
     }

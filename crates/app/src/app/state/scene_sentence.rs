@@ -57,7 +57,7 @@ pub fn scene_sentence(generation: u64, samplers: &SceneSamplers) -> SceneSentenc
             let px = grid_pixel(gx, side, scene.plane.width);
             let py = grid_pixel(gy, side, scene.plane.height);
             let x = pixel_center(&scene.plane, px, py);
-            let inspection = PointInspection::at_with_spatial(scene, x, spatial);
+            let inspection = PointInspection::at_with_spatial(scene, x, &**spatial);
             sums[0] += inspection.uniform_variance();
             sums[1] += inspection.power_variance();
             sums[2] += inspection.spatial_variance().unwrap_or(0.0);

@@ -1,5 +1,5 @@
 //! The app under kittest: harnesses on the whole window or one panel (kittest's own
-//! renderer, or wgpu for snapshots and the GPU lanes), paused steps, what is shown, clicks
+//! renderer, or wgpu for snapshots and the GPU runs), paused steps, what is shown, clicks
 //! and the snapshots' folder.
 
 use egui_kittest::kittest::Queryable as _;
@@ -37,7 +37,7 @@ pub fn panel(kind: PanelKind, app: LightpickApp, size: [f32; 2]) -> Harness<'sta
     )
 }
 
-/// [`panel`] drawn with wgpu (snapshots, the GPU lanes).
+/// [`panel`] drawn with wgpu (snapshots, the GPU runs).
 pub fn wgpu_panel(
     kind: PanelKind,
     app: LightpickApp,
@@ -79,7 +79,7 @@ pub fn snapshot_options() -> SnapshotOptions {
     SnapshotOptions::new().output_path(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/snapshots"))
 }
 
-/// The whole app as eframe runs it (its wgpu render state: the GPU lanes), on kittest's
+/// The whole app as eframe runs it (its wgpu render state: the GPU runs), on kittest's
 /// wgpu device at `size`, on the test scene.
 pub fn wgpu_eframe(size: [f32; 2]) -> Harness<'static, LightpickApp> {
     builder(size, true).build_eframe(|_cc| LightpickApp::for_tests())

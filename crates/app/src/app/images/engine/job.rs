@@ -1,4 +1,4 @@
-//! One scene's CPU rendering: a [`Job`] holds the three lanes (uniform, power,
+//! One scene's CPU rendering: a [`Job`] holds the three runs (uniform, power,
 //! spatial), each a `CpuRenderer` over the scene's shared samplers with its totals and
 //! convergence series, and the exact reference; it advances a frame (or the worker's batch)
 //! and publishes what the panels show.
@@ -17,7 +17,7 @@ use crate::app::images::published::{
 use crate::app::images::reference::{error_map, error_scale, reference, thin};
 use crate::app::state::settings::BudgetMode;
 
-/// Compute time each scheme gets per frame in equal-time mode (on average: the lane furthest
+/// Compute time each scheme gets per frame in equal-time mode (on average: the run furthest
 /// behind in time runs next, so the totals stay within one pass of each other).
 const EQUAL_TIME_SLICE_S: f64 = 0.012;
 
@@ -46,7 +46,7 @@ fn virtual_time_note(device_note: &str) -> bool {
 }
 
 /// One scheme's renderer and totals.
-struct Lane {
+struct SchemeRun {
     scheme: Scheme,
     renderer: CpuRenderer,
     seconds: f64,
@@ -54,7 +54,7 @@ struct Lane {
     series: Vec<ConvergencePoint>,
 }
 
-impl Lane {
+impl SchemeRun {
     fn new(samplers: &SceneSamplers, scheme: Scheme, seed: u64) -> Self {
         Self {
             scheme,
@@ -82,9 +82,9 @@ impl Lane {
 pub(super) struct Job {
     pub(super) generation: u64,
     pub(super) samplers: SceneSamplers,
-    uniform: Lane,
-    power: Lane,
-    spatial: Lane,
+    uniform: SchemeRun,
+    power: SchemeRun,
+    spatial: SchemeRun,
     reference: Reference,
     reference_note: Option<String>,
     frame: u64,
@@ -95,9 +95,9 @@ impl Job {
         let (reference, reference_note) = reference(samplers.scene());
         Self {
             generation,
-            uniform: Lane::new(&samplers, Scheme::Uniform, seed),
-            power: Lane::new(&samplers, Scheme::Alias, seed),
-            spatial: Lane::new(&samplers, Scheme::Spatial, seed),
+            uniform: SchemeRun::new(&samplers, Scheme::Uniform, seed),
+            power: SchemeRun::new(&samplers, Scheme::Alias, seed),
+            spatial: SchemeRun::new(&samplers, Scheme::Spatial, seed),
             samplers,
             reference,
             reference_note,
@@ -109,24 +109,21 @@ impl Job {
         self.samplers.scene().plane.pixel_count()
     }
 
-    /// What the three lanes and the reference hold.
+    /// What the three runs and the reference hold.
     pub(super) fn bytes(&self) -> RendererBytes {
-        let lanes = [&self.uniform, &self.power, &self.spatial];
-        // Records shared with an earlier lane are held once.
-        let lights = (0..lanes.len())
+        let runs = [&self.uniform, &self.power, &self.spatial];
+        // Records shared with an earlier run are held once.
+        let lights = (0..runs.len())
             .filter(|&k| {
-                !lanes[..k]
+                !runs[..k]
                     .iter()
-                    .any(|l| lanes[k].renderer.shares_lights_with(&l.renderer))
+                    .any(|l| runs[k].renderer.shares_lights_with(&l.renderer))
             })
-            .map(|k| lanes[k].renderer.light_bytes())
+            .map(|k| runs[k].renderer.light_bytes())
             .sum();
         RendererBytes {
             lights,
-            pixels: lanes
-                .iter()
-                .map(|l| l.renderer.pixel_bytes())
-                .sum::<usize>()
+            pixels: runs.iter().map(|l| l.renderer.pixel_bytes()).sum::<usize>()
                 + self.reference.heap_bytes(),
         }
     }
@@ -157,34 +154,34 @@ impl Job {
                 // window's own frame work (a bias in the time per frame on a loaded machine).
                 let first = (self.frame % 3) as usize;
                 for k in (0..3).map(|j| (j + first) % 3) {
-                    let lane = self.lane_mut(k);
-                    spent[k] = lane.run(config.spp_per_frame.max(1), virtual_time, pixels);
-                    lane.seconds += spent[k];
+                    let run = self.run_mut(k);
+                    spent[k] = run.run(config.spp_per_frame.max(1), virtual_time, pixels);
+                    run.seconds += spent[k];
                 }
             }
             BudgetMode::EqualTime => spent = self.advance_equal_time(virtual_time, pixels),
         }
         let reference = &self.reference;
-        for (lane, spent) in [&mut self.uniform, &mut self.power, &mut self.spatial]
+        for (run, spent) in [&mut self.uniform, &mut self.power, &mut self.spatial]
             .into_iter()
             .zip(spent)
         {
-            lane.last_frame_seconds = spent;
-            let acc = lane.renderer.accumulator();
-            lane.series.push(ConvergencePoint {
+            run.last_frame_seconds = spent;
+            let acc = run.renderer.accumulator();
+            run.series.push(ConvergencePoint {
                 spp: acc.samples_per_pixel,
-                seconds: lane.seconds,
+                seconds: run.seconds,
                 rmse: lightpick_core::render::rmse(acc, reference),
             });
-            thin(&mut lane.series);
+            thin(&mut run.series);
         }
     }
 
-    /// Equal time: one pass at a time of the lane with the least time so far (ties to the
+    /// Equal time: one pass at a time of the run with the least time so far (ties to the
     /// first), until the frame has spent three slices ([`EQUAL_TIME_SLICE_S`]; in virtual
-    /// time three passes of the dearest scheme). Every lane's total time then stays within
+    /// time three passes of the dearest scheme). Every run's total time then stays within
     /// one of its passes of the others': a scheme whose pass costs a tenth gets about ten
-    /// times the samples. Returns each lane's seconds this frame.
+    /// times the samples. Returns each run's seconds this frame.
     fn advance_equal_time(&mut self, virtual_time: bool, pixels: usize) -> [f64; 3] {
         let budget = if virtual_time {
             let dearest = [Scheme::Uniform, Scheme::Alias, Scheme::Spatial]
@@ -198,11 +195,11 @@ impl Job {
         let mut spent = [0.0; 3];
         loop {
             let behind = (0..3)
-                .min_by(|&a, &b| self.lane(a).seconds.total_cmp(&self.lane(b).seconds))
+                .min_by(|&a, &b| self.run(a).seconds.total_cmp(&self.run(b).seconds))
                 .unwrap_or(0);
-            let lane = self.lane_mut(behind);
-            let seconds = lane.run(1, virtual_time, pixels);
-            lane.seconds += seconds;
+            let run = self.run_mut(behind);
+            let seconds = run.run(1, virtual_time, pixels);
+            run.seconds += seconds;
             spent[behind] += seconds;
             // A pass that measured no time (a clock's resolution) still counts as work done.
             if spent.iter().sum::<f64>() >= budget || seconds <= 0.0 {
@@ -211,8 +208,8 @@ impl Job {
         }
     }
 
-    /// Lane `k`: uniform, power, spatial.
-    fn lane(&self, k: usize) -> &Lane {
+    /// Run `k`: uniform, power, spatial.
+    fn run(&self, k: usize) -> &SchemeRun {
         match k {
             0 => &self.uniform,
             1 => &self.power,
@@ -220,8 +217,8 @@ impl Job {
         }
     }
 
-    /// Lane `k`, mutably.
-    fn lane_mut(&mut self, k: usize) -> &mut Lane {
+    /// Run `k`, mutably.
+    fn run_mut(&mut self, k: usize) -> &mut SchemeRun {
         match k {
             0 => &mut self.uniform,
             1 => &mut self.power,
@@ -235,8 +232,8 @@ impl Job {
         let full = reference.image();
         let exposure = config.exposure;
         let error_scale = full.map(error_scale);
-        let scheme_image = |lane: &Lane| {
-            let acc = lane.renderer.accumulator();
+        let scheme_image = |run: &SchemeRun| {
+            let acc = run.renderer.accumulator();
             let image = acc.image();
             SchemeImage {
                 rgba: tonemap_rgba8(&image, exposure),
@@ -245,12 +242,12 @@ impl Job {
                     .map(|(r, scale)| error_map(&image, r, scale)),
                 spp: acc.samples_per_pixel,
                 pass_progress: 0.0,
-                seconds: lane.seconds,
-                last_frame_seconds: lane.last_frame_seconds,
+                seconds: run.seconds,
+                last_frame_seconds: run.last_frame_seconds,
                 rmse: Some(lightpick_core::render::rmse(acc, reference)),
                 variance: mean_variance_scaled(acc),
                 normalized_variance: normalized_variance_per_sample(acc),
-                series: lane.series.clone(),
+                series: run.series.clone(),
             }
         };
         Published {

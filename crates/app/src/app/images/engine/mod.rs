@@ -1,5 +1,5 @@
 //! The progressive-image engine: three renderers (uniform, power and spatial) over the
-//! last valid scene, their reference, errors, timings and convergence series. The lanes
+//! last valid scene, their reference, errors, timings and convergence series. The runs
 //! share the scene's alias table and spatial sampler ([`SceneSamplers`], built once per
 //! scene generation with the app's `Built`) rather than building their own.
 //!

@@ -26,7 +26,7 @@ pub(super) fn handle(
             samplers,
         } => {
             let seed = config.map_or(1, |c| c.seed);
-            // The old job goes first: two scenes' lanes are never held at once.
+            // The old job goes first: two scenes' runs are never held at once.
             *job = None;
             *job = Some(Job::new(generation, samplers, seed));
             false

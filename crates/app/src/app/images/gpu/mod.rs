@@ -4,17 +4,17 @@
 //! back for the RMSE, the error maps and the convergence curves, computed exactly as the CPU
 //! engine does.
 //!
-//! All of it runs on the UI thread, which waits for each lane's compute work (an honest time
+//! All of it runs on the UI thread, which waits for each run's compute work (an honest time
 //! per frame). Each frame gets the GPU work that fits in what the frame leaves
 //! ([`super::frame_budget`]): whole sample passes, or a band of rows of one when a pass is
 //! costlier than that, so a slow device slows the images, never the window. The sums are
 //! read back at pass boundaries only.
 //!
-//! `lanes` holds the three lanes and what each does in a frame; this file decides, per
+//! `runs` holds the three runs and what each does in a frame; this file decides, per
 //! frame, what they do: restart, upload (on a worker for large scenes), the reference (on a
 //! worker), accumulate, tonemap, read back, publish.
 
-mod lanes;
+mod runs;
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -26,11 +26,11 @@ use lightpick_core::render::Reference;
 use lightpick_core::scene::Scene;
 
 use crate::app::background::{Job, JobPolled};
-use crate::app::images::frame_budget::{self, FrameBudget, LaneWork};
+use crate::app::images::frame_budget::{self, FrameBudget, RunWork};
 use crate::app::images::published::{EngineConfig, Published, RendererBytes};
 use crate::app::images::reference::reference;
 use crate::app::state::rebuild::SYNC_BUILD_LIMIT;
-use lanes::{Lanes, Trio, build_trio, register_textures};
+use runs::{GpuRuns, Trio, build_trio, register_textures};
 
 /// Read the sums back (RMSE, error maps, curves) every this many frames.
 const READBACK_EVERY: u64 = 4;
@@ -46,7 +46,7 @@ type ReferenceJob = Job<u64, (Reference, Option<String>)>;
 pub struct GpuImages {
     ctx: GpuContext,
     render_state: egui_wgpu::RenderState,
-    lanes: Option<Lanes>,
+    runs: Option<GpuRuns>,
     exposure: Option<f64>,
     /// Texture ids kept across scenes (re-pointed at each new renderer's output).
     ids: Option<[egui::TextureId; 3]>,
@@ -69,7 +69,7 @@ impl GpuImages {
         Self {
             ctx,
             render_state: render_state.clone(),
-            lanes: None,
+            runs: None,
             exposure: None,
             ids: None,
             latest: None,
@@ -79,17 +79,17 @@ impl GpuImages {
         }
     }
 
-    /// What the lanes hold on the device (lavapipe's device memory is the process's) and the
+    /// What the runs hold on the device (lavapipe's device memory is the process's) and the
     /// reference on the CPU; the scene, table and tree they were uploaded from are the
     /// app's `Built`.
     pub fn bytes(&self) -> RendererBytes {
-        self.lanes.as_ref().map(Lanes::bytes).unwrap_or_default()
+        self.runs.as_ref().map(GpuRuns::bytes).unwrap_or_default()
     }
 
-    /// Drops the lanes (their light buffers, tree, sums and reference) and the last frame
+    /// Drops the runs (their light buffers, tree, sums and reference) and the last frame
     /// while the CPU renders the images; the next [`GpuImages::frame`] builds them again.
     pub fn release(&mut self) {
-        self.lanes = None;
+        self.runs = None;
         self.pending.cancel();
         self.reference_job.cancel();
         self.latest = None;
@@ -108,7 +108,7 @@ impl GpuImages {
 
     /// The native textures of the uniform, power and spatial images.
     pub fn texture_ids(&self) -> Option<[egui::TextureId; 3]> {
-        self.lanes
+        self.runs
             .as_ref()
             .map(|l| [l.uniform.texture, l.power.texture, l.spatial.texture])
     }
@@ -123,15 +123,12 @@ impl GpuImages {
             .as_deref()
             .cloned()
             .ok_or("no image has been rendered yet")?;
-        let lanes = self
-            .lanes
-            .as_mut()
-            .ok_or("no image has been rendered yet")?;
-        for (image, lane) in [&mut frame.uniform, &mut frame.power, &mut frame.spatial]
+        let runs = self.runs.as_mut().ok_or("no image has been rendered yet")?;
+        for (image, run) in [&mut frame.uniform, &mut frame.power, &mut frame.spatial]
             .into_iter()
-            .zip(lanes.each_mut())
+            .zip(runs.each_mut())
         {
-            lane.export_into(image, exposure)?;
+            run.export_into(image, exposure)?;
         }
         Ok(frame)
     }
@@ -154,52 +151,52 @@ impl GpuImages {
     ) -> Result<(), String> {
         self.budget.begin_frame(Instant::now());
         let stale = self.restart(generation, samplers, config, reset)?;
-        let Some(lanes) = self
-            .lanes
+        let Some(runs) = self
+            .runs
             .as_mut()
             .filter(|l| l.generation == generation && l.seed == config.seed)
         else {
             // A large scene is still uploading: keep showing the last frame (marked stale).
             return Ok(());
         };
-        let reference_arrived = poll_reference(&mut self.reference_job, lanes);
+        let reference_arrived = poll_reference(&mut self.reference_job, runs);
         let advance = config.running || step;
         if advance {
             // A step (paused) renders whole passes, however long; while running, the frame
             // budget decides: whole passes when they fit, else a band of rows, so the window
             // keeps 30 frames per second (see `frame_budget`).
             let work = if step {
-                [LaneWork::Passes(config.spp_per_frame.max(1)); 3]
+                [RunWork::Passes(config.spp_per_frame.max(1)); 3]
             } else {
                 frame_budget::plan(
                     self.budget.gpu_budget(),
-                    lanes.each_mut().map(|l| l.row_seconds),
-                    lanes.scene.plane.height,
+                    runs.each_mut().map(|l| l.row_seconds),
+                    runs.scene.plane.height,
                     config.budget,
                     config.spp_per_frame,
-                    lanes.each_mut().map(|l| l.image.seconds),
+                    runs.each_mut().map(|l| l.image.seconds),
                 )
             };
-            let spent = lanes.accumulate(work, config.exposure)?;
+            let spent = runs.accumulate(work, config.exposure)?;
             self.budget.gpu_spent(spent);
-            lanes.frame += 1;
+            runs.frame += 1;
         }
         if self.exposure != Some(config.exposure) {
-            lanes.tonemap(config.exposure)?;
+            runs.tonemap(config.exposure)?;
             self.exposure = Some(config.exposure);
         }
         let readback = stale
             || reset
             || step
             || reference_arrived
-            || (advance && lanes.frame % READBACK_EVERY == 1);
-        lanes.read_back(readback)?;
-        let frame = lanes.publish(config.exposure, readback, &self.ctx.description());
+            || (advance && runs.frame % READBACK_EVERY == 1);
+        runs.read_back(readback)?;
+        let frame = runs.publish(config.exposure, readback, &self.ctx.description());
         self.latest = Some(Arc::new(frame));
         Ok(())
     }
 
-    /// The frame's start: new renderers for a new scene or seed (returns `true`: the lanes
+    /// The frame's start: new renderers for a new scene or seed (returns `true`: the runs
     /// were stale), or the same ones cleared on a reset; a finished upload installed; a new
     /// trio's outputs tonemapped (they are blank until then, black before any sample).
     fn restart(
@@ -210,23 +207,23 @@ impl GpuImages {
         reset: bool,
     ) -> Result<bool, String> {
         let stale = self
-            .lanes
+            .runs
             .as_ref()
             .is_none_or(|l| l.generation != generation || l.seed != config.seed);
         if stale {
             self.request(generation, samplers, config.seed)?;
-        } else if reset && let Some(lanes) = self.lanes.as_mut() {
-            for lane in lanes.each_mut() {
-                lane.reset();
+        } else if reset && let Some(runs) = self.runs.as_mut() {
+            for run in runs.each_mut() {
+                run.reset();
             }
-            lanes.frame = 0;
+            runs.frame = 0;
             self.exposure = None;
         }
         self.poll_pending(generation, samplers, config.seed)?;
         if self.exposure.is_none()
-            && let Some(lanes) = self.lanes.as_mut()
+            && let Some(runs) = self.runs.as_mut()
         {
-            lanes.tonemap(config.exposure)?;
+            runs.tonemap(config.exposure)?;
             self.exposure = Some(config.exposure);
         }
         Ok(stale)
@@ -287,37 +284,35 @@ impl GpuImages {
     fn install(&mut self, generation: u64, seed: u64, scene: &Arc<Scene>, trio: Trio) {
         let ids = register_textures(&self.render_state, self.ids, &trio);
         self.ids = Some(ids);
-        self.lanes = Some(Lanes::new(generation, seed, scene, trio, ids));
+        self.runs = Some(GpuRuns::new(generation, seed, scene, trio, ids));
         self.exposure = None;
     }
 }
 
-/// Takes the reference of `lanes` when it is ready (returns whether it arrived now), and
+/// Takes the reference of `runs` when it is ready (returns whether it arrived now), and
 /// starts computing it when none is running: one at a time (up to a second of both cores
 /// for huge scenes), so a drag through many tables computes only the newest one's.
-fn poll_reference(job: &mut ReferenceJob, lanes: &mut Lanes) -> bool {
+fn poll_reference(job: &mut ReferenceJob, runs: &mut GpuRuns) -> bool {
     let mut arrived = false;
     match job.poll() {
-        JobPolled::Done(job_generation, (reference, note))
-            if job_generation == lanes.generation =>
-        {
-            lanes.reference = Some(reference);
-            lanes.reference_note = note;
+        JobPolled::Done(job_generation, (reference, note)) if job_generation == runs.generation => {
+            runs.reference = Some(reference);
+            runs.reference_note = note;
             arrived = true;
         }
-        // A reference that failed is not tried again for these lanes (it would fail again).
-        JobPolled::Lost(job_generation) if job_generation == lanes.generation => {
-            lanes.reference_note = Some("no reference: its computation stopped".to_owned());
-            lanes.reference_failed = true;
+        // A reference that failed is not tried again for these runs (it would fail again).
+        JobPolled::Lost(job_generation) if job_generation == runs.generation => {
+            runs.reference_note = Some("no reference: its computation stopped".to_owned());
+            runs.reference_failed = true;
         }
         _ => {}
     }
-    if lanes.reference.is_none() && !lanes.reference_failed && !job.is_running() {
-        let for_reference = Arc::clone(&lanes.scene);
-        if let Err(e) = job.start(lanes.generation, "lightpick-reference", move || {
+    if runs.reference.is_none() && !runs.reference_failed && !job.is_running() {
+        let for_reference = Arc::clone(&runs.scene);
+        if let Err(e) = job.start(runs.generation, "lightpick-reference", move || {
             reference(&for_reference)
         }) {
-            lanes.reference_note = Some(format!("no reference: {e}"));
+            runs.reference_note = Some(format!("no reference: {e}"));
         }
     }
     arrived

@@ -1,6 +1,6 @@
-//! The GPU lanes of one scene: a `GpuRenderer` per scheme (uniform, power, spatial)
+//! The GPU runs of one scene: a `GpuRenderer` per scheme (uniform, power, spatial)
 //! whose output egui shows as a native texture, with the figures read back from its sums;
-//! how a lane advances by the work a frame allows, how its sums are read back at pass
+//! how a run advances by the work a frame allows, how its sums are read back at pass
 //! boundaries, and the frame the three publish.
 
 use std::sync::Arc;
@@ -12,11 +12,11 @@ use lightpick_core::render::{Reference, mean_variance_scaled, normalized_varianc
 use lightpick_core::scene::Scene;
 use lightpick_core::{SceneSamplers, Scheme};
 
-use crate::app::images::frame_budget::LaneWork;
+use crate::app::images::frame_budget::RunWork;
 use crate::app::images::published::{ConvergencePoint, Published, RendererBytes, SchemeImage};
 use crate::app::images::reference::{error_map, error_scale, thin};
 
-/// Weight of the newest measurement in a lane's moving average of its cost per row.
+/// Weight of the newest measurement in a run's moving average of its cost per row.
 const ROW_COST_SMOOTHING: f64 = 0.3;
 
 /// The three renderers of a scene: uniform, power, spatial.
@@ -71,7 +71,7 @@ pub(super) fn register_textures(
 }
 
 /// One scheme on the GPU.
-pub(super) struct Lane {
+pub(super) struct SchemeRun {
     pub(super) renderer: GpuRenderer,
     pub(super) texture: egui::TextureId,
     pub(super) image: SchemeImage,
@@ -81,7 +81,7 @@ pub(super) struct Lane {
     readback_due: bool,
 }
 
-impl Lane {
+impl SchemeRun {
     fn new(renderer: GpuRenderer, texture: egui::TextureId) -> Self {
         Self {
             renderer,
@@ -100,25 +100,25 @@ impl Lane {
 
     /// Does `work` on an image `height` rows high and tonemaps what changed; returns the
     /// wall seconds the waits took.
-    fn advance(&mut self, work: LaneWork, height: u32, exposure: f64) -> Result<f64, String> {
+    fn advance(&mut self, work: RunWork, height: u32, exposure: f64) -> Result<f64, String> {
         let before = self.renderer.pass_rows_done();
         let spp_before = self.renderer.samples_per_pixel();
         let started = Instant::now();
         let rows = match work {
-            LaneWork::Passes(n) => {
+            RunWork::Passes(n) => {
                 self.renderer.accumulate(n).map_err(|e| e.to_string())?;
                 n * height - before
             }
-            LaneWork::Rows(n) => {
+            RunWork::Rows(n) => {
                 self.renderer
                     .accumulate_rows(n)
                     .map_err(|e| e.to_string())?;
                 n.min(height - before)
             }
         };
-        // The lane's time is its passes' own (the device's timestamps, or the CPU
+        // The run's time is its passes' own (the device's timestamps, or the CPU
         // clock over each pass alone on an idle queue): never tonemapping, readback,
-        // the other lanes or egui's frame. The rows each lane gets (equal samples or
+        // the other runs or egui's frame. The rows each run gets (equal samples or
         // equal time) are planned with the same pass time; the UI's own cost is the
         // frame's wall time less the wall time these waits took.
         let pass_seconds = self
@@ -174,7 +174,7 @@ impl Lane {
         Ok(())
     }
 
-    /// Fills `image` with this lane's pixels, tonemapped on the CPU at `exposure` (the same
+    /// Fills `image` with this run's pixels, tonemapped on the CPU at `exposure` (the same
     /// tonemap as the GPU's), after completing a pass in progress so every pixel has the
     /// same number of samples.
     pub(super) fn export_into(
@@ -183,7 +183,7 @@ impl Lane {
         exposure: f64,
     ) -> Result<(), String> {
         if self.renderer.pass_rows_done() > 0 {
-            // The rest of the pass counts in the lane's render time like any other.
+            // The rest of the pass counts in the run's render time like any other.
             self.renderer.finish_pass().map_err(|e| e.to_string())?;
             self.image.seconds += self
                 .renderer
@@ -202,23 +202,23 @@ impl Lane {
 }
 
 /// The GPU images of one scene.
-pub(super) struct Lanes {
+pub(super) struct GpuRuns {
     pub(super) generation: u64,
     pub(super) seed: u64,
     pub(super) scene: Arc<Scene>,
     /// Computed on a background thread (up to a second for huge scenes).
     pub(super) reference: Option<Reference>,
     pub(super) reference_note: Option<String>,
-    /// The reference's computation stopped without one (not tried again for these lanes).
+    /// The reference's computation stopped without one (not tried again for these runs).
     pub(super) reference_failed: bool,
-    pub(super) uniform: Lane,
-    pub(super) power: Lane,
-    pub(super) spatial: Lane,
+    pub(super) uniform: SchemeRun,
+    pub(super) power: SchemeRun,
+    pub(super) spatial: SchemeRun,
     pub(super) frame: u64,
 }
 
-impl Lanes {
-    /// The lanes of `scene` over `trio`, showing through the textures `ids`.
+impl GpuRuns {
+    /// The runs of `scene` over `trio`, showing through the textures `ids`.
     pub(super) fn new(
         generation: u64,
         seed: u64,
@@ -233,48 +233,48 @@ impl Lanes {
             reference: None,
             reference_note: Some("computing the reference…".to_owned()),
             reference_failed: false,
-            uniform: Lane::new(uniform, ids[0]),
-            power: Lane::new(power, ids[1]),
-            spatial: Lane::new(spatial, ids[2]),
+            uniform: SchemeRun::new(uniform, ids[0]),
+            power: SchemeRun::new(power, ids[1]),
+            spatial: SchemeRun::new(spatial, ids[2]),
             frame: 0,
         }
     }
 
-    /// The uniform, power and spatial lanes, in display order.
-    pub(super) fn each_mut(&mut self) -> [&mut Lane; 3] {
+    /// The uniform, power and spatial runs, in display order.
+    pub(super) fn each_mut(&mut self) -> [&mut SchemeRun; 3] {
         [&mut self.uniform, &mut self.power, &mut self.spatial]
     }
 
-    /// Tonemaps every lane's output at `exposure`.
+    /// Tonemaps every run's output at `exposure`.
     pub(super) fn tonemap(&mut self, exposure: f64) -> Result<(), String> {
-        for lane in self.each_mut() {
-            lane.renderer.tonemap(exposure).map_err(|e| e.to_string())?;
+        for run in self.each_mut() {
+            run.renderer.tonemap(exposure).map_err(|e| e.to_string())?;
         }
         Ok(())
     }
 
-    /// Does each lane's `work`; returns the wall seconds the waits took.
-    pub(super) fn accumulate(&mut self, work: [LaneWork; 3], exposure: f64) -> Result<f64, String> {
+    /// Does each run's `work`; returns the wall seconds the waits took.
+    pub(super) fn accumulate(&mut self, work: [RunWork; 3], exposure: f64) -> Result<f64, String> {
         let height = self.scene.plane.height;
         let mut total = 0.0;
-        for (lane, work) in self.each_mut().into_iter().zip(work) {
-            total += lane.advance(work, height, exposure)?;
+        for (run, work) in self.each_mut().into_iter().zip(work) {
+            total += run.advance(work, height, exposure)?;
         }
         Ok(total)
     }
 
-    /// Marks every lane's sums for reading when `due`, and reads those that can be.
+    /// Marks every run's sums for reading when `due`, and reads those that can be.
     pub(super) fn read_back(&mut self, due: bool) -> Result<(), String> {
-        let Lanes {
+        let GpuRuns {
             reference,
             uniform,
             power,
             spatial,
             ..
         } = self;
-        for lane in [uniform, power, spatial] {
-            lane.readback_due |= due;
-            lane.read_back_if_due(reference.as_ref())?;
+        for run in [uniform, power, spatial] {
+            run.readback_due |= due;
+            run.read_back_if_due(reference.as_ref())?;
         }
         Ok(())
     }
@@ -305,7 +305,7 @@ impl Lanes {
         }
     }
 
-    /// What the lanes hold on the device (lavapipe's device memory is the process's) and the
+    /// What the runs hold on the device (lavapipe's device memory is the process's) and the
     /// reference on the CPU.
     pub(super) fn bytes(&self) -> RendererBytes {
         let renderers = [
@@ -314,7 +314,7 @@ impl Lanes {
             &self.spatial.renderer,
         ];
         let all: u64 = renderers.iter().map(|r| r.gpu_bytes()).sum();
-        // Lights shared with an earlier lane are held once.
+        // Lights shared with an earlier run are held once.
         let shared: u64 = (1..renderers.len())
             .filter(|&k| {
                 renderers[..k]
