@@ -14,7 +14,7 @@
 //! scheme itself, so the result says which it is ([`VarianceMap::exact`]).
 //!
 //! Schemes: uniform (`q_i = 1/N`), power ([`Scheme::Alias`], [`Scheme::AliasOneRandom`],
-//! [`Scheme::Cdf`]: the pmf each realizes, [`LightSampler::probability`]) and spatial
+//! [`Scheme::Cdf`]: the pmf each realizes, [`crate::LightSampler::probability`]) and spatial
 //! (`q_i = P(i | x)`, [`SpatialSampler::pdfs`]); the spatial exact pick (few lights) gives
 //! `V ≡ 0` up to rounding.
 
