@@ -89,6 +89,13 @@ pub struct LaneStep {
     pub culled: Option<Culled>,
 }
 
+impl LaneStep {
+    /// How many lights the lane holds.
+    pub fn light_count(&self) -> usize {
+        self.lights.len()
+    }
+}
+
 /// One internal node of the descent.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct TreePickStep {

@@ -5,8 +5,9 @@
 
 use glam::{DVec2, DVec3, dvec2, dvec3};
 use lightpick_core::Rng;
-use lightpick_core::lesson::tree_pick::{Culled, TreePick};
+use lightpick_core::lesson::tree_pick::{Culled, LaneStep, TreePick};
 use lightpick_core::scene::{Emission, ReceiverPlane, Scene};
+use lightpick_core::spatial::importance::grid_masses;
 use lightpick_core::spatial::{Child, SpatialSampler};
 
 use crate::common::SplitMix;
@@ -124,6 +125,23 @@ fn check_steps(
         let total: u64 = step.lanes.iter().map(|l| u64::from(l.mass)).sum();
         assert_eq!(total, 1 << 24, "node {}", step.node);
         assert_eq!(step.lanes.iter().map(|l| l.probability).sum::<f64>(), 1.0);
+        // The numbers shown are the descent's: its masses follow from the probabilities.
+        let shown = std::array::from_fn(|l| step.lanes[l].branch_probability);
+        let masses: [u32; 4] = std::array::from_fn(|l| step.lanes[l].mass);
+        assert_eq!(grid_masses(shown), masses, "node {}", step.node);
+        assert_eq!(
+            step.lanes.iter().map(LaneStep::light_count).sum::<usize>(),
+            {
+                let all = &step.lanes;
+                all.iter().map(|l| l.lights.end).max().unwrap_or(0)
+                    - all
+                        .iter()
+                        .filter(|l| !l.lights.is_empty())
+                        .map(|l| l.lights.start)
+                        .min()
+                        .unwrap_or(0)
+            }
+        );
         let chosen = &step.lanes[step.lane];
         assert!(chosen.mass > 0 && chosen.culled.is_none());
         assert!(step.random24 < 1 << 24);
