@@ -2,9 +2,16 @@
 
 use std::path::{Path, PathBuf};
 
-/// The workspace root (where `Cargo.toml` and `assets/` live).
+/// The workspace root (where `Cargo.toml` and `assets/` live): the manifest folder of the
+/// package compiling this file, or, when a member crate's tests include it
+/// (`crates/core/tests`), the nearest folder above that holds `tests/snapshots`.
 pub fn workspace_root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    manifest
+        .ancestors()
+        .find(|dir| dir.join("tests").join("snapshots").is_dir())
+        .unwrap_or(manifest)
+        .to_path_buf()
 }
 
 /// Where the golden PNGs live: `tests/snapshots/`.

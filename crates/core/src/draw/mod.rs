@@ -9,7 +9,9 @@
 //! * [`convergence`]: log-log RMSE against samples per pixel or seconds;
 //! * [`image_sheet`]: uniform | importance | spatial | reference and their error maps;
 //! * [`animation_frame`]: one frame of a convergence animation (schemes side by side,
-//!   captioned with spp and RMSE).
+//!   captioned with spp and RMSE);
+//! * [`tree_view`]: the light tree from above (lights by power, the groups at a depth, a
+//!   recorded pick, lights coloured by a pick probability).
 //!
 //! Colours come from [`palette`], text from [`text`] (a bundled `DejaVu Sans` subset).
 //! [`encode_png`] and [`write_png`] turn any of them into a PNG.
@@ -23,6 +25,7 @@ mod image_sheet;
 pub mod palette;
 mod table_diagram;
 pub mod text;
+mod tree_view;
 
 use std::path::{Path, PathBuf};
 
@@ -42,6 +45,10 @@ pub use image_sheet::{
 };
 pub use palette::{Rgba8, Theme};
 pub use table_diagram::{TABLE_DETAIL_LIMIT, fraction_denominator, table_diagram};
+pub use tree_view::{
+    DOT_AREA_SHARE, FOOTPRINT_LIMIT, MAX_DOT_RADIUS, PROBABILITY_DECADES, TreeGroup, TreeView,
+    tree_groups, tree_view, tree_view_caption,
+};
 
 /// Errors of the drawing functions.
 #[derive(Debug, thiserror::Error)]

@@ -242,7 +242,7 @@ pub fn draw_text_vertical(
 }
 
 /// Composites `color` with `coverage` source-over onto pixel `(x, y)` (premultiplied).
-fn blend(pixmap: &mut Pixmap, x: i64, y: i64, color: Rgba8, coverage: f32) {
+pub(crate) fn blend(pixmap: &mut Pixmap, x: i64, y: i64, color: Rgba8, coverage: f32) {
     let (width, height) = (i64::from(pixmap.width()), i64::from(pixmap.height()));
     if x < 0 || y < 0 || x >= width || y >= height || coverage <= 0.0 {
         return;

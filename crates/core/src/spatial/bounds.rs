@@ -148,7 +148,7 @@ impl LaneBounds {
 /// The margin beyond which [`LaneBounds::reach`] culls: relative for the squared range,
 /// absolute for the cosines; far above their rounding (a few ulps), far below any scene's
 /// scale.
-const REACH_SLACK: f64 = 1e-12;
+pub(crate) const REACH_SLACK: f64 = 1e-12;
 
 /// `(cos, sin)` of `max(0, a − b)` from those of `a` and `b` (angles in `[0, π]`).
 #[inline]

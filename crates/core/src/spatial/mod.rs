@@ -45,6 +45,7 @@ pub mod importance;
 mod tree;
 
 pub use bounds::LaneBounds;
+pub(crate) use bounds::REACH_SLACK;
 pub use exact::ExactSampler;
 pub use grid::{LaneGrid, MappedLanes};
 pub use tree::{Child, ChildRef, LEAF_SIZE, LightTree, TREE_WIDTH, TreeNode};

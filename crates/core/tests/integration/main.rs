@@ -39,3 +39,7 @@ mod spatial;
 mod spatial_emission;
 mod spatial_rims;
 mod statistics;
+mod tree_pick;
+#[cfg(feature = "draw")]
+mod tree_view;
+mod variance_map;

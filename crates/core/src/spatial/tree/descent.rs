@@ -110,6 +110,33 @@ impl LightTree {
         })
     }
 
+    /// The grid masses `m_k` of node `k`'s four lanes at `x`, exactly those a descent picks
+    /// by (summing to `2^24`, or all 0 where every lane is culled): branch `k` is taken with
+    /// probability `m_k / 2^24`. For lessons and tests; the descent itself inlines them.
+    pub fn node_masses_at(&self, k: usize, x: DVec2) -> [u32; TREE_WIDTH] {
+        self.node_masses(k, x)
+    }
+
+    /// The grid masses of the lights `first .. first + count` (leaf order) of a leaf cluster
+    /// at `x`, by `c_j / Σ c` with `c_j = p_j·G_j(x)·S_j(x)`, and the contributions `c_j`
+    /// themselves (entries from `count` on are 0): exactly what a descent picks the light
+    /// by. For lessons and tests.
+    ///
+    /// # Panics
+    /// If `count > LEAF_SIZE` or the range leaves the tree's lights.
+    pub fn leaf_masses_at(
+        &self,
+        first: usize,
+        count: usize,
+        x: DVec2,
+    ) -> ([u32; LEAF_SIZE], [f64; LEAF_SIZE]) {
+        assert!(
+            count <= LEAF_SIZE,
+            "a leaf cluster holds at most {LEAF_SIZE} lights"
+        );
+        self.leaf_masses(first, count, x)
+    }
+
     /// `P(i | x)` of every light of the scene at once, indexed by scene index (0 for a light
     /// outside the tree): one traversal with the masses of [`LightTree::sample`], `O(N)`.
     pub fn pdfs(&self, x: DVec2) -> Vec<f64> {

@@ -139,6 +139,36 @@ impl LightTree {
         }
     }
 
+    /// The leaf-order index of internal node `k`'s first light.
+    ///
+    /// # Panics
+    /// If `k` is not a node of the tree.
+    pub fn node_first(&self, k: usize) -> usize {
+        self.node_first[k] as usize
+    }
+
+    /// The leaf-order range of the lights below `at` (`None` for an empty lane): a leaf
+    /// cluster's own lights, or for a node every light from its first to the end of its
+    /// last non-empty lane. Subtrees are contiguous in leaf order, so this is all of them.
+    pub fn span(&self, at: ChildRef) -> Option<std::ops::Range<usize>> {
+        let first = self.first_of(at)?;
+        let mut last = at;
+        loop {
+            match last.get() {
+                Child::Node(k) => {
+                    // A node holds lights, so some lane is not empty.
+                    last = *self.nodes[k]
+                        .child
+                        .iter()
+                        .rev()
+                        .find(|c| c.get() != Child::Empty)?;
+                }
+                Child::Leaf { first: f, count } => return Some(first..f + count),
+                Child::Empty => return None,
+            }
+        }
+    }
+
     /// Number of lights of the scene.
     pub fn light_count(&self) -> usize {
         self.n

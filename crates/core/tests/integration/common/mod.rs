@@ -9,6 +9,11 @@ pub mod fit;
 mod gpu;
 mod mix;
 pub mod scenes;
+/// The workspace's snapshot comparison (`tests/support`), shared with the root package's
+/// `draw_snapshots` tests: the same goldens folder, tolerance and `UPDATE_SNAPSHOTS` switch.
+#[cfg(feature = "draw")]
+#[path = "../../../../../tests/support/lib.rs"]
+pub mod snapshot_support;
 
 #[cfg(feature = "gpu")]
 pub use gpu::context;

@@ -1,0 +1,165 @@
+//! The variance of one sample, pixel by pixel: where on the plane a scheme is noisy.
+//!
+//! At a pixel centre `x` light `i` gives `s_i(x) = p_i·G_i(x)·S_i(x)`
+//! ([`crate::scene::light_term`] in normalized power `p_i = Φ_i/ΣΦ`), and the irradiance is
+//! `E(x) = Σ_i s_i(x)`. A scheme picking light `i` with pmf `q_i(x)` and estimating
+//! `s_i/q_i` has the per-sample variance
+//!
+//! `V(x) = Σ_{q_i > 0} s_i(x)²/q_i(x) − E(x)²`
+//!
+//! ([`crate::analytic_moments`]; `E` here over the lights the scheme can pick, the mean of
+//! its estimate). The map evaluates it **exactly** (`O(N)` per pixel) when `N × pixels` is
+//! within a budget ([`VARIANCE_MAP_EXACT_BUDGET`]), else **estimates** it from `k` samples per
+//! pixel: the unbiased sample variance of `k` estimates ([`crate::Welford`]) drawn with the
+//! scheme itself, so the result says which it is ([`VarianceMap::exact`]).
+//!
+//! Schemes: uniform (`q_i = 1/N`), power ([`Scheme::Alias`], [`Scheme::AliasOneRandom`],
+//! [`Scheme::Cdf`]: the pmf each realizes, [`crate::LightSampler::probability`]) and spatial
+//! (`q_i = P(i | x)`, [`SpatialSampler::pdfs`]); the spatial exact pick (few lights) gives
+//! `V ≡ 0` up to rounding.
+
+use glam::DVec2;
+use rayon::prelude::*;
+
+use super::moments::analytic_moments;
+use super::welford::Welford;
+use crate::sampling::rng::Rng;
+use crate::sampling::sampler::{LightSampler as _, Sampler, Scheme};
+use crate::scene::{Scene, pixel_center};
+use crate::spatial::SpatialSampler;
+
+/// The most `N × pixels` light evaluations for which [`VarianceMap::compute`] is exact.
+pub const VARIANCE_MAP_EXACT_BUDGET: u64 = 50_000_000;
+
+/// Per-pixel variance of one sample of a scheme over the scene's pixel grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VarianceMap {
+    /// Pixel columns (the scene's).
+    pub width: u32,
+    /// Pixel rows (the scene's; row 0 at the top, `y = max.y`, as [`pixel_center`]).
+    pub height: u32,
+    /// `V(x)` at each pixel centre, row by row (normalized units: powers summing to 1).
+    pub values: Vec<f64>,
+    /// Whether `values` are the exact `Σ s_i²/q_i − E²` (else sample variances).
+    pub exact: bool,
+    /// Samples per pixel behind an estimated map (0 when exact).
+    pub samples_per_pixel: u32,
+}
+
+/// How a scheme picks, as the map reads it.
+enum Picker {
+    /// A pmf that does not depend on the point (uniform and power schemes).
+    Fixed(Sampler, Vec<f64>),
+    /// `P(i | x)` of the spatial sampler.
+    Spatial(SpatialSampler),
+}
+
+impl VarianceMap {
+    /// The map of `scheme` over `scene`: exact when `N × pixels ≤`
+    /// [`VARIANCE_MAP_EXACT_BUDGET`], else estimated from `samples_per_pixel` samples per
+    /// pixel (pixel `k` from stream `Rng::new(seed, k)`).
+    pub fn compute(scene: &Scene, scheme: Scheme, samples_per_pixel: u32, seed: u64) -> Self {
+        Self::with_budget(
+            scene,
+            scheme,
+            VARIANCE_MAP_EXACT_BUDGET,
+            samples_per_pixel,
+            seed,
+        )
+    }
+
+    /// [`VarianceMap::compute`] with the exact evaluation's budget `budget` (`N × pixels`).
+    pub fn with_budget(
+        scene: &Scene,
+        scheme: Scheme,
+        budget: u64,
+        samples_per_pixel: u32,
+        seed: u64,
+    ) -> Self {
+        let picker = match Sampler::try_build(scheme, &scene.powers) {
+            Ok(sampler) => {
+                let q = (0..scene.powers.len())
+                    .map(|i| sampler.probability(i))
+                    .collect();
+                Picker::Fixed(sampler, q)
+            }
+            Err(_) => Picker::Spatial(SpatialSampler::for_scene(scene)),
+        };
+        let plane = &scene.plane;
+        let pixels = plane.pixel_count();
+        let exact = (scene.powers.len() as u64).saturating_mul(pixels as u64) <= budget;
+        let pmf = scene.powers.pmf();
+        let width = plane.width.max(1) as usize;
+        let values = (0..pixels)
+            .into_par_iter()
+            .map(|k| {
+                let x = pixel_center(plane, (k % width) as u32, (k / width) as u32);
+                if exact {
+                    exact_variance(scene, &pmf, &picker, x)
+                } else {
+                    let mut rng = Rng::new(seed, k as u64);
+                    sampled_variance(scene, &pmf, &picker, x, samples_per_pixel, &mut rng)
+                }
+            })
+            .collect();
+        VarianceMap {
+            width: plane.width,
+            height: plane.height,
+            values,
+            exact,
+            samples_per_pixel: if exact { 0 } else { samples_per_pixel },
+        }
+    }
+
+    /// `V` at pixel `(px, py)`.
+    ///
+    /// # Panics
+    /// Outside the map.
+    pub fn at(&self, px: u32, py: u32) -> f64 {
+        assert!(px < self.width && py < self.height, "pixel outside the map");
+        self.values[py as usize * self.width as usize + px as usize]
+    }
+}
+
+/// `s_i(x) = p_i·G_i(x)·S_i(x)` of every light.
+fn contributions(scene: &Scene, pmf: &[f64], x: DVec2) -> Vec<f64> {
+    pmf.iter()
+        .enumerate()
+        .map(|(i, &p)| p * scene.light_term(i, x))
+        .collect()
+}
+
+/// `Σ_{q_i > 0} s_i²/q_i − E²` at `x` ([`analytic_moments`]).
+fn exact_variance(scene: &Scene, pmf: &[f64], picker: &Picker, x: DVec2) -> f64 {
+    let s = contributions(scene, pmf, x);
+    match picker {
+        Picker::Fixed(_, q) => analytic_moments(&s, |i| q[i]).variance,
+        Picker::Spatial(spatial) => {
+            let q = spatial.pdfs(x);
+            analytic_moments(&s, |i| q[i]).variance
+        }
+    }
+}
+
+/// The unbiased sample variance of `k` estimates `s_I/q_I` at `x` drawn from `rng`.
+fn sampled_variance(
+    scene: &Scene,
+    pmf: &[f64],
+    picker: &Picker,
+    x: DVec2,
+    k: u32,
+    rng: &mut Rng,
+) -> f64 {
+    let mut w = Welford::new();
+    for _ in 0..k {
+        let estimate = match picker {
+            Picker::Fixed(sampler, q) => {
+                let i = sampler.pick_light(rng) as usize;
+                pmf[i] * scene.light_term(i, x) / q[i]
+            }
+            Picker::Spatial(spatial) => spatial.estimate(x, rng),
+        };
+        w.push(estimate);
+    }
+    w.variance()
+}
