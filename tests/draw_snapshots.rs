@@ -11,7 +11,7 @@ use lightpick_core::draw::{
     SheetImages, Style, Theme,
 };
 use lightpick_core::{
-    AliasTable, LightPowers, PointFreeSampler as _, Rng, Sampler, Scheme, SeedExample,
+    AliasTable, LightPowers, PointFreeSampler as _, Rng, Sampler, Scheme, WorkedExample,
 };
 use lightpick_tests::assert_snapshot;
 fn snapshot(name: &str, pixmap: &lightpick_core::draw::Pixmap) {
@@ -41,7 +41,7 @@ fn sample_counts(scheme: Scheme, powers: &LightPowers, count: u64, seed: u64) ->
 
 #[test]
 fn seed_table_diagram() {
-    let powers = SeedExample::powers();
+    let powers = WorkedExample::powers();
     let table = AliasTable::build_exact(&powers);
     let denominator = draw::fraction_denominator(&powers);
     assert_eq!(denominator, Some(27));
@@ -82,7 +82,7 @@ fn large_table_summary() {
 }
 
 fn seed_histogram_data() -> HistogramData {
-    let powers = SeedExample::powers();
+    let powers = WorkedExample::powers();
     let schemes = [Scheme::Uniform, Scheme::Alias]
         .into_iter()
         .map(|s| sample_counts(s, &powers, 10_000, 7))
@@ -205,7 +205,7 @@ struct SmallRenders {
 /// so its estimate is the exact sum up to rounding).
 fn small_renders(spp: u64) -> SmallRenders {
     let (w, h) = (80usize, 50usize);
-    let powers = SeedExample::powers();
+    let powers = WorkedExample::powers();
     let lights = [(0.35, 0.30, 0.10), (1.20, 0.68, 0.12), (0.80, 0.45, 0.30)];
     let geometry = |light: usize, p: usize| {
         let (x, y) = ((p % w) as f64 + 0.5, (p / w) as f64 + 0.5);

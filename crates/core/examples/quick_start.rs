@@ -1,5 +1,5 @@
 //! Quick start: build an alias table, sample it one at a time and in a batch, render the
-//! seed scene on the CPU, and write the table diagram and the image to PNG.
+//! worked example on the CPU, and write the table diagram and the image to PNG.
 //!
 //! `cargo run -p lightpick-core --release --example quick_start [OUT_DIR]`
 
@@ -43,12 +43,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let diagram = table_diagram(&exact, fraction_denominator(&powers), &Style::default())?;
     write_png(&diagram, out.join("seed_table.png"))?;
 
-    let scene = Scene::preset("seed")?;
+    let scene = Scene::preset("worked-example")?;
     let mut renderer = CpuRenderer::new(&scene, Scheme::Alias, 7);
     renderer.accumulate(64);
     let reference = Reference::compute(&scene);
     println!(
-        "seed scene at 64 spp: RMSE {:.3e}",
+        "worked example at 64 spp: RMSE {:.3e}",
         rmse(renderer.accumulator(), &reference)
     );
     let exposure = reference.image().map_or(1.0, auto_exposure);

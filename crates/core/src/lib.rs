@@ -15,7 +15,7 @@
 //!   Olano 2020) that the CPU and the WGSL shaders both implement.
 //! * [`Welford`], [`analytic_moments`] and [`chi_square()`] measure estimators and samplers;
 //!   [`point_estimate`] runs the estimator at one shading point under several pick rules at
-//!   once (the seed's 18, converging faster by power than uniformly).
+//!   once (the worked example's 18, converging faster by power than uniformly).
 //! * [`precision`] measures what each numerical choice of the alias table costs.
 //! * [`walkthrough`] and [`construction`] hold the classroom's material: the classic
 //!   explanation's steps with live numbers, and Vose's construction recorded step by step.
@@ -66,7 +66,7 @@
 //! use lightpick_core::render::{CpuRenderer, Reference, rmse};
 //! use lightpick_core::scene::Scene;
 //!
-//! let scene = Scene::preset("seed")?; // the seed's three lights over a 256×256 plane
+//! let scene = Scene::preset("worked-example")?; // the worked example's three lights over a 256×256 plane
 //! let mut renderer = CpuRenderer::new(&scene, Scheme::Alias, 7);
 //! renderer.accumulate(4); // 4 samples per pixel, deterministic for seed 7
 //! assert_eq!(renderer.accumulator().image().len(), 256 * 256);
@@ -135,7 +135,7 @@ pub mod stats;
 
 // The modules' paths before the folders by topic, kept for whoever depends on them (and
 // used inside the crate): `lightpick_core::walkthrough::…` still works.
-pub(crate) use lesson::seed_example;
+pub(crate) use lesson::worked_example;
 pub use lesson::{construction, fraction, inspect, point_estimate, walkthrough};
 pub(crate) use sampling::{alias, cdf, light_sampler, powers, rng, sampler, uniform};
 pub(crate) use stats::{chi_square, moments, scaled, welford};
@@ -151,6 +151,6 @@ pub use sampler::{NeedsShadingPoint, Sampler, Scheme, UnknownScheme};
 pub use scaled::Scaled;
 pub use scene_samplers::SceneSamplers;
 pub use scheme_sampler::SchemeSampler;
-pub use seed_example::SeedExample;
 pub use uniform::{Uniform, rejection_threshold};
 pub use welford::Welford;
+pub use worked_example::WorkedExample;

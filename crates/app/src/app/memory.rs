@@ -91,7 +91,7 @@ const MMAP_THRESHOLD_BYTES: std::ffi::c_int = 128 << 10;
 /// tree's 32-byte-per-light build scratch at `10^6` lights) it rises to that block's size,
 /// so the next per-light arrays are carved from the heap arenas, and whatever of them is
 /// freed stays resident beside small live blocks that `malloc_trim` cannot return. Measured
-/// on the running app (10^6 lights, CPU images): 115 bytes per light above the seed scene
+/// on the running app (10^6 lights, CPU images): 115 bytes per light above the worked example
 /// by RSS against 97 by the accounting with the default; 93 with the threshold kept at
 /// 128 KiB (100 at 1 MiB). The cost is a `mmap`/`munmap` and fresh pages per such
 /// allocation: a few per frame (the images' pixel buffers, 256 KiB at 256×256).

@@ -106,7 +106,7 @@ impl LightpickApp {
         }
     }
 
-    /// The seed scene, paused, rendering inline: the starting point of every UI test.
+    /// The worked example, paused, rendering inline: the starting point of every UI test.
     pub fn for_tests() -> Self {
         let mut state = AppState::seed();
         state.settings.paused = true;

@@ -116,7 +116,7 @@ impl LightpickApp {
         // The exposure belongs to the scene it was set for: without that scene, the seed
         // scene's own.
         let scene = scene.unwrap_or_else(|| {
-            let seed = scene_io::seed_scene();
+            let seed = scene_io::worked_example_scene();
             settings.exposure = auto_exposure(&seed);
             seed
         });

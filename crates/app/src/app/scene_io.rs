@@ -20,15 +20,15 @@ pub fn preset(name: &str) -> Result<Scene, String> {
     Scene::preset(name).map_err(|e| format!("preset '{name}': {e}"))
 }
 
-/// The seed scene (powers 2, 5, 20): the app's first scene and its fallback.
-pub fn seed_scene() -> Scene {
-    preset("seed").unwrap_or_else(|_| fallback_seed_scene())
+/// The worked example (powers 2, 5, 20): the app's first scene and its fallback.
+pub fn worked_example_scene() -> Scene {
+    preset("worked-example").unwrap_or_else(|_| fallback_worked_example())
 }
 
-/// A seed scene made here, used only if the preset cannot be built.
-fn fallback_seed_scene() -> Scene {
+/// A worked example made here, used only if the preset cannot be built.
+fn fallback_worked_example() -> Scene {
     Scene::new(
-        "seed",
+        "worked-example",
         ReceiverPlane {
             min: dvec2(-2.0, -2.0),
             max: dvec2(2.0, 2.0),
@@ -40,7 +40,7 @@ fn fallback_seed_scene() -> Scene {
             dvec3(1.0, 1.0, 1.0),
             dvec3(0.0, -1.0, 1.5),
         ],
-        lightpick_core::SeedExample::powers(),
+        lightpick_core::WorkedExample::powers(),
     )
 }
 

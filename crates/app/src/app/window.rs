@@ -12,7 +12,7 @@ const NO_DISPLAY: &str = "no display found (neither DISPLAY nor WAYLAND_DISPLAY 
      the desktop app needs one. Use the headless subcommands instead, e.g. \
      `lightpick table --powers 2,5,20` (see `lightpick --help`)";
 
-/// Opens the app on the seed scene (or the last scene), or on a scene already read from a
+/// Opens the app on the worked example (or the last scene), or on a scene already read from a
 /// file (`lightpick FILE`, what a desktop's "Open with" passes). Returns an error (exit code
 /// 2) when no display exists.
 pub fn run(

@@ -21,7 +21,7 @@ use crate::recording::{
 /// Arguments of `lightpick plot animation`.
 #[derive(Debug, Args)]
 pub struct AnimationArgs {
-    /// The scene (default: the seed preset).
+    /// The scene (default: the worked example).
     #[command(flatten)]
     pub scene: PositionedArgs,
     /// Frames of the animation (1 to 240).
@@ -80,7 +80,7 @@ pub fn run(args: &AnimationArgs) -> anyhow::Result<()> {
     }
     let mut scene = match args.scene.load("plot animation")? {
         Some(scene) => scene,
-        None => Scene::preset("seed")?,
+        None => Scene::preset("worked-example")?,
     };
     size_scene(&mut scene, args.width, args.height);
     let recording = Recording {

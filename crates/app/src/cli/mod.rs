@@ -26,7 +26,7 @@ pub use input::PowersArgs;
     version,
     about = "Teach and measure point-light importance sampling (Walker alias tables).",
     long_about = "Teach and measure point-light importance sampling (Walker alias tables).\n\n\
-                  Without a subcommand, opens the desktop app on the seed scene \
+                  Without a subcommand, opens the desktop app on the worked example \
                   (powers 2, 5, 20), or on FILE (glTF, CSV or lightpick JSON)."
 )]
 #[command(args_conflicts_with_subcommands = true)]

@@ -58,7 +58,7 @@ pub enum PlotKind {
     /// exact spatial pick on ≤ 16 lights, whose RMSE is rounding) is left off the axes and
     /// named in the legend.
     Convergence {
-        /// The scene (default: the seed preset).
+        /// The scene (default: the worked example).
         #[command(flatten)]
         scene: PositionedArgs,
         /// The schemes plotted, comma separated: uniform, alias (or power),
@@ -85,7 +85,7 @@ pub enum PlotKind {
     },
     /// Uniform | power | spatial | reference, with error maps, at equal samples per pixel.
     Sheet {
-        /// The scene (default: the seed preset).
+        /// The scene (default: the worked example).
         #[command(flatten)]
         scene: PositionedArgs,
         /// Samples per pixel of the three estimates.
@@ -328,6 +328,6 @@ fn check_schemes(schemes: &[Scheme]) -> anyhow::Result<()> {
 fn scene_or_seed(args: &PositionedArgs, command: &str) -> anyhow::Result<Scene> {
     match args.load(command)? {
         Some(scene) => Ok(scene),
-        None => Ok(Scene::preset("seed")?),
+        None => Ok(Scene::preset("worked-example")?),
     }
 }

@@ -67,7 +67,7 @@ pub(crate) fn table_text(powers: &LightPowers, table: &AliasTable) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{} lights, total power {}  (lights numbered from 0: the seed's light №1 is light 0)",
+        "{} lights, total power {}  (lights numbered from 0: the worked example's light №1 is light 0)",
         table.len(),
         total_text(powers)
     );

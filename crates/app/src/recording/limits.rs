@@ -160,7 +160,7 @@ mod tests {
 
     #[test]
     fn recordings_are_checked() {
-        let mut scene = Scene::preset("seed").expect("preset");
+        let mut scene = Scene::preset("worked-example").expect("preset");
         size_scene(&mut scene, Some(16), None);
         assert_eq!((scene.plane.width, scene.plane.height), (16, 16));
         let ok = Recording {

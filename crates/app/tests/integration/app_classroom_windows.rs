@@ -107,7 +107,7 @@ fn no_text_is_smaller_than_the_body_text_and_the_zoom_scales_it() {
         state.settings.show_precision = true;
         state.settings.show_walkthrough = true;
         state.settings.show_stepper = true;
-        state.estimator.open_at(EstimatorPoint::Seed);
+        state.estimator.open_at(EstimatorPoint::WorkedExample);
         harness.run();
         step_paused(&mut harness, 1);
         let body = egui::TextStyle::Body
@@ -210,7 +210,8 @@ fn file_open_starts_in_the_last_folder_with_no_name_filled_in() {
     assert_eq!(state.file_dialog.path, "", "no file name pre-filled");
     // The next session starts there too.
     let settings = state.settings.clone();
-    let next = lightpick::app::AppState::new(lightpick::app::scene_io::seed_scene(), settings);
+    let next =
+        lightpick::app::AppState::new(lightpick::app::scene_io::worked_example_scene(), settings);
     assert_eq!(next.file_dialog.folder.as_deref(), Some(dir.as_path()));
     let _ = std::fs::remove_dir_all(&dir);
 }

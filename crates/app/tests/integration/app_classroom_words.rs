@@ -80,9 +80,9 @@ fn the_estimator_counts_samples_in_fewer_with_a_factor_above_one() {
         .state_mut()
         .state
         .estimator
-        .open_at(EstimatorPoint::Seed);
+        .open_at(EstimatorPoint::WorkedExample);
     harness.run();
-    // 366 against 14.85 at the seed's point: importance needs 24.6× fewer samples.
+    // 366 against 14.85 at the worked example's point: importance needs 24.6× fewer samples.
     assert!(shows(&harness, "24.6× fewer"), "{}", painted(&harness));
     assert!(shows(&harness, "samples vs uniform"));
     assert!(!shows_containing(&harness, "fewer than uniform"));

@@ -1,4 +1,4 @@
-//! The estimator view: the seed's shading point converging to 18 under uniform and
+//! The estimator view: the worked example's shading point converging to 18 under uniform and
 //! importance picking (reached from the walkthrough's last step), its figures against the
 //! analytic ones (366 and 14.85), seeded steps equal to the core's, the powers followed
 //! live, a pixel's point from the inspector, and a snapshot.
@@ -8,7 +8,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
 use lightpick::app::LightpickApp;
 use lightpick::app::state::estimator::EstimatorPoint;
-use lightpick_core::SeedExample;
+use lightpick_core::WorkedExample;
 use lightpick_core::point_estimate::PointEstimator;
 
 /// Clicks the node labelled `label` and runs one frame (a running estimator keeps asking
@@ -42,10 +42,13 @@ fn the_walkthroughs_last_step_opens_the_seed_point_converging_to_18() {
     // ~5 % more samples per frame: 200 frames pass 20 000 samples.
     h.run_steps(200);
     let e = estimator(&h);
-    assert_eq!(e.exact(), SeedExample::EXACT);
+    assert_eq!(e.exact(), WorkedExample::EXACT);
     let n = e.samples();
     assert!(n > 20_000, "{n} samples");
-    let analytic = [SeedExample::UNIFORM_VARIANCE, SeedExample::POWER_VARIANCE];
+    let analytic = [
+        WorkedExample::UNIFORM_VARIANCE,
+        WorkedExample::POWER_VARIANCE,
+    ];
     for (run, variance) in e.runs().iter().zip(analytic) {
         assert!(
             (run.analytic.variance - variance).abs() < 1e-9,
@@ -71,14 +74,17 @@ fn the_walkthroughs_last_step_opens_the_seed_point_converging_to_18() {
 #[test]
 fn steps_are_the_cores_seeded_samples_and_reset_starts_over() {
     let mut h = harness();
-    h.state_mut().state.estimator.open_at(EstimatorPoint::Seed);
+    h.state_mut()
+        .state
+        .estimator
+        .open_at(EstimatorPoint::WorkedExample);
     h.run();
     click(&mut h, "Step +1");
     click(&mut h, "+10");
     click(&mut h, "+1000");
     assert_eq!(estimator(&h).samples(), 1011);
     let seed = h.state().state.settings.seed;
-    let mut core = PointEstimator::seed_example(seed);
+    let mut core = PointEstimator::worked_example(seed);
     core.advance(1011);
     for (app, core) in estimator(&h).runs().iter().zip(core.runs()) {
         assert_eq!(app.running(), core.running(), "{}", app.name);
@@ -91,7 +97,10 @@ fn steps_are_the_cores_seeded_samples_and_reset_starts_over() {
 #[test]
 fn the_point_follows_the_powers_live() {
     let mut h = harness();
-    h.state_mut().state.estimator.open_at(EstimatorPoint::Seed);
+    h.state_mut()
+        .state
+        .estimator
+        .open_at(EstimatorPoint::WorkedExample);
     h.run();
     click(&mut h, "+1000");
     // Light 1's power 2 → 7: its contribution g·Φ = 0.5·7 = 3.5, the total 20.5.
@@ -141,8 +150,8 @@ fn a_point_outside_the_image_is_named_not_a_panic() {
     h.run();
     assert!(h.state().state.estimator.estimator().is_none());
     h.get_by_label_contains("pixel (9999, 3) is outside the 256×256 image");
-    // Back to the seed's point: the view works again.
-    click(&mut h, "the seed's point");
+    // Back to the worked example's point: the view works again.
+    click(&mut h, "the worked example's point");
     assert!(h.state().state.estimator.estimator().is_some());
 }
 
@@ -150,7 +159,7 @@ fn a_point_outside_the_image_is_named_not_a_panic() {
 fn estimator_snapshot() {
     let mut app = LightpickApp::for_tests();
     app.state.settings.dark = false;
-    app.state.estimator.open_at(EstimatorPoint::Seed);
+    app.state.estimator.open_at(EstimatorPoint::WorkedExample);
     let mut h = wgpu_window(app, [1600.0, 1000.0]);
     h.run();
     h.state_mut().state.estimator.step(30_000);

@@ -52,7 +52,7 @@ fn the_export_job_writes_the_cli_animation_of_the_running_state() {
         "plot",
         "animation",
         "--preset",
-        "seed",
+        "worked-example",
         "--seed",
         "7",
         "--exposure",

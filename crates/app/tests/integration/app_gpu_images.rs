@@ -16,7 +16,7 @@ use lightpick_core::render::{CpuRenderer, Reference, rmse};
 
 use crate::common::{HANG_GUARD, gpu_expected, scratch, step_paused, wgpu_eframe};
 
-/// The whole app on kittest's wgpu device, paused, on the seed scene.
+/// The whole app on kittest's wgpu device, paused, on the worked example.
 fn gpu_app() -> Harness<'static, LightpickApp> {
     let mut harness = wgpu_eframe([1280.0, 800.0]);
     harness.run();
@@ -152,7 +152,7 @@ fn exporting_reads_the_gpu_images_back() {
     assert_eq!(sheet.width(), 4 * w);
     let band = sheet.height() - 2 * h;
     assert!((20..=48).contains(&band), "caption band of {band} px");
-    // The seed scene lights the middle of every image: not black.
+    // The worked example lights the middle of every image: not black.
     for column in 0..3 {
         let p = sheet.get_pixel(column * w + w / 2, band + h / 2);
         assert!(p[0] > 0 || p[1] > 0 || p[2] > 0, "image {column} is black");

@@ -219,7 +219,7 @@ fn spot_scenes_show_the_cone_term_and_why_power_picking_fails() {
 /// each view's probabilities sum to one (spatial: at most one).
 #[test]
 fn the_pick_overlay_shows_the_inspectors_numbers() {
-    for preset in ["seed", "grid", "stage"] {
+    for preset in ["worked-example", "grid", "stage"] {
         let mut app = LightpickApp::for_tests_on(preset);
         app.state.inspector.pixel = Some([37, 91]);
         let mut harness = crate::common::window(app, [1560.0, 960.0]);

@@ -109,7 +109,7 @@ fn a_malformed_scene_file_is_reported_and_the_scene_kept() {
     harness.get_by_label_contains("Error: ");
     harness.get_by_label_contains("nothing changed");
     let state = &harness.state().state;
-    assert_eq!(state.edit.name, "seed");
+    assert_eq!(state.edit.name, "worked-example");
     assert_eq!(state.built.scene.powers.as_slice(), &[2.0, 5.0, 20.0]);
     assert!(shows(&harness, "6/27"));
     assert!(state.file_dialog.error.is_some());

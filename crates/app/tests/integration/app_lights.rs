@@ -160,7 +160,7 @@ fn a_corrupt_stored_scene_gives_the_seed_scene_and_says_so() {
 
 /// A scene too large to store light by light is kept by name when it is an unedited preset
 /// (and restored with its own exposure); once edited it is not kept, and the next run opens
-/// the seed scene with the seed scene's exposure, not the large scene's.
+/// the worked example with the worked example's exposure, not the large scene's.
 #[test]
 fn large_presets_persist_by_name_and_edited_large_scenes_fall_back_to_the_seed() {
     let mut harness = lights_panel();
@@ -188,7 +188,7 @@ fn large_presets_persist_by_name_and_edited_large_scenes_fall_back_to_the_seed()
     let app = restored(&storage);
     assert_eq!(app.state.built.scene.powers.as_slice(), [2.0, 5.0, 20.0]);
     let seed_exposure =
-        lightpick::app::state::auto_exposure(&lightpick::app::scene_io::seed_scene());
+        lightpick::app::state::auto_exposure(&lightpick::app::scene_io::worked_example_scene());
     assert_eq!(app.state.settings.exposure, seed_exposure);
     assert_ne!(seed_exposure, million_exposure);
 }

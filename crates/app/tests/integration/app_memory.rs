@@ -1,6 +1,6 @@
 //! Memory per light: the app's own accounting of the heap bytes each part holds
 //! ([`LightpickApp::memory_by_part`], from capacities and uploaded sizes), on a generated
-//! scene of 10^6 lights against the seed scene. The bound is what the code holds by
+//! scene of 10^6 lights against the worked example. The bound is what the code holds by
 //! construction (a sum of capacities), not a measurement of the process: docs/numbers.md
 //! gives both.
 
@@ -14,7 +14,7 @@ use crate::common::{HANG_GUARD, gpu_expected, wgpu_eframe, window};
 /// The lights of the generated scene.
 const LIGHTS: usize = 1_000_000;
 
-/// Bytes per light above the seed scene the accounting may reach with the CPU renderer,
+/// Bytes per light above the worked example the accounting may reach with the CPU renderer,
 /// by construction: the scene's positions and powers (24 + 8; the edit shares them), the
 /// packed table (8) and its pmf (8), the light tree (leaf-order lights 32, scene indices 4,
 /// 87 381 nodes of 144 + 4 bytes: 48.9) and the histograms' chi-square cells (62 500 cells
@@ -60,8 +60,8 @@ fn step_until_published(harness: &mut Harness<'static, LightpickApp>) {
     }
 }
 
-/// Generates [`LIGHTS`] lights as the Lights panel's Generate does (over the seed scene's
-/// plane, so the per-pixel parts are the seed's), waits for the background build, renders a
+/// Generates [`LIGHTS`] lights as the Lights panel's Generate does (over the worked example's
+/// plane, so the per-pixel parts are the worked example's), waits for the background build, renders a
 /// frame, and returns the accounting before and after.
 fn seed_and_generated(mut harness: Harness<'static, LightpickApp>) -> (Parts, Parts) {
     step_until_published(&mut harness);
@@ -81,7 +81,7 @@ fn seed_and_generated(mut harness: Harness<'static, LightpickApp>) -> (Parts, Pa
 }
 
 /// Prints the table (for docs/numbers.md) and checks every part is reported, the growing ones
-/// non-empty, and the total per light above the seed scene within `bound`.
+/// non-empty, and the total per light above the worked example within `bound`.
 fn check(seed: &[(&'static str, usize)], large: &[(&'static str, usize)], bound: f64) {
     let names: Vec<_> = seed.iter().map(|(name, _)| *name).collect();
     assert_eq!(
@@ -103,14 +103,14 @@ fn check(seed: &[(&'static str, usize)], large: &[(&'static str, usize)], bound:
         total(&kept) as f64
     };
     let per_light = (per_light_parts(large) - per_light_parts(seed)) / LIGHTS as f64;
-    eprintln!("| total above the seed scene (per-pixel parts aside) | {per_light:.1} |");
+    eprintln!("| total above the worked example (per-pixel parts aside) | {per_light:.1} |");
     for part in GROWING {
         let bytes = large.iter().find(|(name, _)| *name == part).map(|p| p.1);
         assert!(bytes.is_some_and(|b| b > 0), "{part}: {bytes:?}");
     }
     assert!(
         per_light <= bound,
-        "{per_light:.1} bytes per light above the seed scene, over {bound}"
+        "{per_light:.1} bytes per light above the worked example, over {bound}"
     );
 }
 

@@ -1,4 +1,4 @@
-//! Snapshots of every panel on the seed scene (goldens in `tests/snapshots/`), rendered
+//! Snapshots of every panel on the worked example (goldens in `tests/snapshots/`), rendered
 //! with wgpu (lavapipe without a GPU). Update with `UPDATE_SNAPSHOTS=1`.
 
 use egui_kittest::Harness;
@@ -8,7 +8,7 @@ use lightpick::app::{LightpickApp, PanelKind};
 
 use crate::common::{click, snapshot_options, step_paused, wgpu_panel, wgpu_window};
 
-/// One panel of the seed scene after `steps` paused single steps.
+/// One panel of the worked example after `steps` paused single steps.
 fn panel(kind: PanelKind, size: [f32; 2], steps: usize) -> Harness<'static, LightpickApp> {
     let mut harness = wgpu_panel(kind, LightpickApp::for_tests(), size);
     harness.run();
@@ -71,7 +71,7 @@ fn whole_app() {
     harness.snapshot_options("app_whole", &snapshot_options());
 }
 
-/// The whole window at `size` on the seed scene after eight paused steps (images, curves
+/// The whole window at `size` on the worked example after eight paused steps (images, curves
 /// and histograms drawn).
 fn window(size: [f32; 2]) -> Harness<'static, LightpickApp> {
     let mut harness = wgpu_window(LightpickApp::for_tests(), size);

@@ -1,4 +1,4 @@
-//! The spatial (contribution-aware) scheme in the app, beyond the seed scene's exact pick:
+//! The spatial (contribution-aware) scheme in the app, beyond the worked example's exact pick:
 //! on the `equal` preset (64 lights, a light tree) it is the third image, the third
 //! convergence curve and a trade row, and it ends closer to the reference than power
 //! sampling.

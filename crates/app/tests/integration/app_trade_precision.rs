@@ -1,4 +1,4 @@
-//! The speed-against-accuracy and precision panels: a snapshot of each on the seed scene
+//! The speed-against-accuracy and precision panels: a snapshot of each on the worked example
 //! (goldens in `tests/snapshots/`, update with `UPDATE_SNAPSHOTS=1`) and what they must say.
 
 use egui_kittest::Harness;
@@ -59,7 +59,7 @@ fn trade_panel_lists_every_scheme_after_measuring() {
             .expect("every scheme measured")
     };
     // With equal (virtual) time per sample, importance sampling beats uniform selection on
-    // the seed scene, and both alias variants estimate the same pmf.
+    // the worked example, and both alias variants estimate the same pmf.
     let uniform = row(lightpick_core::Scheme::Uniform).efficiency;
     let alias = row(lightpick_core::Scheme::Alias).efficiency;
     assert!(

@@ -126,7 +126,14 @@ fn animation_refuses_bad_input() {
     let dir = scratch("animation-bad");
     let out = dir.join("x.gif");
     let out = out.to_str().unwrap();
-    let base = ["plot", "animation", "--preset", "seed", "--out", out];
+    let base = [
+        "plot",
+        "animation",
+        "--preset",
+        "worked-example",
+        "--out",
+        out,
+    ];
     let with = |extra: &[&'static str]| {
         let mut v: Vec<&str> = base.to_vec();
         v.extend_from_slice(extra);
@@ -165,7 +172,10 @@ fn animation_refuses_bad_input() {
         &["plot", "animation", "--powers", "2,5,20", "--out", out],
         "--powers: plot animation needs light positions",
     );
-    assert_error(&["plot", "animation", "--preset", "seed"], "--out");
+    assert_error(
+        &["plot", "animation", "--preset", "worked-example"],
+        "--out",
+    );
     assert_error(
         &with(&["--frames", "2", "--max-spp", "2", "--width", "8"])
             .into_iter()

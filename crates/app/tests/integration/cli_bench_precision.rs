@@ -98,7 +98,7 @@ fn bench_json_has_every_case_and_the_peers() {
         "--sizes",
         "1000",
         "--presets",
-        "seed",
+        "worked-example",
         "--spp",
         "8",
         "--no-gpu",
@@ -186,7 +186,7 @@ fn bench_json_has_every_case_and_the_peers() {
     assert!(v["gpu"]["adapter"].is_null());
     assert!(v["gpu"]["note"].as_str().unwrap().contains("--no-gpu"));
     let render = &v["renders"][0];
-    assert_eq!(render["preset"], "seed");
+    assert_eq!(render["preset"], "worked-example");
     let schemes = render["schemes"].as_array().unwrap();
     assert_eq!(schemes.len(), 5);
     let uniform_var = num(&schemes[0]["variance_per_sample"]);
@@ -222,7 +222,7 @@ fn bench_writes_the_plot_and_reports_the_gpu() {
         "--sizes",
         "3",
         "--presets",
-        "seed",
+        "worked-example",
         "--spp",
         "4",
         "--plot",
@@ -231,10 +231,10 @@ fn bench_writes_the_plot_and_reports_the_gpu() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("GPU: "), "{text}");
     assert!(text.contains("rand_distr::WeightedAliasIndex"), "{text}");
-    // The seed's three lights: the exact spatial pick has zero variance, so its series (RMSE
+    // The worked example's three lights: the exact spatial pick has zero variance, so its series (RMSE
     // ~1e-16, rounding) stays off the plot's axes, and the text says so.
     assert!(
-        text.contains("preset seed; spatial: zero variance, left off the axes)"),
+        text.contains("preset worked-example; spatial: zero variance, left off the axes)"),
         "{text}"
     );
     let bytes = std::fs::read(&png).unwrap();

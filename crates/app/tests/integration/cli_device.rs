@@ -19,8 +19,17 @@ const NO_ADAPTER: [(&str, &str); 1] = [("WGPU_ADAPTER_NAME", "no-such-adapter-li
 fn an_explicit_gpu_without_an_adapter_is_an_error() {
     for args in [
         &[
-            "render", "--preset", "seed", "--spp", "1", "--width", "8", "--height", "8",
-            "--device", "gpu",
+            "render",
+            "--preset",
+            "worked-example",
+            "--spp",
+            "1",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--device",
+            "gpu",
         ][..],
         &[
             "sample", "--powers", "2,5,20", "--count", "100", "--device", "gpu",
@@ -39,7 +48,16 @@ fn an_explicit_gpu_without_an_adapter_is_an_error() {
 fn the_default_device_falls_back_to_the_cpu_with_one_notice() {
     // `render` defaults to the GPU when an adapter exists.
     let args = [
-        "render", "--preset", "seed", "--spp", "2", "--width", "8", "--height", "8", "--json",
+        "render",
+        "--preset",
+        "worked-example",
+        "--spp",
+        "2",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--json",
     ];
     let out = lightpick_with_env(&args, &NO_ADAPTER);
     let stderr = String::from_utf8_lossy(&out.stderr);

@@ -20,7 +20,7 @@ fn render_on_the_cpu_writes_png_exr_and_stats() {
     let v = ok_json(&[
         "render",
         "--preset",
-        "seed",
+        "worked-example",
         "--scheme",
         "power",
         "--spp",
@@ -74,7 +74,7 @@ fn error_map_needs_a_complete_reference() {
     run_ok(&[
         "render",
         "--preset",
-        "seed",
+        "worked-example",
         "--spp",
         "2",
         "--device",
@@ -113,15 +113,21 @@ fn error_map_needs_a_complete_reference() {
 
 #[test]
 fn render_refuses_bad_input() {
-    assert_error(&["render", "--preset", "seed", "--spp", "0"], "--spp");
-    assert_error(&["render", "--preset", "seed", "--width", "0"], "--width");
     assert_error(
-        &["render", "--preset", "seed", "--width", "100000"],
+        &["render", "--preset", "worked-example", "--spp", "0"],
+        "--spp",
+    );
+    assert_error(
+        &["render", "--preset", "worked-example", "--width", "0"],
+        "--width",
+    );
+    assert_error(
+        &["render", "--preset", "worked-example", "--width", "100000"],
         "--width",
     );
     assert_error(&["render"], "no scene given");
     assert_error(
-        &["render", "--preset", "seed", "--exposure", "-1"],
+        &["render", "--preset", "worked-example", "--exposure", "-1"],
         "--exposure",
     );
     let dir = scratch("badscene");
@@ -155,8 +161,20 @@ fn gpu_and_cpu_renders_agree() {
     }
     let args = |device| {
         ok_json(&[
-            "render", "--preset", "seed", "--spp", "16", "--seed", "9", "--width", "48",
-            "--height", "32", "--device", device, "--json",
+            "render",
+            "--preset",
+            "worked-example",
+            "--spp",
+            "16",
+            "--seed",
+            "9",
+            "--width",
+            "48",
+            "--height",
+            "32",
+            "--device",
+            device,
+            "--json",
         ])
     };
     let (cpu, gpu) = (args("cpu"), args("gpu"));
@@ -197,10 +215,17 @@ fn plots_are_written() {
     let cases: [(&str, &[&str]); 4] = [
         ("table", &["--powers", "2,5,20"]),
         ("histogram", &["--preset", "zeros", "--count", "5000"]),
-        ("convergence", &["--preset", "seed", "--spp", "8"]),
+        ("convergence", &["--preset", "worked-example", "--spp", "8"]),
         (
             "sheet",
-            &["--preset", "seed", "--spp", "2", "--image-width", "40"],
+            &[
+                "--preset",
+                "worked-example",
+                "--spp",
+                "2",
+                "--image-width",
+                "40",
+            ],
         ),
     ];
     for (kind, extra) in cases {
@@ -240,12 +265,12 @@ fn plots_are_written() {
 
 #[test]
 fn presets_feed_every_power_command() {
-    let v = ok_json(&["table", "--preset", "seed", "--json"]);
+    let v = ok_json(&["table", "--preset", "worked-example", "--json"]);
     assert_eq!(v["alias"], serde_json::json!([2, 2, 2]));
     let v = ok_json(&[
         "estimate",
         "--preset",
-        "seed",
+        "worked-example",
         "--contrib",
         "1,2,15",
         "--count",
@@ -255,7 +280,7 @@ fn presets_feed_every_power_command() {
     assert_eq!(v["exact"], 18.0);
     assert_error(&["table", "--preset", "nope"], "unknown preset 'nope'");
     assert_error(
-        &["table", "--powers", "1", "--preset", "seed"],
+        &["table", "--powers", "1", "--preset", "worked-example"],
         "give the powers once",
     );
 }
@@ -265,7 +290,7 @@ fn convergence_plots_the_chosen_schemes_and_the_sheet_has_a_spatial_column() {
     let dir = scratch("schemes");
     let png = dir.join("c.png");
     let out = png.to_str().unwrap();
-    // The default list includes spatial, exact (zero variance) on the seed's three lights:
+    // The default list includes spatial, exact (zero variance) on the worked example's three lights:
     // the plot is still drawn, that series off the axes.
     for extra in [
         &[][..],

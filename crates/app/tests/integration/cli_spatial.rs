@@ -53,8 +53,8 @@ fn render_spatial_on_the_cpu_writes_the_png_and_beats_power_on_spread_lights() {
 
 #[test]
 fn render_spatial_on_few_lights_is_exact() {
-    let v = render("seed", "spatial", "cpu", &[]);
-    let power = render("seed", "power", "cpu", &[]);
+    let v = render("worked-example", "spatial", "cpu", &[]);
+    let power = render("worked-example", "power", "cpu", &[]);
     // Three lights: the exact contribution pick has zero variance; what is left is rounding.
     assert!(
         num(&v["rmse"]) <= 1e-12 * num(&power["rmse"]),
@@ -69,12 +69,12 @@ fn render_spatial_on_the_gpu_agrees_with_the_cpu() {
         eprintln!("GPU case skipped: LIGHTPICK_SKIP_GPU_TESTS is set");
         return;
     }
-    for preset in ["heavy-tail", "seed"] {
+    for preset in ["heavy-tail", "worked-example"] {
         let cpu = render(preset, "spatial", "cpu", &[]);
         let gpu = render(preset, "spatial", "gpu", &[]);
         assert_eq!(gpu["device"], "gpu");
         let (a, b) = (num(&cpu["rmse"]), num(&gpu["rmse"]));
-        if preset == "seed" {
+        if preset == "worked-example" {
             // Both exact: f32 rounding of the sum (≈ 1e-6 of the irradiance) is all there is.
             let power = num(&render(preset, "power", "cpu", &[])["rmse"]);
             assert!(b <= 1e-4 * power, "{preset}: gpu rmse {b}");
@@ -108,7 +108,13 @@ fn sample_and_estimate_refuse_spatial_with_one_error_line() {
         "shading point",
     );
     assert_error(
-        &["render", "--preset", "seed", "--scheme", "spatiall"],
+        &[
+            "render",
+            "--preset",
+            "worked-example",
+            "--scheme",
+            "spatiall",
+        ],
         "spatial",
     );
 }
@@ -134,7 +140,7 @@ fn bench_rows_include_spatial() {
 
 #[test]
 fn bench_reports_the_exact_pick_as_zero_variance_with_infinite_efficiency() {
-    let v = bench_json(&["--presets", "seed", "--spp", "8"]);
+    let v = bench_json(&["--presets", "worked-example", "--spp", "8"]);
     let schemes = v["renders"][0]["schemes"].as_array().unwrap();
     for s in schemes {
         let exact = s["scheme"] == "spatial";

@@ -167,8 +167,8 @@ mod tests {
 
     #[test]
     fn tiny_canvases_draw_without_panicking() {
-        use crate::{AliasTable, Scheme, SeedExample};
-        let powers = SeedExample::powers();
+        use crate::{AliasTable, Scheme, WorkedExample};
+        let powers = WorkedExample::powers();
         let table = AliasTable::build_exact(&powers);
         let pmf = powers.pmf();
         let counts = SchemeCounts::new(Scheme::Alias, vec![2, 5, 20], pmf.clone())

@@ -8,6 +8,6 @@ pub mod construction;
 pub mod fraction;
 pub mod inspect;
 pub mod point_estimate;
-pub mod seed_example;
 pub mod tree_pick;
 pub mod walkthrough;
+pub mod worked_example;

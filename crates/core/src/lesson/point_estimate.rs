@@ -213,11 +213,11 @@ impl PointEstimator {
 
     /// The seed example's point: contributions `1, 2, 15` (exact 18) with uniform and
     /// importance (alias table over powers `2, 5, 20`) runs.
-    pub fn seed_example(seed: u64) -> Self {
-        let table = Arc::new(AliasTable::build_exact(&crate::SeedExample::powers()));
+    pub fn worked_example(seed: u64) -> Self {
+        let table = Arc::new(AliasTable::build_exact(&crate::WorkedExample::powers()));
         // The constant contributions are valid and match the table's three lights.
         Self::new(
-            crate::SeedExample::CONTRIBUTIONS.to_vec(),
+            crate::WorkedExample::CONTRIBUTIONS.to_vec(),
             ShadingContext::default(),
             vec![
                 ("uniform", Sampler::Uniform(Uniform::new(3)).into()),
@@ -335,15 +335,15 @@ pub fn sampled_mean(sampler: &Sampler, contrib: &[f64], count: u64, seed: u64) -
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::SeedExample;
+    use crate::WorkedExample;
 
     #[test]
     fn seed_example_has_the_documents_moments() {
-        let e = PointEstimator::seed_example(1);
+        let e = PointEstimator::worked_example(1);
         assert_eq!(e.exact(), 18.0);
         let [u, a] = [&e.runs()[0], &e.runs()[1]];
-        assert!((u.analytic.variance - SeedExample::UNIFORM_VARIANCE).abs() < 1e-9);
-        assert!((a.analytic.variance - SeedExample::POWER_VARIANCE).abs() < 1e-9);
+        assert!((u.analytic.variance - WorkedExample::UNIFORM_VARIANCE).abs() < 1e-9);
+        assert!((a.analytic.variance - WorkedExample::POWER_VARIANCE).abs() < 1e-9);
         let n_u = samples_for_relative_error(u.analytic.variance_scaled, 18.0, 0.01);
         let n_a = samples_for_relative_error(a.analytic.variance_scaled, 18.0, 0.01);
         assert!((n_u - 366.0 / 0.0324).abs() < 1e-6, "{n_u}");
@@ -352,9 +352,9 @@ mod tests {
 
     #[test]
     fn advancing_in_chunks_draws_the_same_samples() {
-        let mut once = PointEstimator::seed_example(7);
+        let mut once = PointEstimator::worked_example(7);
         once.advance(1000);
-        let mut chunks = PointEstimator::seed_example(7);
+        let mut chunks = PointEstimator::worked_example(7);
         for _ in 0..10 {
             chunks.advance(100);
         }
@@ -397,7 +397,7 @@ mod tests {
 
     #[test]
     fn series_is_sparse_and_ends_at_the_latest_sample() {
-        let mut e = PointEstimator::seed_example(3);
+        let mut e = PointEstimator::worked_example(3);
         e.advance(100_000);
         let s = e.runs()[0].series();
         assert!(s.len() < 400, "{}", s.len());

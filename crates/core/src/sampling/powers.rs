@@ -112,7 +112,7 @@ impl LightPowers {
 
     /// The powers scaled by an exact power of two `2^-e` so that the largest lies in
     /// `[1, 2)`, and their sum `S` (so `Φ_i / Σ Φ = w_i / S`). Scaling by a power of two is
-    /// exact, so small-integer inputs keep exact ratios (the seed's `6/27` stays `6/27`).
+    /// exact, so small-integer inputs keep exact ratios (the worked example's `6/27` stays `6/27`).
     ///
     /// Returns `(w, S)`. `S ≤ 2N`, far from overflow. A power below `2^-1074` times the
     /// largest underflows to zero share: it is then treated like a zero power.

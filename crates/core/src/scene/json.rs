@@ -2,7 +2,7 @@
 //!
 //! ```json
 //! {
-//!   "name": "seed",
+//!   "name": "worked-example",
 //!   "plane": { "min": [-2, -2], "max": [2, 2], "width": 256, "height": 256 },
 //!   "lights": [
 //!     { "position": [-1.1, 0.7, 0.45], "power": 2 },

@@ -7,7 +7,7 @@ use super::error::SceneError;
 
 /// Every preset name, in display order.
 pub const PRESET_NAMES: [&str; 10] = [
-    "seed",
+    "worked-example",
     "equal",
     "dominant",
     "zeros",
@@ -21,7 +21,7 @@ pub const PRESET_NAMES: [&str; 10] = [
 
 /// The embedded text of each preset, in the order of [`PRESET_NAMES`].
 const PRESET_FILES: [&str; 10] = [
-    include_str!("../../assets/scenes/seed.json"),
+    include_str!("../../assets/scenes/worked-example.json"),
     include_str!("../../assets/scenes/equal.json"),
     include_str!("../../assets/scenes/dominant.json"),
     include_str!("../../assets/scenes/zeros.json"),
@@ -37,7 +37,8 @@ impl Scene {
     /// The preset `name` (one of [`PRESET_NAMES`]), parsed from its embedded file and, for
     /// the large ones, generated from the seed the file holds:
     ///
-    /// * `seed`: three lights of powers 2, 5 and 20;
+    /// * `worked-example`: three lights of powers 2, 5 and 20 (also found by [`FORMER_NAME`],
+    ///   `seed`, the name it had before "seed" was kept for random streams alone);
     /// * `equal`: 64 lights of power 1;
     /// * `dominant`: 64 lights, one of power `10^6`, the others 1;
     /// * `zeros`: 64 lights, powers uniform on `[0.5, 2)`, exactly half of them 0;
@@ -57,22 +58,30 @@ impl Scene {
     ///   hung on three ceiling tracks 4.2 m up and aimed at their own marks around it, and
     ///   8 wide washes (outer cones 43–60°) with a range of 7–9 m.
     pub fn preset(name: &str) -> Result<Scene, SceneError> {
-        let index = PRESET_NAMES
-            .iter()
-            .position(|&n| n == name)
-            .ok_or_else(|| SceneError::UnknownPreset {
-                name: name.to_owned(),
-                expected: PRESET_NAMES.join(", "),
-            })?;
+        let index = preset_index(name).ok_or_else(|| SceneError::UnknownPreset {
+            name: name.to_owned(),
+            expected: PRESET_NAMES.join(", "),
+        })?;
         Scene::from_json_str(PRESET_FILES[index])
     }
 
     /// The embedded file text of preset `name`, if there is one (for showing or saving the
     /// recipe rather than the generated lights).
     pub fn preset_source(name: &str) -> Option<&'static str> {
-        PRESET_NAMES
-            .iter()
-            .position(|&n| n == name)
-            .map(|i| PRESET_FILES[i])
+        preset_index(name).map(|i| PRESET_FILES[i])
     }
+}
+
+/// The worked example's former preset name, still accepted by [`Scene::preset`] (saved
+/// sessions and scripts use it).
+pub const FORMER_NAME: &str = "seed";
+
+/// The index in [`PRESET_NAMES`] of `name` (or of the worked example for [`FORMER_NAME`]).
+fn preset_index(name: &str) -> Option<usize> {
+    let name = if name == FORMER_NAME {
+        PRESET_NAMES[0]
+    } else {
+        name
+    };
+    PRESET_NAMES.iter().position(|&n| n == name)
 }

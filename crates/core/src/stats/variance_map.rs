@@ -14,19 +14,20 @@
 //! scheme itself, so the result says which it is ([`VarianceMap::exact`]).
 //!
 //! Schemes: uniform (`q_i = 1/N`), power ([`Scheme::Alias`], [`Scheme::AliasOneRandom`],
-//! [`Scheme::Cdf`]: the pmf each realizes, [`crate::LightSampler::probability`]) and spatial
-//! (`q_i = P(i | x)`, [`SpatialSampler::pdfs`]); the spatial exact pick (few lights) gives
-//! `V ≡ 0` up to rounding.
+//! [`Scheme::Cdf`]: the pmf each realizes) and spatial (`q_i = P(i | x)`), all through the one
+//! interface ([`LightSampler::pmfs_at`], [`LightSampler::pick_at`]); the spatial exact pick
+//! (few lights) gives `V ≡ 0` up to rounding.
 
 use glam::DVec2;
 use rayon::prelude::*;
 
 use super::moments::analytic_moments;
 use super::welford::Welford;
+use crate::sampling::light_sampler::{LightSampler, ShadingContext};
 use crate::sampling::rng::Rng;
-use crate::sampling::sampler::{LightSampler as _, Sampler, Scheme};
+use crate::sampling::sampler::Scheme;
 use crate::scene::{Scene, pixel_center};
-use crate::spatial::SpatialSampler;
+use crate::scheme_sampler::SchemeSampler;
 
 /// The most `N × pixels` light evaluations for which [`VarianceMap::compute`] is exact.
 pub const VARIANCE_MAP_EXACT_BUDGET: u64 = 50_000_000;
@@ -44,14 +45,6 @@ pub struct VarianceMap {
     pub exact: bool,
     /// Samples per pixel behind an estimated map (0 when exact).
     pub samples_per_pixel: u32,
-}
-
-/// How a scheme picks, as the map reads it.
-enum Picker {
-    /// A pmf that does not depend on the point (uniform and power schemes).
-    Fixed(Sampler, Vec<f64>),
-    /// `P(i | x)` of the spatial sampler.
-    Spatial(SpatialSampler),
 }
 
 impl VarianceMap {
@@ -76,15 +69,29 @@ impl VarianceMap {
         samples_per_pixel: u32,
         seed: u64,
     ) -> Self {
-        let picker = match Sampler::try_build(scheme, &scene.powers) {
-            Ok(sampler) => {
-                let q = (0..scene.powers.len())
-                    .map(|i| sampler.probability(i))
-                    .collect();
-                Picker::Fixed(sampler, q)
-            }
-            Err(_) => Picker::Spatial(SpatialSampler::for_scene(scene)),
-        };
+        let sampler = SchemeSampler::for_scene(scene, scheme);
+        Self::of_sampler(scene, &sampler, budget, samples_per_pixel, seed)
+    }
+
+    /// The map of any scheme's `sampler` built over `scene` (shared, say, from
+    /// [`crate::SceneSamplers::sampler`]), through the one interface: `q_i(x)` from
+    /// [`LightSampler::pmfs_at`] where exact, picks from [`LightSampler::pick_at`] where
+    /// estimated; `budget` and the rest as [`VarianceMap::with_budget`].
+    ///
+    /// # Panics
+    /// If the sampler was built for another number of lights.
+    pub fn of_sampler(
+        scene: &Scene,
+        sampler: &(impl LightSampler + Sync + ?Sized),
+        budget: u64,
+        samples_per_pixel: u32,
+        seed: u64,
+    ) -> Self {
+        assert_eq!(
+            sampler.light_count(),
+            scene.light_count(),
+            "sampler built for another scene"
+        );
         let plane = &scene.plane;
         let pixels = plane.pixel_count();
         let exact = (scene.powers.len() as u64).saturating_mul(pixels as u64) <= budget;
@@ -94,11 +101,12 @@ impl VarianceMap {
             .into_par_iter()
             .map(|k| {
                 let x = pixel_center(plane, (k % width) as u32, (k / width) as u32);
+                let at = ShadingContext::at(x);
                 if exact {
-                    exact_variance(scene, &pmf, &picker, x)
+                    exact_variance(scene, &pmf, sampler, &at)
                 } else {
                     let mut rng = Rng::new(seed, k as u64);
-                    sampled_variance(scene, &pmf, &picker, x, samples_per_pixel, &mut rng)
+                    sampled_variance(scene, &pmf, sampler, &at, samples_per_pixel, &mut rng)
                 }
             })
             .collect();
@@ -129,36 +137,34 @@ fn contributions(scene: &Scene, pmf: &[f64], x: DVec2) -> Vec<f64> {
         .collect()
 }
 
-/// `Σ_{q_i > 0} s_i²/q_i − E²` at `x` ([`analytic_moments`]).
-fn exact_variance(scene: &Scene, pmf: &[f64], picker: &Picker, x: DVec2) -> f64 {
-    let s = contributions(scene, pmf, x);
-    match picker {
-        Picker::Fixed(_, q) => analytic_moments(&s, |i| q[i]).variance,
-        Picker::Spatial(spatial) => {
-            let q = spatial.pdfs(x);
-            analytic_moments(&s, |i| q[i]).variance
-        }
-    }
+/// `Σ_{q_i > 0} s_i²/q_i − E²` at `at` ([`analytic_moments`]).
+fn exact_variance(
+    scene: &Scene,
+    pmf: &[f64],
+    sampler: &(impl LightSampler + ?Sized),
+    at: &ShadingContext,
+) -> f64 {
+    let s = contributions(scene, pmf, at.point_on_plane);
+    let q = sampler.pmfs_at(at);
+    analytic_moments(&s, |i| q[i]).variance
 }
 
-/// The unbiased sample variance of `k` estimates `s_I/q_I` at `x` drawn from `rng`.
+/// The unbiased sample variance of `k` estimates `s_I/q_I` at `at` drawn from `rng` (0 for a
+/// pick that finds no light: nothing contributes there).
 fn sampled_variance(
     scene: &Scene,
     pmf: &[f64],
-    picker: &Picker,
-    x: DVec2,
+    sampler: &(impl LightSampler + ?Sized),
+    at: &ShadingContext,
     k: u32,
     rng: &mut Rng,
 ) -> f64 {
     let mut w = Welford::new();
     for _ in 0..k {
-        let estimate = match picker {
-            Picker::Fixed(sampler, q) => {
-                let i = sampler.pick_light(rng) as usize;
-                pmf[i] * scene.light_term(i, x) / q[i]
-            }
-            Picker::Spatial(spatial) => spatial.estimate(x, rng),
-        };
+        let estimate = sampler.pick_at(at, rng).map_or(0.0, |pick| {
+            let i = pick.light as usize;
+            pmf[i] * scene.light_term(i, at.point_on_plane) / pick.probability
+        });
         w.push(estimate);
     }
     w.variance()

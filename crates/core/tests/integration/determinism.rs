@@ -98,7 +98,7 @@ fn trees_renders_references_and_estimates_are_the_same_on_every_pool() {
 
 #[test]
 fn repowered_samplers_equal_a_fresh_build() {
-    for name in ["seed", "heavy-tail", "stage"] {
+    for name in ["worked-example", "heavy-tail", "stage"] {
         let scene = Arc::new(Scene::preset(name).expect("preset"));
         let before = SceneSamplers::new(Arc::clone(&scene), Construction::Integer);
         before.spatial();

@@ -120,7 +120,7 @@ fn check_against_cpu(scene: &Scene, seed: u64, what: &str) {
 #[test]
 fn seed_scene_matches_the_cpu_reference() {
     let scene = scattered(3, 1, 1.0, vec![2.0, 5.0, 20.0]);
-    check_against_cpu(&scene, 42, "seed");
+    check_against_cpu(&scene, 42, "worked-example");
 }
 
 #[test]

@@ -11,7 +11,7 @@ use lightpick_core::point_estimate::{PointEstimator, samples_for_relative_error}
 use lightpick_core::scene::{Scene, geometry_term};
 use lightpick_core::spatial::SpatialSampler;
 use lightpick_core::{
-    AliasTable, LightPowers, Sampler, SchemeSampler, SeedExample, ShadingContext, Uniform,
+    AliasTable, LightPowers, Sampler, SchemeSampler, ShadingContext, Uniform, WorkedExample,
 };
 
 /// The exact central moments `(σ², μ4)` of `f_I/q_I` for `I ~ q`.
@@ -31,14 +31,17 @@ fn central_moments(f: &[f64], q: &[f64]) -> (f64, f64) {
 #[test]
 fn seed_point_converges_to_18_with_variances_366_and_14_85() {
     let n = 200_000u64;
-    let mut e = PointEstimator::seed_example(2026);
+    let mut e = PointEstimator::worked_example(2026);
     e.advance(n);
-    let f = SeedExample::CONTRIBUTIONS;
+    let f = WorkedExample::CONTRIBUTIONS;
     let qs = [
         vec![1.0 / 3.0; 3],
         vec![2.0 / 27.0, 5.0 / 27.0, 20.0 / 27.0],
     ];
-    let analytic = [SeedExample::UNIFORM_VARIANCE, SeedExample::POWER_VARIANCE];
+    let analytic = [
+        WorkedExample::UNIFORM_VARIANCE,
+        WorkedExample::POWER_VARIANCE,
+    ];
     for ((run, q), var) in e.runs().iter().zip(&qs).zip(analytic) {
         let (m2, m4) = central_moments(&f, q);
         assert!((m2 - var).abs() < 1e-9, "{}: {m2}", run.name);
@@ -99,7 +102,7 @@ fn pixel_estimator(scene: &Scene, x: DVec2, seed: u64) -> PointEstimator {
 
 #[test]
 fn spatial_rule_is_exact_on_few_lights() {
-    let scene = Scene::preset("seed").unwrap();
+    let scene = Scene::preset("worked-example").unwrap();
     let mut e = pixel_estimator(&scene, dvec2(0.3, -0.2), 5);
     e.advance(1000);
     let spatial = &e.runs()[2];
@@ -124,7 +127,7 @@ fn every_rule_is_unbiased_at_a_pixel_of_a_tree_scene() {
         })
         .collect();
     let powers = LightPowers::new((0..300).map(|i| 1.0 + f64::from(i % 17)).collect()).unwrap();
-    let mut scene = Scene::preset("seed").unwrap();
+    let mut scene = Scene::preset("worked-example").unwrap();
     scene.positions = positions.into();
     scene.powers = powers;
     let n = 100_000u64;

@@ -201,7 +201,7 @@ fn batched_picks_equal_pick_light_through_rejected_draws() {
 
 #[test]
 fn reset_restarts_the_sample_index() {
-    let scene = preset_at("seed", 8, 8);
+    let scene = preset_at("worked-example", 8, 8);
     let mut r = CpuRenderer::new(&scene, Scheme::Alias, 5);
     r.accumulate(4);
     let first = r.accumulator().clone();
@@ -274,7 +274,7 @@ fn assert_unbiased(scene: &Scene, scheme: Scheme, spp: u32) {
 
 #[test]
 fn every_scheme_is_unbiased_on_the_seed_scene() {
-    let scene = preset_at("seed", 64, 64);
+    let scene = preset_at("worked-example", 64, 64);
     for scheme in Scheme::ALL {
         assert_unbiased(&scene, scheme, 64);
     }
@@ -339,7 +339,7 @@ fn assert_variance_matches(scene: &Scene, scheme: Scheme, spp: u32) -> f64 {
 
 #[test]
 fn power_sampling_beats_uniform_on_the_seed_scene() {
-    let scene = preset_at("seed", 64, 64);
+    let scene = preset_at("worked-example", 64, 64);
     let uniform = assert_variance_matches(&scene, Scheme::Uniform, 64);
     let alias = assert_variance_matches(&scene, Scheme::Alias, 64);
     let cdf = assert_variance_matches(&scene, Scheme::Cdf, 64);
@@ -379,7 +379,7 @@ fn equal_powers_give_equal_exact_variances() {
 /// standard deviations of its expectation.
 #[test]
 fn convergence_series_follows_the_exact_mse() {
-    let scene = preset_at("seed", 64, 64);
+    let scene = preset_at("worked-example", 64, 64);
     let reference = Reference::compute(&scene);
     for scheme in [Scheme::Uniform, Scheme::Alias] {
         let exact = exact_moments(&scene, scheme);

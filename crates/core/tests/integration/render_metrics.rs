@@ -51,7 +51,7 @@ fn full_reference_is_the_sum_over_all_lights() {
             assert!(rel(got, exact) < 1e-13, "({px},{py}): {got} vs {exact}");
         }
     }
-    for name in ["seed", "zeros", "extreme-range"] {
+    for name in ["worked-example", "zeros", "extreme-range"] {
         let scene = preset_at(name, 9, 9);
         let reference = Reference::compute(&scene);
         for (p, value) in reference.iter() {
@@ -121,7 +121,7 @@ fn subset_pixels_spread_evenly_over_the_image() {
 
 #[test]
 fn at_pixels_sorts_and_dedups() {
-    let scene = preset_at("seed", 8, 8);
+    let scene = preset_at("worked-example", 8, 8);
     let r = Reference::at_pixels(&scene, vec![5, 3, 5, 63]);
     assert_eq!(r.pixels(), &[3, 5, 63]);
     assert_eq!(r.values().len(), 3);
@@ -287,7 +287,7 @@ fn series_points_serialize_with_the_cli_keys() {
         serde_json::json!({ "spp": 4, "rmse": 0.5, "seconds": 0.25 })
     );
 
-    let scene = preset_at("seed", 8, 8);
+    let scene = preset_at("worked-example", 8, 8);
     let reference = Reference::compute(&scene);
     let runs = cpu_convergence(&scene, &reference, &[Scheme::Uniform, Scheme::Alias], 1, 5);
     let json = serde_json::to_value(&runs).unwrap();

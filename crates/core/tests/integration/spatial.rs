@@ -120,9 +120,9 @@ fn tree_estimator_is_unbiased() {
 /// to the cancellation of `Σê² − (Σê)²/n` (≤ 1e-12 of the squared mean).
 #[test]
 fn exact_scheme_has_zero_variance_per_pixel() {
-    let scene = Scene::preset("seed").expect("preset");
+    let scene = Scene::preset("worked-example").expect("preset");
     assert!(scene.light_count() <= EXACT_MAX_LIGHTS);
-    let small = preset_at("seed", 64, 64);
+    let small = preset_at("worked-example", 64, 64);
     let mut r = CpuRenderer::new(&small, Scheme::Spatial, 3);
     assert!(matches!(r.spatial(), Some(SpatialSampler::Exact(_))));
     r.accumulate(16);

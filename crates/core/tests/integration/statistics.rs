@@ -7,7 +7,7 @@
 #![allow(clippy::unwrap_used)] // Test helpers unwrap: a panic is the failure report.
 
 use lightpick_core::{
-    AliasTable, LightPowers, PointFreeSampler as _, Rng, Sampler, Scheme, SeedExample, Welford,
+    AliasTable, LightPowers, PointFreeSampler as _, Rng, Sampler, Scheme, Welford, WorkedExample,
     analytic_moments, chi_square,
 };
 
@@ -44,7 +44,7 @@ fn mixed_powers() -> LightPowers {
 #[test]
 fn every_scheme_fits_its_pmf_on_the_seed() {
     for scheme in Scheme::ALL {
-        let sampler = Sampler::build(scheme, &SeedExample::powers());
+        let sampler = Sampler::build(scheme, &WorkedExample::powers());
         let c = counts(&sampler, 200_000, 11);
         let test = chi_square(&c, &expected(&sampler));
         assert!(test.p_value > ALPHA, "{scheme}: {test:?} counts {c:?}");
@@ -72,29 +72,29 @@ fn every_scheme_fits_its_pmf_on_mixed_powers_with_zeros() {
 #[test]
 fn the_test_has_power_to_reject_a_wrong_pmf() {
     // Uniform draws tested against the power pmf must be rejected overwhelmingly.
-    let uniform = Sampler::build(Scheme::Uniform, &SeedExample::powers());
-    let table = AliasTable::build_exact(&SeedExample::powers());
+    let uniform = Sampler::build(Scheme::Uniform, &WorkedExample::powers());
+    let table = AliasTable::build_exact(&WorkedExample::powers());
     let c = counts(&uniform, 10_000, 3);
     assert!(chi_square(&c, table.pmf_slice()).p_value < 1e-100);
 }
 
 #[test]
 fn analytic_variances_of_the_seed() {
-    let f = SeedExample::CONTRIBUTIONS;
+    let f = WorkedExample::CONTRIBUTIONS;
     let uniform = analytic_moments(&f, |_| 1.0 / 3.0);
-    assert_eq!(uniform.exact, SeedExample::EXACT);
-    assert!((uniform.variance - SeedExample::UNIFORM_VARIANCE).abs() < 1e-12);
-    let table = AliasTable::build_exact(&SeedExample::powers());
+    assert_eq!(uniform.exact, WorkedExample::EXACT);
+    assert!((uniform.variance - WorkedExample::UNIFORM_VARIANCE).abs() < 1e-12);
+    let table = AliasTable::build_exact(&WorkedExample::powers());
     let power = analytic_moments(&f, |i| table.pmf(i));
     assert!((power.mean - 18.0).abs() < 1e-13);
-    assert!((power.variance - SeedExample::POWER_VARIANCE).abs() < 1e-12);
+    assert!((power.variance - WorkedExample::POWER_VARIANCE).abs() < 1e-12);
 }
 
 /// The estimator takes value `f_i/p_i` with probability `p_i`: its exact mean, variance and
 /// fourth central moment give 5-sigma bounds for the sample mean and sample variance.
 fn check_estimator(scheme: Scheme, count: u64, seed: u64) {
-    let sampler = Sampler::build(scheme, &SeedExample::powers());
-    let f = SeedExample::CONTRIBUTIONS;
+    let sampler = Sampler::build(scheme, &WorkedExample::powers());
+    let f = WorkedExample::CONTRIBUTIONS;
     let mut w = Welford::new();
     for k in 0..count {
         let pick = sampler.pick(&mut Rng::new(seed, k));
@@ -106,7 +106,7 @@ fn check_estimator(scheme: Scheme, count: u64, seed: u64) {
     let mu4: f64 = (0..3).map(|i| p[i] * (f[i] / p[i] - mean).powi(4)).sum();
     let n = count as f64;
     assert!(
-        (w.mean() - SeedExample::EXACT).abs() <= 5.0 * (var / n).sqrt(),
+        (w.mean() - WorkedExample::EXACT).abs() <= 5.0 * (var / n).sqrt(),
         "{scheme}: mean {} vs 18",
         w.mean()
     );

@@ -7,12 +7,12 @@ use glam::{DVec2, dvec2, dvec3};
 use lightpick_core::scene::{ReceiverPlane, Scene, pixel_center};
 use lightpick_core::spatial::SpatialSampler;
 use lightpick_core::stats::variance_map::VarianceMap;
-use lightpick_core::{LightSampler as _, Sampler, Scheme};
+use lightpick_core::{PointFreeSampler as _, Sampler, Scheme};
 
 use crate::common::scenes::scattered_random;
 
 /// The worked example's powers 2, 5, 20 over `[-1, 1]²` at three heights, 6 × 5 pixels.
-fn seed_scene() -> Scene {
+fn worked_example_scene() -> Scene {
     Scene::from_parts(
         "seed",
         ReceiverPlane {
@@ -87,7 +87,7 @@ fn check_exact(scene: &Scene, scheme: Scheme) -> VarianceMap {
 
 #[test]
 fn the_worked_example_matches_the_brute_force() {
-    let scene = seed_scene();
+    let scene = worked_example_scene();
     let uniform = check_exact(&scene, Scheme::Uniform);
     let power = check_exact(&scene, Scheme::Alias);
     check_exact(&scene, Scheme::Cdf);

@@ -81,7 +81,7 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
                 .on_hover_text("Every key the app has, for a presenter (F1 or ?)");
             ui.checkbox(&mut state.estimator.open, "Estimator at one point")
                 .on_hover_text(
-                    "The running estimate at the seed's shading point (or a clicked pixel), \
+                    "The running estimate at the worked example's shading point (or a clicked pixel), \
                      sample by sample, under each scheme",
                 );
         });

@@ -19,7 +19,7 @@ use lightpick_core::point_estimate::{PointEstimator, samples_for_relative_error}
 use super::log_axes;
 use crate::app::colors;
 use crate::app::state::AppState;
-use crate::app::state::estimator::{EstimatorPoint, seed_point_uses_scene};
+use crate::app::state::estimator::{EstimatorPoint, worked_example_uses_scene};
 use crate::numbers;
 
 /// The relative standard error the table's sample counts aim at.
@@ -76,17 +76,17 @@ pub fn estimator_ui(ui: &mut Ui, state: &mut AppState) {
     plot_ui(ui, estimator, dark);
 }
 
-/// Which point: the seed's, or the pixel selected in the images.
+/// Which point: the worked example's, or the pixel selected in the images.
 fn point_choice_ui(ui: &mut Ui, state: &mut AppState) {
     ui.horizontal(|ui| {
         ui.label("Shading point:");
-        let seed_selected = state.estimator.point == EstimatorPoint::Seed;
+        let example_selected = state.estimator.point == EstimatorPoint::WorkedExample;
         if ui
-            .selectable_label(seed_selected, "the seed's point")
+            .selectable_label(example_selected, "the worked example's point")
             .on_hover_text("Three lights whose contributions are 1, 2 and 15 at powers 2, 5, 20")
             .clicked()
         {
-            state.estimator.open_at(EstimatorPoint::Seed);
+            state.estimator.open_at(EstimatorPoint::WorkedExample);
         }
         match state.inspector.pixel {
             Some(pixel) => {
@@ -158,15 +158,15 @@ fn point_sentence_ui(
 ) {
     let f = estimator.contributions();
     let text = match point {
-        EstimatorPoint::Seed => {
+        EstimatorPoint::WorkedExample => {
             let listed: Vec<String> = f.iter().map(|v| numbers::short(*v)).collect();
-            let whose = if seed_point_uses_scene(built) {
+            let whose = if worked_example_uses_scene(built) {
                 "the scene's three lights, f_i = Φ_i·g_i with g = 1/2, 2/5, 3/4"
             } else {
                 "the classic powers 2, 5, 20 (this scene does not have three lights)"
             };
             format!(
-                "The seed's shading point: contributions f = {} ({whose}); exact total F = {}.",
+                "The worked example's shading point: contributions f = {} ({whose}); exact total F = {}.",
                 listed.join(", "),
                 numbers::short(estimator.exact())
             )

@@ -1,4 +1,4 @@
-//! The sampling panel: running histograms of uniform and alias picks against the pmf each
+//! The sampling panel: running histograms of uniform and power (alias-table) picks against the pmf each
 //! realizes, their chi-square p-values, and "draw one sample" replayed on the diagram.
 
 use egui::Ui;
@@ -50,7 +50,7 @@ pub fn sampling_ui(ui: &mut Ui, state: &mut AppState) {
     ui.horizontal_wrapped(|ui| {
         chi_label(ui, "uniform", state.sampling.uniform_chi, dark);
         ui.separator();
-        chi_label(ui, "alias", state.sampling.alias_chi, dark);
+        chi_label(ui, "power (alias)", state.sampling.alias_chi, dark);
     });
     histogram_plot_ui(ui, state);
 }
@@ -145,7 +145,7 @@ fn histogram_plot_ui(ui: &mut Ui, state: &AppState) {
         .y_axis_label("frequency")
         .show(ui, |plot_ui| {
             plot_ui.bar_chart(BarChart::new("uniform picks", uniform_bars).color(uniform_color));
-            plot_ui.bar_chart(BarChart::new("alias picks", alias_bars).color(alias_color));
+            plot_ui.bar_chart(BarChart::new("power picks (alias)", alias_bars).color(alias_color));
             plot_ui.points(
                 Points::new("expected pmf", expected_alias)
                     .shape(egui_plot::MarkerShape::Diamond)
@@ -175,8 +175,8 @@ fn key_row_ui(ui: &mut Ui, fg: egui::Color32) {
             ui,
             Marker::Bar,
             colors::scheme(Scheme::Alias),
-            "alias picks",
-            "Share of the alias picks per light",
+            "power picks (alias)",
+            "Share of the power picks (drawn from the alias table) per light",
         );
         key_ui(
             ui,

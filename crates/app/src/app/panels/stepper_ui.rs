@@ -48,7 +48,7 @@ pub fn stepper_ui(ui: &mut Ui, state: &mut AppState) {
     let Some(trace) = state.stepper_trace() else {
         ui.label(format!(
             "The stepper animates tables of up to {STEPPER_MAX_LIGHTS} lights; this scene \
-             has {}. Load a smaller scene (e.g. the seed preset) to watch the construction.",
+             has {}. Load a smaller scene (e.g. the worked example) to watch the construction.",
             state.built.len()
         ));
         return;

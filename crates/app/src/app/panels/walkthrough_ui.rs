@@ -6,7 +6,7 @@
 //! remote sends them), its formulas with the current powers, and sets
 //! [`AppState::table_highlight`] so the table panel outlines the cells and diagram columns
 //! the step talks about. The classic has three lights: with another count the window
-//! offers to load the seed scene (2, 5, 20), keeps the user's scene and restores it when the
+//! offers to load the worked example (2, 5, 20), keeps the user's scene and restores it when the
 //! walkthrough closes (or on request; "Keep the classic scene" forgets it).
 
 use egui::{Key, Modifiers, RichText, Ui};
@@ -99,7 +99,7 @@ pub fn walkthrough_ui(ui: &mut Ui, state: &mut AppState) {
             )
             .clicked()
         {
-            state.estimator.open_at(EstimatorPoint::Seed);
+            state.estimator.open_at(EstimatorPoint::WorkedExample);
             state.estimator.running = true;
         }
     }

@@ -415,7 +415,7 @@ mod tests {
         assert_eq!(power_to_text(0.1 + 0.2), "0.3");
         assert_eq!(power_to_text(std::f64::consts::PI * 1e20), "3.141593e20");
         let imported = [1_234.567_890_123_456_7, 2.0, 0.1 + 0.2];
-        let mut state = AppState::new(scene_io::seed_scene(), Settings::default());
+        let mut state = AppState::new(scene_io::worked_example_scene(), Settings::default());
         state.edit.powers = imported.to_vec().into();
         state.powers_changed();
         state.powers_text = powers_to_text(&state.edit.powers);
@@ -441,7 +441,7 @@ mod tests {
 
     #[test]
     fn generate_refuses_counts_beyond_the_scene_limit_by_name() {
-        let mut state = AppState::new(scene_io::seed_scene(), Settings::default());
+        let mut state = AppState::new(scene_io::worked_example_scene(), Settings::default());
         let max = lightpick_core::scene::MAX_LIGHTS;
         for count in [0, max + 1] {
             state.generate(count);
@@ -451,7 +451,7 @@ mod tests {
                 text.contains(&count.to_string()) && text.contains("2^24"),
                 "{text}"
             );
-            assert_eq!(state.built.len(), 3, "the seed scene stays");
+            assert_eq!(state.built.len(), 3, "the worked example stays");
         }
         state.generate(5);
         assert_eq!(state.built.len(), 5);
@@ -459,7 +459,7 @@ mod tests {
 
     #[test]
     fn the_edit_shares_the_scenes_arrays_and_copies_only_what_it_writes() {
-        let mut state = AppState::new(scene_io::seed_scene(), Settings::default());
+        let mut state = AppState::new(scene_io::worked_example_scene(), Settings::default());
         let scene = Arc::clone(&state.built.scene);
         assert!(Arc::ptr_eq(&state.edit.positions, &scene.positions));
         assert!(Arc::ptr_eq(&state.edit.powers, scene.powers.shared()));

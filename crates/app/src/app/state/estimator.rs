@@ -1,4 +1,4 @@
-//! The estimator view's state: which shading point it estimates (the seed's, or a clicked
+//! The estimator view's state: which shading point it estimates (the worked example's, or a clicked
 //! pixel's), whether it runs, and the running [`PointEstimator`] of the current scene
 //! generation (rebuilt, from sample 0, whenever the powers, the point or the seed change).
 
@@ -26,7 +26,7 @@ pub enum EstimatorPoint {
     /// turn powers `2, 5, 20` into contributions `1, 2, 15` (`f_i = Φ_i·g_i`, so the
     /// contributions follow the powers live). On a scene without three lights, the classic
     /// powers.
-    Seed,
+    WorkedExample,
     /// The point at the centre of pixel `(px, py)` of the images: every light's
     /// `f_i = Φ_i·G_i(x)`, and the spatial scheme too.
     Pixel([u32; 2]),
@@ -60,7 +60,7 @@ impl Default for EstimatorState {
     fn default() -> Self {
         Self {
             open: false,
-            point: EstimatorPoint::Seed,
+            point: EstimatorPoint::WorkedExample,
             raise: false,
             running: false,
             problem: None,
@@ -70,7 +70,7 @@ impl Default for EstimatorState {
 }
 
 /// Whether the seed point uses the scene's own three lights (else the classic powers).
-pub fn seed_point_uses_scene(built: &Built) -> bool {
+pub fn worked_example_uses_scene(built: &Built) -> bool {
     built.len() == CLASSIC_POWERS.len()
 }
 
@@ -171,7 +171,7 @@ fn build(built: &Built, point: EstimatorPoint, seed: u64) -> Result<PointEstimat
     };
     let point_free = [("uniform", Scheme::Uniform), ("power", Scheme::Alias)];
     let (contributions, at, runs) = match point {
-        EstimatorPoint::Seed if seed_point_uses_scene(built) => (
+        EstimatorPoint::WorkedExample if worked_example_uses_scene(built) => (
             scene
                 .powers
                 .as_slice()
@@ -182,7 +182,7 @@ fn build(built: &Built, point: EstimatorPoint, seed: u64) -> Result<PointEstimat
             ShadingContext::default(),
             schemes(&point_free),
         ),
-        EstimatorPoint::Seed => {
+        EstimatorPoint::WorkedExample => {
             let powers = LightPowers::new(CLASSIC_POWERS.to_vec()).map_err(|e| e.to_string())?;
             let table = Arc::new(AliasTable::build_exact(&powers));
             let contributions = CLASSIC_POWERS

@@ -170,9 +170,9 @@ impl AppState {
         state
     }
 
-    /// The seed scene (powers 2, 5, 20) with default settings.
+    /// The worked example (powers 2, 5, 20) with default settings.
     pub fn seed() -> Self {
-        Self::new(scene_io::seed_scene(), Settings::default())
+        Self::new(scene_io::worked_example_scene(), Settings::default())
     }
 
     /// Once per frame: takes the sentence under the images when its worker is done, and

@@ -221,7 +221,7 @@ mod tests {
     #[test]
     fn chi_square_cells_are_lights_up_to_the_limit_and_fixed_groups_above() {
         // Small: one cell per light, the pmf itself, the counts per light.
-        let mut state = AppState::new(scene_io::seed_scene(), Settings::default());
+        let mut state = AppState::new(scene_io::worked_example_scene(), Settings::default());
         state.sample_picks(2000);
         assert_eq!(state.sampling.per_cell, 1);
         assert_eq!(state.sampling.alias_cell_pmf, state.built.pmf());

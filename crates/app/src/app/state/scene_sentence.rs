@@ -10,7 +10,7 @@
 //! for many lights (each point costs `O(N)`), so it fits a background worker at `10^6`
 //! lights. The reason the sentence gives comes from the scene: spots, equal powers, one
 //! dominant light, or how much of the power the brightest lights hold; on the classic
-//! three lights, the seed's shading point (`f_i = Φ_i·g_i`, `g` = [`CLASSIC_GEOMETRY`]).
+//! three lights, the worked example's shading point (`f_i = Φ_i·g_i`, `g` = [`CLASSIC_GEOMETRY`]).
 
 use lightpick_core::SceneSamplers;
 use lightpick_core::inspect::PointInspection;
@@ -145,7 +145,7 @@ fn winner_words([uniform, power, spatial]: [f64; 3]) -> String {
     format!("Least variance per sample here: {name}.")
 }
 
-/// The classic three lights: the seed's shading point against the whole plane.
+/// The classic three lights: the worked example's shading point against the whole plane.
 fn seed_reason(powers: &[f64], power_vs_uniform: &str, spatial_vs_power: &str) -> String {
     let total: f64 = powers.iter().sum();
     let f: Vec<f64> = powers
@@ -157,7 +157,7 @@ fn seed_reason(powers: &[f64], power_vs_uniform: &str, spatial_vs_power: &str) -
     let uniform_point = lightpick_core::analytic_moments(&f, |_| 1.0 / n).variance;
     let power_point = lightpick_core::analytic_moments(&f, |i| powers[i] / total).variance;
     format!(
-        "At the seed's shading point (g = 1/2, 2/5, 3/4) power picking's variance is {} than \
+        "At the worked example's shading point (g = 1/2, 2/5, 3/4) power picking's variance is {} than \
          uniform's ({} against {}); over the images it is {power_vs_uniform}: the geometry \
          term G_i(x) varies across the plane, so the power pmf matches a pixel's contributions \
          only where every light's G is alike. Spatial picking follows G: its variance is \
@@ -238,7 +238,7 @@ mod tests {
     use std::sync::Arc;
 
     fn sentence_of(powers: &[f64]) -> SceneSentence {
-        let mut scene = crate::app::scene_io::seed_scene();
+        let mut scene = crate::app::scene_io::worked_example_scene();
         scene.powers = lightpick_core::LightPowers::new(powers.to_vec()).expect("valid powers");
         let samplers = SceneSamplers::new(Arc::new(scene), lightpick_core::Construction::Exact);
         scene_sentence(1, &samplers)
@@ -246,7 +246,7 @@ mod tests {
 
     #[test]
     fn the_seed_point_figure_follows_the_powers() {
-        // 2, 5, 20: 366 against 14.85 at the seed's point (24.6× lower).
+        // 2, 5, 20: 366 against 14.85 at the worked example's point (24.6× lower).
         let seed = sentence_of(&[2.0, 5.0, 20.0]);
         assert!(
             seed.text

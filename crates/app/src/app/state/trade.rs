@@ -170,7 +170,7 @@ mod tests {
 
     #[test]
     fn the_plot_and_the_table_are_one_measurement() {
-        let scene = crate::app::scene_io::seed_scene();
+        let scene = crate::app::scene_io::worked_example_scene();
         let m = measure(1, &scene, false);
         let pixels = f64::from(m.size[0] * m.size[1]);
         for row in &m.rows {

@@ -88,14 +88,14 @@ impl AppState {
         self.walkthrough.lesson(&built)
     }
 
-    /// Loads the seed scene (2, 5, 20), keeping the user's scene for later and the
+    /// Loads the worked example (2, 5, 20), keeping the user's scene for later and the
     /// walkthrough at its step.
     pub fn load_classic(&mut self) {
         if self.walkthrough.saved_scene.is_none() {
             self.walkthrough.saved_scene = Some((*self.built.scene).clone());
         }
         // The step stays: the class goes on where it was, now on the classic powers.
-        self.load_scene(scene_io::seed_scene());
+        self.load_scene(scene_io::worked_example_scene());
         self.message(
             "classic scene loaded (powers 2, 5, 20); your scene comes back when the \
              walkthrough closes",

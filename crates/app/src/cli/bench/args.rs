@@ -19,7 +19,7 @@ const MAX_SIZE: usize = 1 << 26;
 /// Presets of a `--quick` run (`million` is left out: its reference dominates the run; the
 /// two spot scenes stay, for the spatial scheme's figures where power picking fails).
 const QUICK_PRESETS: [&str; 8] = [
-    "seed",
+    "worked-example",
     "equal",
     "dominant",
     "zeros",

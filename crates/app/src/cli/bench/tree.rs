@@ -127,7 +127,7 @@ fn time_app_repower(
     other: &LightPowers,
     reps: usize,
 ) -> f64 {
-    let plane = scene_io::seed_scene().plane;
+    let plane = scene_io::worked_example_scene().plane;
     let scene = Scene::new("bench", plane, positions.to_vec(), powers.clone());
     let mut state = AppState::new(scene, Settings::default());
     let inputs = [other.as_slice(), powers.as_slice()];

@@ -87,11 +87,11 @@ pub(crate) fn pixel_edges(x: f32, width: f32, count: usize) -> Vec<f32> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{AliasTable, SeedExample};
+    use crate::{AliasTable, WorkedExample};
 
     #[test]
     fn column_split_heights_equal_thresholds() {
-        let table = AliasTable::build_exact(&SeedExample::powers());
+        let table = AliasTable::build_exact(&WorkedExample::powers());
         let unit_px = 120.0;
         for &t in table.thresholds() {
             let c = split_column(10.0, 40.0, t, 300.0, unit_px);
@@ -106,7 +106,7 @@ mod tests {
     #[test]
     fn unit_columns_hold_the_scaled_masses() {
         // Σ over columns of each light's drawn area equals N·pᵢ (in units of column area).
-        let table = AliasTable::build_exact(&SeedExample::powers());
+        let table = AliasTable::build_exact(&WorkedExample::powers());
         let mut area = [0.0; 3];
         for (i, (&t, &a)) in table.thresholds().iter().zip(table.aliases()).enumerate() {
             let c = split_column(0.0, 1.0, t, 100.0, 100.0);

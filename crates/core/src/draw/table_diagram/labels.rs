@@ -29,11 +29,11 @@ pub(crate) fn fraction_label(v: f64, denominator: Option<u64>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{AliasTable, SeedExample};
+    use crate::{AliasTable, WorkedExample};
 
     #[test]
     fn seed_fractions() {
-        let powers = SeedExample::powers();
+        let powers = WorkedExample::powers();
         let d = fraction_denominator(&powers);
         assert_eq!(d, Some(27));
         let table = AliasTable::build_exact(&powers);

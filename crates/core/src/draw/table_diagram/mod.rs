@@ -238,12 +238,12 @@ fn sampling_rule(table: &AliasTable, detailed: bool, bins: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{LightPowers, SeedExample};
+    use crate::{LightPowers, WorkedExample};
 
     #[test]
     fn draws_small_and_large_tables() {
         let style = Style::default();
-        let seed = AliasTable::build_exact(&SeedExample::powers());
+        let seed = AliasTable::build_exact(&WorkedExample::powers());
         let pm = table_diagram(&seed, Some(27), &style).expect("valid test input");
         assert_eq!((pm.width(), pm.height()), (800, 500));
         let powers: Vec<f64> = (0..5000).map(|i| 1.0 + f64::from(i % 7)).collect();

@@ -21,10 +21,10 @@ fn io_error_names_the_file() {
 #[test]
 fn load_reads_a_file() {
     let path = std::env::temp_dir().join(format!("lightpick-scene-{}.json", std::process::id()));
-    std::fs::write(&path, Scene::preset("seed").unwrap().to_json()).unwrap();
+    std::fs::write(&path, Scene::preset("worked-example").unwrap().to_json()).unwrap();
     let scene = Scene::load(&path).unwrap();
     std::fs::remove_file(&path).unwrap();
-    assert_eq!(scene, Scene::preset("seed").unwrap());
+    assert_eq!(scene, Scene::preset("worked-example").unwrap());
 }
 
 #[test]
@@ -98,7 +98,7 @@ fn unknown_preset_lists_the_known_ones() {
     assert!(matches!(e, SceneError::UnknownPreset { .. }));
     assert_eq!(
         e.to_string(),
-        "unknown preset 'nope' (expected one of: seed, equal, dominant, zeros, heavy-tail, million, extreme-range, grid, stage, gallery)"
+        "unknown preset 'nope' (expected one of: worked-example, equal, dominant, zeros, heavy-tail, million, extreme-range, grid, stage, gallery)"
     );
 }
 

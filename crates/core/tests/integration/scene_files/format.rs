@@ -65,7 +65,7 @@ fn json_round_trip_keeps_awkward_values_and_names() {
 
 #[test]
 fn set_power_validates_and_leaves_the_scene_unchanged_on_error() {
-    let mut scene = Scene::preset("seed").unwrap();
+    let mut scene = Scene::preset("worked-example").unwrap();
     scene.set_power(1, 7.5).unwrap();
     assert_eq!(scene.powers.as_slice(), &[2.0, 7.5, 20.0]);
     // 1e308 alone is fine (2 + 7.5 + 1e308 rounds to 1e308); a second one overflows.

@@ -16,10 +16,26 @@ fn every_preset_loads_with_its_name() {
 }
 
 #[test]
-fn seed_preset_has_powers_2_5_20() {
-    let scene = Scene::preset("seed").unwrap();
+fn worked_example_preset_has_powers_2_5_20() {
+    let scene = Scene::preset("worked-example").unwrap();
+    assert_eq!(scene.name, "worked-example");
     assert_eq!(scene.powers.as_slice(), &[2.0, 5.0, 20.0]);
     assert!(scene.positions.iter().all(|p| p[2] > 0.0));
+}
+
+/// The former name still opens it (saved sessions and scripts use it), and is no preset of
+/// its own in the list.
+#[test]
+fn former_name_seed_opens_the_worked_example() {
+    assert_eq!(
+        Scene::preset("seed").unwrap(),
+        Scene::preset("worked-example").unwrap()
+    );
+    assert_eq!(
+        Scene::preset_source("seed"),
+        Scene::preset_source("worked-example")
+    );
+    assert!(!lightpick_core::scene::PRESET_NAMES.contains(&"seed"));
 }
 
 #[test]

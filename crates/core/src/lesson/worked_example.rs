@@ -7,9 +7,9 @@ use crate::powers::LightPowers;
 /// `2, 2, 2`, realizing `2/27, 5/27, 20/27`; uniform and power sampling both average 18,
 /// with per-sample variances 366 and 14.85.
 #[derive(Clone, Copy, Debug)]
-pub struct SeedExample;
+pub struct WorkedExample;
 
-impl SeedExample {
+impl WorkedExample {
     /// The powers `Φ = 2, 5, 20`.
     pub const POWERS: [f64; 3] = [2.0, 5.0, 20.0];
     /// The contributions `f = 1, 2, 15` at the shading point.
