@@ -154,3 +154,6 @@ pub use scheme_sampler::SchemeSampler;
 pub use uniform::{Uniform, rejection_threshold};
 pub use welford::Welford;
 pub use worked_example::WorkedExample;
+/// The worked example's former name.
+#[deprecated(note = "renamed `WorkedExample`: \"seed\" now names random streams alone")]
+pub type SeedExample = WorkedExample;
