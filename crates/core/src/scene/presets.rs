@@ -37,8 +37,8 @@ impl Scene {
     /// The preset `name` (one of [`PRESET_NAMES`]), parsed from its embedded file and, for
     /// the large ones, generated from the seed the file holds:
     ///
-    /// * `worked-example`: three lights of powers 2, 5 and 20 (also found by [`FORMER_NAME`],
-    ///   `seed`, the name it had before "seed" was kept for random streams alone);
+    /// * `worked-example`: three lights of powers 2, 5 and 20 (also found by `seed`, the name
+    ///   it had before "seed" was kept for random streams alone);
     /// * `equal`: 64 lights of power 1;
     /// * `dominant`: 64 lights, one of power `10^6`, the others 1;
     /// * `zeros`: 64 lights, powers uniform on `[0.5, 2)`, exactly half of them 0;
@@ -74,7 +74,7 @@ impl Scene {
 
 /// The worked example's former preset name, still accepted by [`Scene::preset`] (saved
 /// sessions and scripts use it).
-pub const FORMER_NAME: &str = "seed";
+const FORMER_NAME: &str = "seed";
 
 /// The index in [`PRESET_NAMES`] of `name` (or of the worked example for [`FORMER_NAME`]).
 fn preset_index(name: &str) -> Option<usize> {
