@@ -93,6 +93,9 @@ impl LightpickApp {
         if ctx.input_mut(|i| i.consume_shortcut(&save)) {
             controls_ui::open_dialog(&mut self.state, FileAction::SaveScene);
         }
+        if let Some(panel) = self.state.show_panel.take() {
+            self.layout.select(panel);
+        }
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F1)) {
             self.state.settings.show_shortcuts = !self.state.settings.show_shortcuts;
         }

@@ -231,7 +231,7 @@ impl LightpickApp {
         };
         egui::CentralPanel::default().show(ui, |ui| {
             // The main panels' titles are their headers' in the window.
-            if layout::PANES.contains(&panel) {
+            if layout::TABBED.contains(&panel) {
                 ui.heading(layout::title(panel));
             }
             layout_ui::PaneContents::pane_ui(&mut panes, ui, panel);

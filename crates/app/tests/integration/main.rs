@@ -13,6 +13,7 @@ mod app_export_animation;
 mod app_gpu_images;
 mod app_inspector;
 mod app_interaction;
+mod app_light_tree;
 mod app_lights;
 mod app_memory;
 mod app_near_light;

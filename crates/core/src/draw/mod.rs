@@ -46,8 +46,9 @@ pub use image_sheet::{
 pub use palette::{Rgba8, Theme};
 pub use table_diagram::{TABLE_DETAIL_LIMIT, fraction_denominator, table_diagram};
 pub use tree_view::{
-    DOT_AREA_SHARE, FOOTPRINT_LIMIT, MAX_DOT_RADIUS, PROBABILITY_DECADES, TreeGroup, TreeView,
-    tree_groups, tree_view, tree_view_caption,
+    DOT_AREA_SHARE, FOOTPRINT_LIMIT, LANE_COLORS, MAX_DOT_RADIUS, PROBABILITY_DECADES,
+    PlaneToPixels, TreeGroup, TreeView, pick_stages, tree_groups, tree_view, tree_view_caption,
+    tree_view_plane,
 };
 
 /// Errors of the drawing functions.

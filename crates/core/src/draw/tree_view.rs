@@ -32,7 +32,7 @@ use super::text::{self, HAlign, TextStyle, VAlign};
 use super::{DrawError, Style};
 use crate::lesson::tree_pick::{TreePick, plane_box};
 use crate::scene::Scene;
-use crate::spatial::{Child, ChildRef, LightTree, SpatialSampler};
+use crate::spatial::{Child, ChildRef, LightTree, SpatialSampler, TREE_WIDTH};
 
 /// The share of the region's pixels the lights' dots cover together (before the radius cap).
 pub const DOT_AREA_SHARE: f64 = 0.03;
@@ -138,8 +138,10 @@ pub fn tree_view_caption(depth: usize, groups: usize, lights: usize) -> String {
     )
 }
 
-/// The plane → pixel map of the frame: equal scales, `+y` up, the region centred.
-struct PlaneToPixels {
+/// The plane → pixel map of a top view's frame: equal scales, `+y` up, the region centred
+/// (what a click on the picture needs to find the point of the plane under it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlaneToPixels {
     region_min: DVec2,
     region_max_y: f64,
     scale: f64,
@@ -162,10 +164,19 @@ impl PlaneToPixels {
         }
     }
 
-    fn point(&self, p: DVec2) -> (f32, f32) {
+    /// The pixel `(x, y)` of the plane point `p`.
+    pub fn point(&self, p: DVec2) -> (f32, f32) {
         (
             (self.offset.0 + (p.x - self.region_min.x) * self.scale) as f32,
             (self.offset.1 + (self.region_max_y - p.y) * self.scale) as f32,
+        )
+    }
+
+    /// The plane point under pixel `(x, y)`: the inverse of [`PlaneToPixels::point`].
+    pub fn plane_point(&self, (x, y): (f32, f32)) -> DVec2 {
+        DVec2::new(
+            self.region_min.x + (f64::from(x) - self.offset.0) / self.scale,
+            self.region_max_y - (f64::from(y) - self.offset.1) / self.scale,
         )
     }
 
@@ -177,56 +188,35 @@ impl PlaneToPixels {
     }
 }
 
+/// The colours of a node's four lanes while a stepped pick stands at it (none of them the
+/// lights' own colour), for the picture and for whatever shows the lanes' bars beside it.
+pub const LANE_COLORS: [Rgba8; TREE_WIDTH] = [
+    palette::LIGHTS[1],
+    palette::LIGHTS[2],
+    palette::LIGHTS[4],
+    palette::LIGHTS[5],
+];
+
+/// How far a recorded pick is shown ([`tree_view_plane`]), counting its stages: stage
+/// `s < steps` stands at node `steps[s]` (the path so far, and that node's four lanes in
+/// [`LANE_COLORS`]); stage `steps` at the leaf cluster (the whole path, the cluster's lights
+/// ringed); stage `steps + 1` and beyond: the picked light, as [`tree_view`] draws it.
+pub fn pick_stages(pick: &TreePick) -> usize {
+    pick.steps.len() + 2
+}
+
 /// Draws the top view of `view` (see the module docs).
 pub fn tree_view(view: &TreeView, style: &Style) -> Result<Pixmap, DrawError> {
-    let scene = view.scene;
-    let n = scene.positions.len();
-    if n == 0 {
-        return Err(DrawError::Empty("no lights"));
-    }
-    if let Some(q) = view.probabilities
-        && q.len() != n
-    {
-        return Err(DrawError::Length {
-            what: "probabilities",
-            expected: n,
-            got: q.len(),
-        });
-    }
+    let n = check(view)?;
     let colors = style.theme.colors();
     let mut pixmap = canvas::blank(style)?;
-    let groups = tree_groups(view.sampler, view.depth);
-    let region = view.region.unwrap_or_else(|| default_region(scene));
     let (w, h) = (f64::from(style.width), f64::from(style.height));
     let frame = (16.0, 64.0, (w - 32.0).max(1.0), (h - 88.0).max(1.0));
-    let map = PlaneToPixels::new(region, frame);
-    let image = [scene.plane.min, scene.plane.max];
-    canvas::stroke_rect(&mut pixmap, map.rect(image, 0.0), 1.0, colors.grid);
-
-    if let Some(emission) = scene.emission.as_deref().filter(|_| n <= FOOTPRINT_LIMIT) {
-        for (e, &p) in emission.iter().zip(scene.positions.iter()) {
-            if let Some(footprint) = e
-                .footprint(p)
-                .filter(|f| f[0].is_finite() && f[1].is_finite())
-            {
-                canvas::stroke_rect(&mut pixmap, map.rect(footprint, 0.0), 1.0, colors.grid);
-            }
-        }
-    }
-    for (g, group) in groups.iter().enumerate() {
-        let color = palette::light_color(g).with_alpha(220);
-        canvas::stroke_rect(&mut pixmap, map.rect(group.box_on_plane, 3.0), 1.5, color);
-    }
-    draw_lights(&mut pixmap, view, &map, (frame.2 * frame.3, colors.muted))?;
-    if let Some(pick) = view.pick {
-        let light_at = scene.positions[pick.light as usize];
-        draw_pick(&mut pixmap, pick, light_at, &map, colors.foreground);
-    }
-    clear_margins(&mut pixmap, frame, colors.background);
+    let groups = draw_plane(&mut pixmap, view, frame, &colors, usize::MAX)?;
     canvas::title(
         &mut pixmap,
         "Light tree from above",
-        Some(&tree_view_caption(view.depth, groups.len(), n)),
+        Some(&tree_view_caption(view.depth, groups, n)),
         &colors,
     )?;
     let note = match view.probabilities {
@@ -241,6 +231,83 @@ pub fn tree_view(view: &TreeView, style: &Style) -> Result<Pixmap, DrawError> {
         &TextStyle::new(canvas::TICK_SIZE, colors.muted),
     )?;
     Ok(pixmap)
+}
+
+/// The plane of [`tree_view`] alone, filling the picture (no title, no notes: the app
+/// writes those in its own text, at its own size), with the recorded pick shown up to
+/// stage `stage` ([`pick_stages`]); and the frame's plane → pixel map, so that a click on
+/// the picture finds its point of the plane.
+pub fn tree_view_plane(
+    view: &TreeView,
+    style: &Style,
+    stage: usize,
+) -> Result<(Pixmap, PlaneToPixels), DrawError> {
+    check(view)?;
+    let colors = style.theme.colors();
+    let mut pixmap = canvas::blank(style)?;
+    let (w, h) = (f64::from(style.width), f64::from(style.height));
+    let frame = (6.0, 6.0, (w - 12.0).max(1.0), (h - 12.0).max(1.0));
+    draw_plane(&mut pixmap, view, frame, &colors, stage)?;
+    let region = view.region.unwrap_or_else(|| default_region(view.scene));
+    Ok((pixmap, PlaneToPixels::new(region, frame)))
+}
+
+/// The number of lights, once the view is drawable (lights, probabilities of the right
+/// length).
+fn check(view: &TreeView) -> Result<usize, DrawError> {
+    let n = view.scene.positions.len();
+    if n == 0 {
+        return Err(DrawError::Empty("no lights"));
+    }
+    if let Some(q) = view.probabilities
+        && q.len() != n
+    {
+        return Err(DrawError::Length {
+            what: "probabilities",
+            expected: n,
+            got: q.len(),
+        });
+    }
+    Ok(n)
+}
+
+/// The plane in `frame` `(left, top, width, height)`: image rectangle, footprints, groups,
+/// lights and the pick up to `stage`; the margins cleared. Returns the number of groups.
+fn draw_plane(
+    pixmap: &mut Pixmap,
+    view: &TreeView,
+    frame: (f64, f64, f64, f64),
+    colors: &palette::ThemeColors,
+    stage: usize,
+) -> Result<usize, DrawError> {
+    let scene = view.scene;
+    let n = scene.positions.len();
+    let groups = tree_groups(view.sampler, view.depth);
+    let region = view.region.unwrap_or_else(|| default_region(scene));
+    let map = PlaneToPixels::new(region, frame);
+    let image = [scene.plane.min, scene.plane.max];
+    canvas::stroke_rect(pixmap, map.rect(image, 0.0), 1.0, colors.grid);
+
+    if let Some(emission) = scene.emission.as_deref().filter(|_| n <= FOOTPRINT_LIMIT) {
+        for (e, &p) in emission.iter().zip(scene.positions.iter()) {
+            if let Some(footprint) = e
+                .footprint(p)
+                .filter(|f| f[0].is_finite() && f[1].is_finite())
+            {
+                canvas::stroke_rect(pixmap, map.rect(footprint, 0.0), 1.0, colors.grid);
+            }
+        }
+    }
+    for (g, group) in groups.iter().enumerate() {
+        let color = palette::light_color(g).with_alpha(220);
+        canvas::stroke_rect(pixmap, map.rect(group.box_on_plane, 3.0), 1.5, color);
+    }
+    draw_lights(pixmap, view, &map, (frame.2 * frame.3, colors.muted))?;
+    if let Some(pick) = view.pick {
+        draw_pick(pixmap, view, pick, &map, (colors.foreground, stage));
+    }
+    clear_margins(pixmap, frame, colors.background);
+    Ok(groups.len())
 }
 
 /// The scene's image rectangle widened to hold every light with power.
@@ -313,17 +380,32 @@ fn draw_lights(
     Ok(())
 }
 
-/// The pick's path: each chosen lane's box, the shading point as a cross, the light circled.
+/// The pick up to `stage` ([`pick_stages`]): the chosen lanes' boxes so far; at a node its
+/// four lanes in [`LANE_COLORS`] (a culled one thin); at the leaf its lights ringed; at the
+/// end the picked light circled and joined to the shading point (a cross, at every stage).
 fn draw_pick(
     pixmap: &mut Pixmap,
+    view: &TreeView,
     pick: &TreePick,
-    light_at: glam::DVec3,
     map: &PlaneToPixels,
-    ink: Rgba8,
+    (ink, stage): (Rgba8, usize),
 ) {
-    for step in &pick.steps {
+    for step in pick.steps.iter().take(stage) {
         if let Some(b) = step.lanes[step.lane].box_on_plane {
             canvas::stroke_rect(pixmap, map.rect(b, 5.0), 2.5, ink);
+        }
+    }
+    if let Some(step) = pick.steps.get(stage) {
+        for (lane, color) in step.lanes.iter().zip(LANE_COLORS) {
+            if let Some(b) = lane.box_on_plane {
+                let width = if lane.culled.is_some() { 1.0 } else { 3.0 };
+                canvas::stroke_rect(pixmap, map.rect(b, 7.0), width, color);
+            }
+        }
+    } else if stage == pick.steps.len() {
+        for light in &pick.leaf.lights {
+            let at = view.scene.positions[light.light as usize].truncate();
+            ring(pixmap, map.point(at), 7.0, ink.with_alpha(200));
         }
     }
     let (x, y) = map.point(pick.x);
@@ -342,20 +424,27 @@ fn draw_pick(
         2.5,
         palette::UNIFORM,
     );
-    let at = light_at.truncate();
-    let (cx, cy) = map.point(at);
-    if let Some(path) = PathBuilder::from_circle(cx, cy, 12.0) {
+    if stage > pick.steps.len() {
+        let at = view.scene.positions[pick.light as usize].truncate();
+        let (cx, cy) = map.point(at);
+        ring(pixmap, (cx, cy), 12.0, ink);
+        canvas::line(pixmap, (x, y), (cx, cy), 1.0, ink.with_alpha(160));
+    }
+}
+
+/// A circle of radius `r` around `(x, y)`.
+fn ring(pixmap: &mut Pixmap, (x, y): (f32, f32), r: f32, color: Rgba8) {
+    if let Some(path) = PathBuilder::from_circle(x, y, r) {
         let stroke = Stroke {
             width: 2.5,
             ..Stroke::default()
         };
         pixmap.stroke_path(
             &path,
-            &canvas::paint(ink),
+            &canvas::paint(color),
             &stroke,
             Transform::identity(),
             None,
         );
     }
-    canvas::line(pixmap, (x, y), (cx, cy), 1.0, ink.with_alpha(160));
 }

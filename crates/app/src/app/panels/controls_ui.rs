@@ -77,6 +77,16 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
                 );
             ui.checkbox(&mut state.settings.show_stepper, "Construction stepper")
                 .on_hover_text("Vose's algorithm building the alias table, one pairing at a time");
+            if ui
+                .button("Light tree")
+                .on_hover_text(
+                    "The spatial scheme's tree from above and one pick stepped down it (key 6)",
+                )
+                .clicked()
+            {
+                state.show_panel = Some(crate::app::panels::PanelKind::LightTree);
+                ui.close();
+            }
             ui.checkbox(&mut state.settings.show_shortcuts, "Keyboard shortcuts")
                 .on_hover_text("Every key the app has, for a presenter (F1 or ?)");
             ui.checkbox(&mut state.estimator.open, "Estimator at one point")

@@ -31,6 +31,41 @@ pub const PANES: [PanelKind; 5] = [
     PanelKind::Convergence,
 ];
 
+/// Every panel the layout shows: the five of [`PANES`] and the tabs that share a place
+/// with one of them ([`tabs_with`]); what a maximized panel's header offers.
+pub const TABBED: [PanelKind; 6] = [
+    PanelKind::Lights,
+    PanelKind::Table,
+    PanelKind::Sampling,
+    PanelKind::Images,
+    PanelKind::LightTree,
+    PanelKind::Convergence,
+];
+
+/// The panels that share `pane`'s place as tabs under one header, wherever the arrangement
+/// puts it: the light tree beside the images (both are pictures of the plane, and a
+/// 1024×768 projector has no room for a sixth panel); every other panel alone.
+pub fn tabs_with(pane: PanelKind) -> &'static [PanelKind] {
+    match pane {
+        PanelKind::Images => &[PanelKind::Images, PanelKind::LightTree],
+        PanelKind::Lights => &[PanelKind::Lights],
+        PanelKind::Table => &[PanelKind::Table],
+        PanelKind::Sampling => &[PanelKind::Sampling],
+        PanelKind::Convergence => &[PanelKind::Convergence],
+        PanelKind::Controls => &[PanelKind::Controls],
+        PanelKind::Trade => &[PanelKind::Trade],
+        PanelKind::Precision => &[PanelKind::Precision],
+        PanelKind::Inspector => &[PanelKind::Inspector],
+        PanelKind::Estimator => &[PanelKind::Estimator],
+        PanelKind::LightTree => &[PanelKind::LightTree],
+    }
+}
+
+/// `panes` with the tabs that share their places ([`tabs_with`]), in order.
+pub fn with_tabs(panes: &[PanelKind]) -> Vec<PanelKind> {
+    panes.iter().flat_map(|&p| tabs_with(p)).copied().collect()
+}
+
 /// The least width of the Alias table panel: every column of the table at 90 % of its full
 /// width (power, pmf and threshold fractions such as `15/27` unclipped) and a diagram whose
 /// columns are wide enough to carry their labels.
@@ -59,6 +94,7 @@ pub fn title(pane: PanelKind) -> &'static str {
         PanelKind::Precision => "Precision",
         PanelKind::Inspector => "Inspector",
         PanelKind::Estimator => "Estimator",
+        PanelKind::LightTree => "Light tree",
     }
 }
 
@@ -332,6 +368,27 @@ mod tests {
         assert!(stacks(left, content(1024.0, 768.0).y));
         assert!(!stacks(right, content(1024.0, 768.0).y));
         assert!(!stacks(middle, 500.0));
+    }
+
+    #[test]
+    fn the_light_tree_is_a_tab_beside_the_images_in_every_arrangement() {
+        for a in Arrangement::ALL {
+            let shown: Vec<PanelKind> = a.columns().iter().flat_map(|c| with_tabs(c)).collect();
+            let mut sorted = shown.clone();
+            sorted.sort_by_key(|p| TABBED.iter().position(|q| q == p));
+            assert_eq!(sorted, TABBED, "{a:?}");
+            let images = shown.iter().position(|&p| p == PanelKind::Images);
+            assert_eq!(
+                images.map(|i| shown[i + 1]),
+                Some(PanelKind::LightTree),
+                "{a:?}"
+            );
+        }
+        let mut layout = Layout::default();
+        let place = tabs_with(PanelKind::Images);
+        assert_eq!(layout.shown(place), PanelKind::Images);
+        layout.select(PanelKind::LightTree);
+        assert_eq!(layout.shown(place), PanelKind::LightTree);
     }
 
     #[test]

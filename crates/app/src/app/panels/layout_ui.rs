@@ -6,7 +6,8 @@
 use egui::{Frame, Margin, Rect, Sense, Stroke, StrokeKind, Ui, Vec2, vec2};
 
 use super::layout::{
-    self, Arrangement, HEADER_HEIGHT, Layout, PANE_GAP, PANES, column_min_width, min_height, stacks,
+    self, Arrangement, HEADER_HEIGHT, Layout, PANE_GAP, PANES, column_min_width, min_height,
+    stacks, tabs_with, with_tabs,
 };
 use super::panel_kind::PanelKind;
 
@@ -86,8 +87,10 @@ fn stacked_ui(
     let [first, rest @ ..] = panes else {
         return;
     };
+    let tabs = tabs_with(*first);
+    let shown = layout.shown(tabs);
     if rest.is_empty() {
-        pane_ui(ui, layout, contents, &[*first], *first);
+        pane_ui(ui, layout, contents, tabs, shown);
         return;
     }
     let height = ui.available_height();
@@ -103,23 +106,25 @@ fn stacked_ui(
             ..Margin::ZERO
         }),
     );
-    let panel = match contents.wanted_height(ui, *first, ui.available_width()) {
+    let panel = match contents.wanted_height(ui, shown, ui.available_width()) {
         Some(wanted) => panel.exact_size((wanted + HEADER_HEIGHT + PANE_GAP).clamp(min, max)),
         None => panel
             .resizable(true)
             .size_range(min..=max)
             .default_size(layout::default_height(*first, height).clamp(min, max)),
     };
-    panel.show(ui, |ui| pane_ui(ui, layout, contents, &[*first], *first));
+    panel.show(ui, |ui| pane_ui(ui, layout, contents, tabs, shown));
     egui::CentralPanel::no_frame().show(ui, |ui| {
         stacked_ui(ui, layout, contents, arrangement, rest);
     });
 }
 
-/// `panes` as tabs: one header, the chosen panel under it.
+/// `panes` (and the tabs that share their places, [`with_tabs`]) as tabs: one header, the
+/// chosen panel under it.
 fn tabs_ui(ui: &mut Ui, layout: &mut Layout, contents: &mut dyn PaneContents, panes: &[PanelKind]) {
-    let shown = layout.shown(panes);
-    pane_ui(ui, layout, contents, panes, shown);
+    let tabs = with_tabs(panes);
+    let shown = layout.shown(&tabs);
+    pane_ui(ui, layout, contents, &tabs, shown);
 }
 
 /// One place of the layout: the header over `tabs` (or `shown`'s title alone), then

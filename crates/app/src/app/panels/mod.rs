@@ -1,6 +1,7 @@
 //! The panels and windows, one `*_ui.rs` each, over the [`AppState`] (which imports no panel):
 //! [`lights_ui`], [`table_ui`] (table, over the [`diagram_ui`]), [`sampling_ui`] (sampling),
-//! [`images_ui`] (images), [`convergence_ui`], and the windows [`trade_ui`] (speed against
+//! [`images_ui`] (images) with [`light_tree_ui`] (the light tree, a tab beside them),
+//! [`convergence_ui`], and the windows [`trade_ui`] (speed against
 //! accuracy), [`precision_ui`], [`walkthrough_ui`] and [`stepper_ui`] (the classroom),
 //! [`inspector_ui`] (a clicked pixel), [`estimator_ui`], [`animation_export_ui`]; the
 //! [`controls_ui`] (menu, run controls, status bar) and the [`file_dialog_ui`]. [`layout`] decides
@@ -17,6 +18,7 @@ pub mod images_ui;
 pub mod inspector_ui;
 pub mod layout;
 pub mod layout_ui;
+pub mod light_tree_ui;
 pub mod lights_ui;
 pub mod log_axes;
 pub mod panel_kind;
@@ -76,6 +78,7 @@ impl layout_ui::PaneContents for MainPanes<'_> {
             PanelKind::Precision => precision_ui::precision_ui(ui, state),
             PanelKind::Inspector => inspector_ui::inspector_ui(ui, state),
             PanelKind::Estimator => estimator_ui::estimator_ui(ui, state),
+            PanelKind::LightTree => light_tree_ui::light_tree_ui(ui, state),
         }
     }
 

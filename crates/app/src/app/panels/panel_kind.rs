@@ -26,4 +26,7 @@ pub enum PanelKind {
     Inspector,
     /// The running estimate at one shading point (`state.estimator`).
     Estimator,
+    /// The light tree from above and one spatial pick stepped down it (`state.light_tree`):
+    /// a tab beside the images ([`super::layout::tabs_with`]).
+    LightTree,
 }

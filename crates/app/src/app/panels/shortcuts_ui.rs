@@ -6,13 +6,14 @@ use egui::{Key, Ui};
 use super::panel_kind::PanelKind;
 use crate::app::state::AppState;
 
-/// Plain digit keys that bring a main panel to the front (its tab chosen): 1 to 5.
-pub const PANEL_KEYS: [(Key, PanelKind); 5] = [
+/// Plain digit keys that bring a main panel to the front (its tab chosen): 1 to 6.
+pub const PANEL_KEYS: [(Key, PanelKind); 6] = [
     (Key::Num1, PanelKind::Lights),
     (Key::Num2, PanelKind::Table),
     (Key::Num3, PanelKind::Sampling),
     (Key::Num4, PanelKind::Images),
     (Key::Num5, PanelKind::Convergence),
+    (Key::Num6, PanelKind::LightTree),
 ];
 
 /// The digit keys that, with Alt, load the presets in their menu order (Alt+1 the first,

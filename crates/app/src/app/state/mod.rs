@@ -31,6 +31,7 @@ pub mod estimator;
 pub mod file_dialog;
 pub mod history;
 pub mod inspector;
+pub mod light_tree;
 mod memory;
 pub mod pick_overlay;
 pub mod precision;
@@ -113,6 +114,10 @@ pub struct AppState {
     pub unedited_preset: Option<String>,
     /// Undo and redo over the scene edits.
     pub history: history::History,
+    /// The Light tree panel: depth, colouring, the stepped pick.
+    pub light_tree: light_tree::LightTreeState,
+    /// A panel to bring to the front on the next frame (a menu asked for it).
+    pub show_panel: Option<crate::app::panels::PanelKind>,
     /// The Floor control's value and the unedited preset of the installed scene (what an
     /// undo of the next scene change restores).
     installed: (f64, Option<String>),
@@ -160,6 +165,8 @@ impl AppState {
             table_highlight: None,
             unedited_preset: None,
             history: history::History::default(),
+            light_tree: light_tree::LightTreeState::default(),
+            show_panel: None,
             installed: (0.0, None),
             next_generation: 2,
             pending: TableBuild::default(),

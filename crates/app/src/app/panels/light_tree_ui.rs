@@ -1,0 +1,569 @@
+//! The Light tree panel: the tree over the scene's lights seen from above (the groups at a
+//! chosen depth as boxes, the lights as dots of area by power, optionally coloured by a pick
+//! probability at the pick's pixel), one spatial pick stepped from the root to a light
+//! (Next / Back, Page Down / Page Up), and a five-step guide to why the spatial scheme wins.
+//!
+//! The picture is the core's headless top view ([`tree_view_plane`], the plane alone: every
+//! word is the panel's own text, at body size). A click on it, or on a pixel of the images,
+//! moves the pick there.
+
+use egui::{Color32, ColorImage, Key, Modifiers, RichText, Sense, TextureHandle, Ui, vec2};
+use lightpick_core::draw::{
+    LANE_COLORS, PlaneToPixels, Style, Theme, TreeView, pick_stages, tree_groups,
+    tree_view_caption, tree_view_plane,
+};
+use lightpick_core::lesson::tree_pick::{Culled, TreePick};
+use lightpick_core::spatial::SpatialSampler;
+
+use crate::app::colors;
+use crate::app::state::AppState;
+use crate::app::state::light_tree::{GUIDE_STEPS, SteppedPick, TreeColoring};
+use crate::numbers::{self, three_significant};
+
+/// The widest a probability bar is drawn (points).
+const BAR_WIDTH: f32 = 140.0;
+
+/// The picture's cached texture and what it was drawn for.
+#[derive(Clone)]
+struct Drawn {
+    key: DrawnKey,
+    texture: TextureHandle,
+    map: PlaneToPixels,
+    groups: usize,
+}
+
+/// What the picture shows: a new key draws it again.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct DrawnKey {
+    generation: u64,
+    depth: usize,
+    coloring: TreeColoring,
+    pick: Option<([u32; 2], u64)>,
+    stage: usize,
+    size: [usize; 2],
+    dark: bool,
+}
+
+/// The panel (see the module docs).
+pub fn light_tree_ui(ui: &mut Ui, state: &mut AppState) {
+    let built = std::sync::Arc::clone(&state.built);
+    state.light_tree.adopt_inspected(state.inspector.pixel);
+    let spatial = std::sync::Arc::clone(built.samplers.spatial());
+    let max_depth = match &*spatial {
+        SpatialSampler::Exact(_) => 0,
+        SpatialSampler::Tree(tree) => tree.depth().saturating_sub(1) as usize,
+    };
+    state.light_tree.depth = state.light_tree.depth.min(max_depth);
+    let pick = state.light_tree.pick(&built, state.settings.seed);
+    if let Some(pick) = &pick {
+        keys(ui, state, pick);
+    }
+    controls_ui(ui, state, max_depth, pick.is_some());
+    let wide = ui.available_width() >= 760.0;
+    let side = if wide {
+        (0.5 * ui.available_width()).min(ui.available_height() - 60.0)
+    } else {
+        ui.available_width().min(0.5 * ui.available_height())
+    }
+    .max(120.0);
+    let draw = |ui: &mut Ui, state: &mut AppState| {
+        picture_ui(ui, state, &spatial, pick.as_deref(), side);
+    };
+    if wide {
+        ui.horizontal_top(|ui| {
+            ui.vertical(|ui| draw(ui, state));
+            ui.vertical(|ui| steps_and_guide_ui(ui, state, pick.as_deref()));
+        });
+    } else {
+        draw(ui, state);
+        steps_and_guide_ui(ui, state, pick.as_deref());
+    }
+}
+
+/// Page Down / Page Up step the pick while the walkthrough (whose keys they are too) is
+/// closed.
+fn keys(ui: &mut Ui, state: &mut AppState, pick: &SteppedPick) {
+    if state.settings.show_walkthrough || ui.ctx().text_edit_focused() {
+        return;
+    }
+    if ui.input_mut(|i| i.consume_key(Modifiers::NONE, Key::PageDown)) {
+        state.light_tree.next(pick);
+    }
+    if ui.input_mut(|i| i.consume_key(Modifiers::NONE, Key::PageUp)) {
+        state.light_tree.back();
+    }
+}
+
+/// The depth slider and the colouring.
+fn controls_ui(ui: &mut Ui, state: &mut AppState, max_depth: usize, has_pixel: bool) {
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Groups at depth");
+        ui.add(egui::Slider::new(
+            &mut state.light_tree.depth,
+            0..=max_depth,
+        ))
+        .on_hover_text("How many branch decisions below the root the outlined groups are");
+        ui.separator();
+        ui.label("Colour:");
+        let choices = [
+            (
+                TreeColoring::Power,
+                "power",
+                "One colour: the dot's area is the light's power",
+            ),
+            (
+                TreeColoring::Spatial,
+                "spatial P(i | x)",
+                "Each light's spatial pick probability at the pick's pixel",
+            ),
+            (
+                TreeColoring::Ideal,
+                "ideal s_i",
+                "Each light's share of the irradiance at the pick's pixel",
+            ),
+        ];
+        for (coloring, name, hover) in choices {
+            let enabled = has_pixel || coloring == TreeColoring::Power;
+            let selected = state.light_tree.coloring == coloring;
+            if ui
+                .add_enabled(enabled, egui::Button::selectable(selected, name))
+                .on_hover_text(hover)
+                .on_disabled_hover_text("Click a point of the plane first")
+                .clicked()
+            {
+                state.light_tree.coloring = coloring;
+            }
+        }
+    });
+}
+
+/// The top view, drawn once per change; a click picks its pixel.
+fn picture_ui(
+    ui: &mut Ui,
+    state: &mut AppState,
+    spatial: &SpatialSampler,
+    pick: Option<&SteppedPick>,
+    side: f32,
+) {
+    let built = std::sync::Arc::clone(&state.built);
+    let scene = &built.scene;
+    let ppp = ui.ctx().pixels_per_point();
+    let size = [(side * ppp) as usize, (side * ppp) as usize];
+    let coloring = match pick {
+        Some(_) => state.light_tree.coloring,
+        None => TreeColoring::Power,
+    };
+    let key = DrawnKey {
+        generation: built.generation,
+        depth: state.light_tree.depth,
+        coloring,
+        pick: pick.map(|p| (p.pixel, p.number)),
+        stage: state.light_tree.stage,
+        size,
+        dark: state.dark(),
+    };
+    let id = egui::Id::unique("lightpick_light_tree_picture");
+    let mut drawn: Option<Drawn> = ui.data(|d| d.get_temp(id));
+    if drawn.as_ref().is_none_or(|d| d.key != key) {
+        let overlay = match coloring {
+            TreeColoring::Power => None,
+            _ => state.light_tree.overlay(&built),
+        };
+        let probabilities = overlay.as_deref().map(|o| match coloring {
+            TreeColoring::Spatial => o.spatial.as_slice(),
+            _ => o.ideal.as_slice(),
+        });
+        let view = TreeView {
+            scene,
+            sampler: spatial,
+            depth: key.depth,
+            pick: pick.and_then(|p| p.record.as_ref()),
+            probabilities,
+            region: None,
+        };
+        let style = Style {
+            width: size[0] as u32,
+            height: size[1] as u32,
+            theme: if key.dark { Theme::Dark } else { Theme::Light },
+        };
+        match tree_view_plane(&view, &style, key.stage) {
+            Ok((pixmap, map)) => {
+                let rgba = lightpick_core::draw::to_rgba8(&pixmap);
+                let image = ColorImage::from_rgba_unmultiplied(size, &rgba);
+                let texture = match drawn {
+                    Some(d) => {
+                        let mut t = d.texture;
+                        t.set(image, egui::TextureOptions::LINEAR);
+                        t
+                    }
+                    None => ui.ctx().load_texture(
+                        "lightpick_light_tree",
+                        image,
+                        egui::TextureOptions::LINEAR,
+                    ),
+                };
+                let groups = tree_groups(spatial, key.depth).len();
+                drawn = Some(Drawn {
+                    key,
+                    texture,
+                    map,
+                    groups,
+                });
+                ui.data_mut(|d| d.insert_temp(id, drawn.clone()));
+            }
+            Err(e) => {
+                ui.colored_label(colors::error(state.dark()), format!("No picture: {e}"));
+                return;
+            }
+        }
+    }
+    let Some(drawn) = drawn else {
+        return;
+    };
+    let response =
+        ui.add(egui::Image::new((drawn.texture.id(), vec2(side, side))).sense(Sense::click()));
+    if response.clicked()
+        && let Some(at) = response.interact_pointer_pos()
+    {
+        let local = (at - response.rect.min) * ppp;
+        let x = drawn.map.plane_point((local.x, local.y));
+        state.light_tree.select_pixel(pixel_of(&scene.plane, x));
+    }
+    ui.label(tree_view_caption(
+        key.depth,
+        drawn.groups,
+        scene.light_count(),
+    ));
+    ui.label(match pick {
+        None => "Click a point of the plane (or a pixel of the images) to pick a light there."
+            .to_owned(),
+        Some(p) => format!(
+            "The cross is the centre of pixel ({}, {}); a dot's area is its light's power.",
+            p.pixel[0], p.pixel[1]
+        ),
+    });
+}
+
+/// The pixel whose cell holds the plane point `x` (the nearest edge pixel outside).
+fn pixel_of(plane: &lightpick_core::scene::ReceiverPlane, x: glam::DVec2) -> [u32; 2] {
+    let cell = |offset: f64, extent: f64, count: u32| {
+        ((offset / extent * f64::from(count)).floor().max(0.0) as u32).min(count.saturating_sub(1))
+    };
+    [
+        cell(x.x - plane.min.x, plane.max.x - plane.min.x, plane.width),
+        cell(plane.max.y - x.y, plane.max.y - plane.min.y, plane.height),
+    ]
+}
+
+/// The stepped pick, then the guide.
+fn steps_and_guide_ui(ui: &mut Ui, state: &mut AppState, pick: Option<&SteppedPick>) {
+    egui::ScrollArea::vertical()
+        .id_salt("lightpick_light_tree_steps")
+        .auto_shrink([false, false])
+        .show(ui, |ui| {
+            if let Some(pick) = pick {
+                stepped_pick_ui(ui, state, pick);
+            }
+            ui.separator();
+            guide_ui(ui, state);
+        });
+}
+
+/// One pick at the pixel, stage by stage: a node's four groups, the leaf, the end.
+fn stepped_pick_ui(ui: &mut Ui, state: &mut AppState, pick: &SteppedPick) {
+    ui.strong(format!(
+        "One spatial pick at pixel ({}, {}), pick {}",
+        pick.pixel[0],
+        pick.pixel[1],
+        pick.number + 1
+    ));
+    let Some(record) = &pick.record else {
+        ui.label(
+            "No light reaches this point: the spatial scheme picks nothing and the estimate is 0.",
+        );
+        if ui.button("New pick").clicked() {
+            state.light_tree.new_pick();
+        }
+        return;
+    };
+    let stages = pick_stages(record);
+    let stage = state.light_tree.stage.min(stages - 1);
+    ui.horizontal(|ui| {
+        if ui
+            .add_enabled(stage > 0, egui::Button::new("Back"))
+            .on_hover_text("Page Up")
+            .clicked()
+        {
+            state.light_tree.back();
+        }
+        if ui
+            .add_enabled(stage + 1 < stages, egui::Button::new("Next"))
+            .on_hover_text("Page Down")
+            .clicked()
+        {
+            state.light_tree.next(pick);
+        }
+        if ui
+            .button("New pick")
+            .on_hover_text("Another pick at the same point (the next random numbers)")
+            .clicked()
+        {
+            state.light_tree.new_pick();
+        }
+        ui.label(format!("stage {} of {stages}", stage + 1));
+    });
+    let dark = state.dark();
+    if let Some(step) = record.steps.get(stage) {
+        node_stage_ui(ui, record, stage, step, dark);
+    } else if stage == record.steps.len() {
+        let powers = state.built.scene.powers.as_slice();
+        leaf_stage_ui(ui, record, powers, pick.total_power, dark);
+    } else {
+        end_stage_ui(ui, record, pick);
+    }
+}
+
+/// A node: its four groups' probabilities as bars, culled ones greyed with the reason, the
+/// random number and the group it takes.
+fn node_stage_ui(
+    ui: &mut Ui,
+    record: &TreePick,
+    stage: usize,
+    step: &lightpick_core::lesson::tree_pick::TreePickStep,
+    dark: bool,
+) {
+    ui.label(format!(
+        "Node at depth {}: its four groups weighed at x (each group's weight is its \
+         representative light's power over its distance, mixed with a share of its power).",
+        step.depth
+    ));
+    for (lane, (group, color)) in step.lanes.iter().zip(LANE_COLORS).enumerate() {
+        ui.horizontal(|ui| {
+            let color = colors::to_color32(color);
+            let name = format!("group {}", ['A', 'B', 'C', 'D'][lane]);
+            let chosen = lane == step.lane;
+            let name = if chosen {
+                RichText::new(format!("{name} ← picked")).strong()
+            } else {
+                RichText::new(name)
+            };
+            ui.colored_label(color, name);
+            if let Some(reason) = group.culled {
+                ui.colored_label(
+                    colors::muted(dark),
+                    culled_words(reason, group.light_count()),
+                );
+            } else {
+                bar_ui(ui, group.probability, color);
+                ui.label(format!(
+                    "P = {} · {} lights",
+                    three_significant(group.probability),
+                    group.light_count()
+                ));
+            }
+        });
+    }
+    let u = f64::from(step.random24) / 16_777_216.0;
+    let before = if stage == 0 {
+        1.0
+    } else {
+        record.steps[stage - 1].pdf_after
+    };
+    ui.label(format!(
+        "Random number u = {:.4} → group {}. P so far: {} × {} = {}",
+        u,
+        ['A', 'B', 'C', 'D'][step.lane],
+        three_significant(before),
+        three_significant(step.lanes[step.lane].probability),
+        three_significant(step.pdf_after)
+    ));
+}
+
+/// Why a culled group has probability 0, in a student's words.
+fn culled_words(reason: Culled, lights: usize) -> String {
+    let why = match reason {
+        Culled::Empty => "empty",
+        Culled::OutsideFootprint => "culled: x is outside where its lights shine",
+        Culled::BeyondRange => "culled: x is beyond its lights' range",
+        Culled::OutsideCone => "culled: x is outside its spots' cones",
+        Culled::NoPower => "culled: its lights have no power",
+    };
+    if lights == 0 {
+        why.to_owned()
+    } else {
+        format!("{why} ({lights} lights, P = 0)")
+    }
+}
+
+/// The leaf cluster: its lights, each by its exact contribution at x.
+fn leaf_stage_ui(ui: &mut Ui, record: &TreePick, powers: &[f64], total_power: f64, dark: bool) {
+    ui.label(format!(
+        "The leaf: {} lights, each picked by its exact contribution f_i at x.",
+        record.leaf.lights.len()
+    ));
+    egui::Grid::new("lightpick_leaf_lights")
+        .num_columns(4)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.strong("light");
+            ui.strong("f_i at x");
+            ui.strong("P in the leaf");
+            ui.strong("power p_i");
+            ui.end_row();
+            for (k, light) in record.leaf.lights.iter().enumerate() {
+                let text = format!("{}", light.light + 1);
+                if k == record.leaf.picked {
+                    ui.strong(format!("{text} ← picked"));
+                } else {
+                    ui.label(text);
+                }
+                ui.label(numbers::short(light.contribution * total_power));
+                ui.horizontal(|ui| {
+                    bar_ui(ui, light.probability, colors::foreground(dark));
+                    ui.label(three_significant(light.probability));
+                });
+                ui.label(three_significant(
+                    powers[light.light as usize] / total_power,
+                ));
+                ui.end_row();
+            }
+        });
+    let u = f64::from(record.leaf.random24) / 16_777_216.0;
+    ui.label(format!(
+        "Random number u = {u:.4} → light {}.",
+        record.light + 1
+    ));
+}
+
+/// The end: the pdf as the product of the steps, the renderer's equal to it, the estimate
+/// against the exact irradiance, and what power picking would have paid.
+fn end_stage_ui(ui: &mut Ui, record: &TreePick, pick: &SteppedPick) {
+    let factors: Vec<String> = record
+        .steps
+        .iter()
+        .map(|s| three_significant(s.lanes[s.lane].probability))
+        .chain(std::iter::once(three_significant(
+            record.picked().probability,
+        )))
+        .collect();
+    ui.label(format!(
+        "P(i | x) = {} = {}",
+        factors.join(" × "),
+        three_significant(record.pdf)
+    ));
+    if let Some(renderer) = pick.renderer_pdf {
+        let same = renderer.to_bits() == record.pdf.to_bits();
+        ui.label(format!(
+            "The renderer's P(i | x) of light {}: {} ({})",
+            record.light + 1,
+            three_significant(renderer),
+            if same {
+                "the same, bit for bit"
+            } else {
+                "different!"
+            }
+        ));
+    }
+    let phi = pick.total_power;
+    let f = record.contribution * phi;
+    ui.label(format!(
+        "Estimate f_i / P = {} / {} = {}; the exact irradiance here is {}.",
+        numbers::short(f),
+        three_significant(record.pdf),
+        numbers::short(f / record.pdf),
+        numbers::short(record.irradiance * phi)
+    ));
+    ui.label(format!(
+        "Power picking would pick light {} with p_i = {}: estimate f_i / p_i = {}.",
+        record.light + 1,
+        three_significant(record.power_pmf),
+        numbers::short(f / record.power_pmf)
+    ));
+}
+
+/// A bar of length `p` of [`BAR_WIDTH`] in `color`, one text line high, in a faint frame.
+fn bar_ui(ui: &mut Ui, p: f64, color: Color32) {
+    let height = ui.text_style_height(&egui::TextStyle::Body);
+    let (rect, _) = ui.allocate_exact_size(vec2(BAR_WIDTH, height), Sense::hover());
+    let painter = ui.painter();
+    painter.rect_stroke(
+        rect,
+        0.0,
+        egui::Stroke::new(1.0, ui.visuals().widgets.noninteractive.bg_stroke.color),
+        egui::StrokeKind::Inside,
+    );
+    let mut filled = rect;
+    filled.set_width(BAR_WIDTH * p.clamp(0.0, 1.0) as f32);
+    painter.rect_filled(filled, 0.0, color);
+}
+
+/// The guide: five steps, with the figures of the current scene.
+fn guide_ui(ui: &mut Ui, state: &mut AppState) {
+    let step = state.light_tree.guide_step.min(GUIDE_STEPS - 1);
+    ui.horizontal(|ui| {
+        ui.strong(format!(
+            "Why the spatial scheme wins ({}/{GUIDE_STEPS})",
+            step + 1
+        ));
+        if ui
+            .add_enabled(step > 0, egui::Button::new("Previous"))
+            .clicked()
+        {
+            state.light_tree.guide_step = step - 1;
+        }
+        if ui
+            .add_enabled(step + 1 < GUIDE_STEPS, egui::Button::new("Continue"))
+            .clicked()
+        {
+            state.light_tree.guide_step = step + 1;
+        }
+    });
+    let variances = state.current_scene_sentence().map(|s| s.variances);
+    let text = guide_text(step, variances, state.built.len());
+    ui.label(text);
+}
+
+/// The text of guide step `step`, with the scene's mean variances of one sample (uniform,
+/// power, spatial) when known.
+pub fn guide_text(step: usize, variances: Option<[f64; 3]>, lights: usize) -> String {
+    match step {
+        0 => format!(
+            "Power picking chooses a light by its power alone. On the grid preset every light \
+             has the same power, so it picks as uniformly as uniform picking does — yet at any \
+             pixel only the few lights nearby matter (G falls as 1/r³ for low lights). This \
+             scene has {lights} lights."
+        ),
+        1 => "The tree groups nearby lights. At each node a group's weight is its \
+              representative light (at the group's power-weighted centre, with the group's \
+              power) as seen from x, mixed with a small share of plain power so that no group \
+              that could light x is ever left out. Near groups weigh more."
+            .to_owned(),
+        2 => "Click a point of the plane, then Next (Page Down): at each node one random \
+              number picks a group by those weights; at the leaf, one more picks a light by \
+              its exact contribution."
+            .to_owned(),
+        3 => "The probability of the light picked is the product of the probabilities of the \
+              choices on its path, P(i | x) = P(group) × P(group) × … × P(light in leaf): \
+              exactly what the renderer divides by, so the estimate f_i / P stays unbiased."
+            .to_owned(),
+        _ => match variances {
+            Some([uniform, power, spatial]) if spatial > 0.0 => format!(
+                "On this scene, averaged over the image, one sample's variance is {} under \
+                 uniform picking, {} under power picking and {} under spatial picking: \
+                 spatial's is {} than power's.",
+                numbers::short(uniform),
+                numbers::short(power),
+                numbers::short(spatial),
+                numbers::compare(spatial, power, "higher", "lower")
+            ),
+            Some([uniform, power, _]) => format!(
+                "On this scene one sample's variance is {} under uniform picking and {} under \
+                 power picking; spatial picking is exact here (variance 0): with few lights it \
+                 weighs every light at x.",
+                numbers::short(uniform),
+                numbers::short(power)
+            ),
+            None => "The variances of this scene are being computed…".to_owned(),
+        },
+    }
+}

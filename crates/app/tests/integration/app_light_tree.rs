@@ -1,0 +1,206 @@
+//! The Light tree panel: a tab beside the images (key 6, View → Light tree), the tree from
+//! above with its groups at a chosen depth, and one spatial pick stepped from the root to a
+//! light (Next / Back, Page Down / Page Up) whose product of steps is the renderer's pdf.
+
+use egui::Key;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable as _;
+use lightpick::app::panels::layout::tabs_with;
+use lightpick::app::{LightpickApp, PanelKind};
+use lightpick::numbers::three_significant;
+use lightpick_core::draw::{pick_stages, tree_groups, tree_view_caption};
+use lightpick_core::scene::pixel_center;
+
+use crate::common::painted::painted;
+use crate::common::{click, panel, shows_containing, window};
+
+/// The panel alone on `preset`, with the pick at `pixel`.
+fn tree_panel(preset: &str, pixel: [u32; 2]) -> Harness<'static, LightpickApp> {
+    let mut app = LightpickApp::for_tests();
+    app.state.load_preset(preset);
+    app.state.light_tree.select_pixel(pixel);
+    let mut harness = panel(PanelKind::LightTree, app, [1000.0, 900.0]);
+    harness.run();
+    harness
+}
+
+#[test]
+fn key_6_and_the_view_menu_show_the_light_tree_beside_the_images() {
+    let mut harness = window(LightpickApp::for_tests(), [1024.0, 768.0]);
+    harness.run();
+    let place = tabs_with(PanelKind::Images);
+    assert_eq!(harness.state().layout.shown(place), PanelKind::Images);
+    assert!(!shows_containing(&harness, "Groups at depth"));
+    harness.key_press(Key::Num6);
+    harness.run();
+    assert_eq!(harness.state().layout.shown(place), PanelKind::LightTree);
+    assert!(shows_containing(&harness, "Groups at depth"));
+    // Back to the images by their tab, then to the tree by the View menu.
+    click(&mut harness, "Images");
+    assert_eq!(harness.state().layout.shown(place), PanelKind::Images);
+    click(&mut harness, "View");
+    // The menu's item, drawn after the tab of the same name.
+    harness
+        .query_all_by_label("Light tree")
+        .last()
+        .expect("the View menu's item")
+        .click();
+    harness.run();
+    assert_eq!(harness.state().layout.shown(place), PanelKind::LightTree);
+}
+
+#[test]
+fn the_caption_counts_the_groups_at_the_chosen_depth() {
+    let mut harness = tree_panel("grid", [72, 194]);
+    for depth in [0, 1, 2, 3] {
+        harness.state_mut().state.light_tree.depth = depth;
+        harness.run();
+        let state = &harness.state().state;
+        let groups = tree_groups(state.built.samplers.spatial(), depth).len();
+        assert_eq!(
+            groups,
+            4usize.pow(depth as u32),
+            "1024 lights split in four"
+        );
+        let caption = tree_view_caption(depth, groups, 1024);
+        assert!(shows_containing(&harness, &caption), "{caption}");
+    }
+}
+
+/// Steps a pick to its end with Next and Page Down, back with Back and Page Up; at the end
+/// the product of the steps is printed equal, bit for bit, to the renderer's pdf.
+fn steps_to_the_renderers_pdf(preset: &str, pixel: [u32; 2]) {
+    let mut harness = tree_panel(preset, pixel);
+    let (record, renderer_pdf) = {
+        let state = &mut harness.state_mut().state;
+        let built = std::sync::Arc::clone(&state.built);
+        let seed = state.settings.seed;
+        let pick = state.light_tree.pick(&built, seed).expect("a pixel");
+        let record = pick.record.clone().expect("lights reach the pixel");
+        let scene = &built.scene;
+        let x = pixel_center(&scene.plane, pixel[0], pixel[1]);
+        let pdf = built.samplers.spatial().pdf(x, record.light as usize);
+        (record, pdf)
+    };
+    assert_eq!(record.pdf.to_bits(), renderer_pdf.to_bits(), "{preset}");
+    let product = record
+        .steps
+        .iter()
+        .map(|s| s.lanes[s.lane].probability)
+        .chain(std::iter::once(record.picked().probability))
+        .fold(1.0, |p, f| p * f);
+    assert_eq!(product.to_bits(), record.pdf.to_bits(), "{preset}");
+    let stages = pick_stages(&record);
+    assert!(shows_containing(&harness, &format!("stage 1 of {stages}")));
+    for stage in 1..stages {
+        if stage % 2 == 1 {
+            click(&mut harness, "Next");
+        } else {
+            harness.key_press(Key::PageDown);
+            harness.run();
+        }
+        assert_eq!(harness.state().state.light_tree.stage, stage, "{preset}");
+        assert!(shows_containing(
+            &harness,
+            &format!("stage {} of {stages}", stage + 1)
+        ));
+    }
+    // The end: Next is disabled and the pdf is the renderer's.
+    click(&mut harness, "Next");
+    assert_eq!(harness.state().state.light_tree.stage, stages - 1);
+    let text = painted(&harness);
+    assert!(
+        text.contains(&format!("= {}", three_significant(record.pdf))),
+        "{preset}: {text}"
+    );
+    assert!(text.contains("the same, bit for bit"), "{preset}: {text}");
+    assert!(
+        text.contains(&format!(
+            "Power picking would pick light {}",
+            record.light + 1
+        )),
+        "{preset}"
+    );
+    click(&mut harness, "Back");
+    harness.key_press(Key::PageUp);
+    harness.run();
+    assert_eq!(
+        harness.state().state.light_tree.stage,
+        stages - 3,
+        "{preset}"
+    );
+}
+
+#[test]
+fn a_pick_steps_down_the_grids_tree_to_the_renderers_pdf() {
+    steps_to_the_renderers_pdf("grid", [72, 194]);
+}
+
+#[test]
+fn a_pick_steps_down_a_spot_tree_to_the_renderers_pdf() {
+    // The stage: spots and ranged washes, whose groups are culled where they cannot reach.
+    steps_to_the_renderers_pdf("stage", [60, 70]);
+}
+
+#[test]
+fn culled_groups_say_why_and_take_no_probability() {
+    let mut harness = tree_panel("stage", [60, 70]);
+    let state = &mut harness.state_mut().state;
+    let built = std::sync::Arc::clone(&state.built);
+    let seed = state.settings.seed;
+    // The first node with a culled group, over a few picks at this pixel.
+    let found = (0..20).find_map(|number| {
+        state.light_tree.select_pixel([60, 70]);
+        for _ in 0..number {
+            state.light_tree.new_pick();
+        }
+        let pick = state.light_tree.pick(&built, seed)?;
+        let record = pick.record.clone()?;
+        let stage = record.steps.iter().position(|s| {
+            s.lanes
+                .iter()
+                .any(|l| l.culled.is_some() && l.light_count() > 0)
+        })?;
+        Some((number, stage, record))
+    });
+    let (number, stage, record) = found.expect("a culled group on the stage");
+    let state = &mut harness.state_mut().state;
+    state.light_tree.select_pixel([60, 70]);
+    for _ in 0..number {
+        state.light_tree.new_pick();
+    }
+    state.light_tree.stage = stage;
+    harness.run();
+    let step = &record.steps[stage];
+    for lane in step.lanes.iter().filter(|l| l.culled.is_some()) {
+        assert_eq!(lane.probability, 0.0);
+        assert_eq!(lane.mass, 0);
+    }
+    assert!(
+        shows_containing(&harness, "culled:"),
+        "{}",
+        painted(&harness)
+    );
+}
+
+#[test]
+fn the_guide_ends_on_this_scenes_variances() {
+    let mut harness = tree_panel("grid", [72, 194]);
+    harness.state_mut().state.light_tree.guide_step = 4;
+    // The sentence's variances are computed inline in tests.
+    for _ in 0..3 {
+        harness.run();
+    }
+    let variances = harness
+        .state()
+        .state
+        .current_scene_sentence()
+        .map(|s| s.variances)
+        .expect("the scene's variances");
+    let text = painted(&harness);
+    assert!(
+        text.contains(&lightpick::numbers::short(variances[2])),
+        "{text}"
+    );
+    assert!(text.contains("lower than power's"), "{text}");
+}
