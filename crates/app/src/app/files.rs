@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use super::images::Published;
+use super::state::MessageKind;
 use super::state::file_dialog::FileAction;
-use super::state::{AppState, MessageKind};
 use super::{LightpickApp, scene_io};
 
 impl LightpickApp {
@@ -59,43 +59,50 @@ impl LightpickApp {
     /// Carries out a confirmed file action; on failure the message is shown in the dialog
     /// and the status bar, and the current scene is kept.
     pub fn file_action(&mut self, action: FileAction, path: &str, published: Option<&Published>) {
-        let result =
-            match action {
-                FileAction::OpenScene => self.open_scene(Path::new(path)),
-                FileAction::SaveScene => scene_io::save(Path::new(path), &self.state.built.scene)
-                    .map(|()| format!("saved {path}")),
-                FileAction::ExportImages => {
-                    // GPU images are native textures: read them back first.
-                    let exposure = self.state.settings.exposure;
-                    let from_gpu = if self.uses_gpu() {
-                        self.gpu.as_mut().map(|gpu| gpu.frame_with_images(exposure))
-                    } else {
-                        None
-                    };
-                    match from_gpu {
-                        Some(Ok(frame)) => Ok(frame),
-                        Some(Err(e)) => Err(e),
-                        None => published
-                            .cloned()
-                            .ok_or_else(|| "no image has been rendered yet".to_owned()),
-                    }
-                    .and_then(|frame| export_images(Path::new(path), &frame))
+        let result = match action {
+            FileAction::OpenScene => self.open_scene(Path::new(path)),
+            FileAction::SaveScene => scene_io::save(Path::new(path), &self.state.built.scene)
+                .map(|()| format!("saved {path}")),
+            FileAction::ExportImages => {
+                // GPU images are native textures: read them back first.
+                let exposure = self.state.settings.exposure;
+                let from_gpu = if self.uses_gpu() {
+                    self.gpu.as_mut().map(|gpu| gpu.frame_with_images(exposure))
+                } else {
+                    None
+                };
+                match from_gpu {
+                    Some(Ok(frame)) => Ok(frame),
+                    Some(Err(e)) => Err(e),
+                    None => published
+                        .cloned()
+                        .ok_or_else(|| "no image has been rendered yet".to_owned()),
+                }
+                .and_then(|frame| export_images(Path::new(path), &frame))
+                .map(|()| format!("exported {path}"))
+            }
+            FileAction::ExportData => {
+                super::data_export::export_data(Path::new(path), &mut self.state, published).map(
+                    |files| {
+                        let names: Vec<String> = files
+                            .iter()
+                            .filter_map(|f| f.file_name())
+                            .map(|n| n.to_string_lossy().into_owned())
+                            .collect();
+                        format!("exported {}", names.join(", "))
+                    },
+                )
+            }
+            FileAction::ExportFigure(figure) => {
+                let size = self.state.settings.figure_size;
+                super::figure_export::figure_pixmap(figure, &mut self.state, published, size)
+                    .and_then(|pixmap| {
+                        lightpick_core::draw::write_png(&pixmap, Path::new(path))
+                            .map_err(|e| e.to_string())
+                    })
                     .map(|()| format!("exported {path}"))
-                }
-                FileAction::ExportData => {
-                    super::data_export::export_data(Path::new(path), &mut self.state, published)
-                        .map(|files| {
-                            let names: Vec<String> = files
-                                .iter()
-                                .filter_map(|f| f.file_name())
-                                .map(|n| n.to_string_lossy().into_owned())
-                                .collect();
-                            format!("exported {}", names.join(", "))
-                        })
-                }
-                FileAction::ExportDiagram => export_diagram(Path::new(path), &self.state)
-                    .map(|()| format!("exported {path}")),
-            };
+            }
+        };
         match result {
             Ok(message) => {
                 // The next dialog starts in this file's folder, in this session and the next.
@@ -251,21 +258,4 @@ fn captioned(
         .map_err(|e| e.to_string())?;
     }
     Ok(lightpick_core::draw::to_rgba8(&pixmap))
-}
-
-/// Writes the alias-table diagram as a PNG (the headless drawing of `lightpick plot table`).
-fn export_diagram(path: &Path, state: &AppState) -> Result<(), String> {
-    let theme = if state.dark() {
-        lightpick_core::draw::Theme::Dark
-    } else {
-        lightpick_core::draw::Theme::Light
-    };
-    let style = lightpick_core::draw::Style {
-        theme,
-        ..Default::default()
-    };
-    let pixmap =
-        lightpick_core::draw::table_diagram(&state.built.table, state.built.denominator, &style)
-            .map_err(|e| e.to_string())?;
-    lightpick_core::draw::write_png(&pixmap, path).map_err(|e| e.to_string())
 }

@@ -19,6 +19,7 @@
 pub mod background;
 pub mod colors;
 pub mod data_export;
+mod figure_export;
 mod files;
 mod frame;
 pub mod generated;

@@ -10,6 +10,7 @@ mod app_classroom_windows;
 mod app_classroom_words;
 mod app_estimator;
 mod app_export_animation;
+mod app_figure_export;
 mod app_gpu_images;
 mod app_inspector;
 mod app_interaction;

@@ -20,7 +20,6 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
                 (FileAction::OpenScene, "Ctrl+O"),
                 (FileAction::SaveScene, "Ctrl+S"),
                 (FileAction::ExportImages, ""),
-                (FileAction::ExportDiagram, ""),
                 (FileAction::ExportData, ""),
             ] {
                 if ui
@@ -32,6 +31,7 @@ pub fn menu_ui(ui: &mut Ui, state: &mut AppState) {
                     ui.close();
                 }
             }
+            ui.menu_button("Export figure (PNG)", |ui| figure_menu_ui(ui, state));
             if ui
                 .button("Export animation…")
                 .on_hover_text(
@@ -128,6 +128,27 @@ fn history_item_ui(ui: &mut Ui, verb: &str, step: Option<&str>, shortcut: &str) 
     clicked
 }
 
+/// File → Export figure: the size, then one item per figure.
+fn figure_menu_ui(ui: &mut Ui, state: &mut AppState) {
+    let sides = crate::app::figure_export::FIGURE_SIDES;
+    ui.horizontal(|ui| {
+        ui.label("Size");
+        let [w, h] = &mut state.settings.figure_size;
+        ui.add(egui::DragValue::new(w).range(sides.clone()).suffix(" px"))
+            .on_hover_text("Width of the exported picture");
+        ui.label("×");
+        ui.add(egui::DragValue::new(h).range(sides).suffix(" px"))
+            .on_hover_text("Height of the exported picture");
+    });
+    ui.separator();
+    for figure in crate::app::state::figure::Figure::ALL {
+        if ui.button(format!("{}…", figure.title())).clicked() {
+            open_dialog(state, FileAction::ExportFigure(figure));
+            ui.close();
+        }
+    }
+}
+
 /// Opens the path dialog for `action` with a sensible default path.
 pub fn open_dialog(state: &mut AppState, action: FileAction) {
     let default = match action {
@@ -135,7 +156,9 @@ pub fn open_dialog(state: &mut AppState, action: FileAction) {
         FileAction::OpenScene => String::new(),
         FileAction::SaveScene => format!("{}.json", state.edit.name),
         FileAction::ExportImages => format!("{}-images.png", state.edit.name),
-        FileAction::ExportDiagram => format!("{}-alias-table.png", state.edit.name),
+        FileAction::ExportFigure(figure) => {
+            format!("{}-{}.png", state.edit.name, figure.file_suffix())
+        }
         // NAME.csv gives NAME-convergence.csv, NAME-histogram.csv, …
         FileAction::ExportData => format!("{}.csv", state.edit.name),
     };

@@ -1,6 +1,8 @@
 //! The in-app file dialog's state: the action waiting for a path, the folder shown and its
 //! listing, the path as typed and why the last attempt failed.
 
+use super::figure::Figure;
+
 /// A file action waiting for its path in the in-app dialog.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FileAction {
@@ -10,8 +12,8 @@ pub enum FileAction {
     SaveScene,
     /// Export the images as PNG files.
     ExportImages,
-    /// Export the alias-table diagram as a PNG file.
-    ExportDiagram,
+    /// Export one figure as a PNG file.
+    ExportFigure(super::figure::Figure),
     /// Export the data behind the figures as CSV files.
     ExportData,
 }
@@ -23,7 +25,13 @@ impl FileAction {
             FileAction::OpenScene => "Open scene",
             FileAction::SaveScene => "Save scene",
             FileAction::ExportImages => "Export images (PNG)",
-            FileAction::ExportDiagram => "Export alias-table diagram (PNG)",
+            FileAction::ExportFigure(figure) => match figure {
+                Figure::AliasTable => "Export alias-table diagram (PNG)",
+                Figure::Histogram => "Export histogram of picks (PNG)",
+                Figure::Convergence => "Export convergence plot (PNG)",
+                Figure::Trade => "Export Trade plot (PNG)",
+                Figure::LightTree => "Export light tree (PNG)",
+            },
             FileAction::ExportData => "Export data (CSV)",
         }
     }
@@ -36,7 +44,7 @@ impl FileAction {
                 &lightpick_core::scene::SceneFormat::EXTENSIONS,
             ),
             FileAction::SaveScene => ("lightpick JSON", &["json"]),
-            FileAction::ExportImages | FileAction::ExportDiagram => ("PNG images", &["png"]),
+            FileAction::ExportImages | FileAction::ExportFigure(_) => ("PNG images", &["png"]),
             FileAction::ExportData => ("CSV tables", &["csv"]),
         }
     }

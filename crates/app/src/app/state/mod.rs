@@ -28,6 +28,7 @@ pub mod built;
 pub mod counts;
 pub mod edit;
 pub mod estimator;
+pub mod figure;
 pub mod file_dialog;
 pub mod history;
 pub mod inspector;

@@ -82,6 +82,8 @@ pub struct Settings {
     pub show_shortcuts: bool,
     /// The folder of the last file opened or saved: where File → Open starts.
     pub last_folder: Option<std::path::PathBuf>,
+    /// The size of an exported figure, width and height in pixels (File → Export figure).
+    pub figure_size: [u32; 2],
 }
 
 impl Default for Settings {
@@ -104,6 +106,7 @@ impl Default for Settings {
             show_trade: false,
             show_shortcuts: false,
             last_folder: None,
+            figure_size: [1600, 1000],
             show_precision: false,
             show_walkthrough: false,
             show_stepper: false,
