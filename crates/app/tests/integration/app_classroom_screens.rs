@@ -104,3 +104,29 @@ fn trade_and_precision_windows() {
     }
     results.unwrap();
 }
+
+/// The Light tree panel on `grid`, one pick stepped to its second node: the README's
+/// "Why the spatial scheme wins".
+#[test]
+fn light_tree_pick_on_grid() {
+    let mut results = SnapshotResults::new();
+    for (size, name) in SCREENS {
+        let mut app = LightpickApp::for_tests_on("grid");
+        app.state.settings.dark = false;
+        app.layout.maximized = Some(lightpick::app::PanelKind::LightTree);
+        app.state.light_tree.select_pixel([72, 194]);
+        app.state.light_tree.stage = 1;
+        let mut harness = screen(app, size, 2);
+        assert!(
+            harness
+                .state()
+                .state
+                .light_tree
+                .pixel
+                .is_some_and(|p| p == [72, 194])
+        );
+        harness.snapshot_options(format!("light-tree-grid-{name}"), &screenshots());
+        results.extend_harness(&mut harness);
+    }
+    results.unwrap();
+}

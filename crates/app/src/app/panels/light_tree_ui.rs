@@ -337,32 +337,34 @@ fn node_stage_ui(
          representative light's power over its distance, mixed with a share of its power).",
         step.depth
     ));
-    for (lane, (group, color)) in step.lanes.iter().zip(LANE_COLORS).enumerate() {
-        ui.horizontal(|ui| {
-            let color = colors::to_color32(color);
-            let name = format!("group {}", ['A', 'B', 'C', 'D'][lane]);
-            let chosen = lane == step.lane;
-            let name = if chosen {
-                RichText::new(format!("{name} ← picked")).strong()
-            } else {
-                RichText::new(name)
-            };
-            ui.colored_label(color, name);
-            if let Some(reason) = group.culled {
-                ui.colored_label(
-                    colors::muted(dark),
-                    culled_words(reason, group.light_count()),
-                );
-            } else {
-                bar_ui(ui, group.probability, color);
-                ui.label(format!(
-                    "P = {} · {} lights",
-                    three_significant(group.probability),
-                    group.light_count()
-                ));
+    egui::Grid::new("lightpick_node_groups")
+        .num_columns(3)
+        .show(ui, |ui| {
+            for (lane, (group, color)) in step.lanes.iter().zip(LANE_COLORS).enumerate() {
+                let color = colors::to_color32(color);
+                let name = format!("group {}", ['A', 'B', 'C', 'D'][lane]);
+                let name = if lane == step.lane {
+                    RichText::new(format!("{name} ← picked")).strong()
+                } else {
+                    RichText::new(name)
+                };
+                ui.colored_label(color, name);
+                if let Some(reason) = group.culled {
+                    ui.colored_label(
+                        colors::muted(dark),
+                        culled_words(reason, group.light_count()),
+                    );
+                } else {
+                    bar_ui(ui, group.probability, color);
+                    ui.label(format!(
+                        "P = {} · {} lights",
+                        three_significant(group.probability),
+                        group.light_count()
+                    ));
+                }
+                ui.end_row();
             }
         });
-    }
     let u = f64::from(step.random24) / 16_777_216.0;
     let before = if stage == 0 {
         1.0

@@ -54,7 +54,10 @@ pub fn shortcut_rows(presets: &[&str]) -> Vec<(String, String)> {
             "zoom the whole window in / out / back",
         ),
         ("Escape", "restore a maximized panel"),
-        ("Page Down / Page Up", "next / previous walkthrough step"),
+        (
+            "Page Down / Page Up",
+            "next / previous step of the walkthrough (or of the light tree's pick)",
+        ),
     ]
     .iter()
     .map(|(k, v)| ((*k).to_owned(), (*v).to_owned()))
