@@ -130,3 +130,17 @@ fn light_tree_pick_on_grid() {
     }
     results.unwrap();
 }
+
+/// The Light tree panel on `stage` (spots): a node's chosen group with its map of what its
+/// spots give the floor, the lights coloured by their spatial pick probability.
+#[test]
+fn light_tree_spot_map_on_stage() {
+    let mut app = LightpickApp::for_tests_on("stage");
+    app.state.settings.dark = false;
+    app.layout.maximized = Some(lightpick::app::PanelKind::LightTree);
+    app.state.light_tree.select_pixel([60, 70]);
+    app.state.light_tree.stage = 1;
+    app.state.light_tree.coloring = lightpick::app::state::light_tree::TreeColoring::Spatial;
+    let mut harness = screen(app, [1024.0, 768.0], 2);
+    harness.snapshot_options("light-tree-stage-1024x768", &screenshots());
+}

@@ -18,7 +18,9 @@
 //! * Spot footprints ([`crate::scene::Emission::footprint`]): faint boxes, up to
 //!   [`FOOTPRINT_LIMIT`] lights.
 //! * A recorded pick: each chosen lane's box outlined strongly, the shading point as a
-//!   cross, the picked light circled.
+//!   cross, the picked light circled; shown up to a stage ([`tree_view_plane`]), a node's
+//!   four lanes in [`LANE_COLORS`] and, for spots and ranges, the chosen lane's map of what
+//!   its lights give the plane.
 
 use std::ops::Range;
 
@@ -32,7 +34,8 @@ use super::text::{self, HAlign, TextStyle, VAlign};
 use super::{DrawError, Style};
 use crate::lesson::tree_pick::{TreePick, plane_box};
 use crate::scene::Scene;
-use crate::spatial::{Child, ChildRef, LightTree, SpatialSampler, TREE_WIDTH};
+use crate::spatial::grid::GRID_SIDE;
+use crate::spatial::{Child, ChildRef, LightTree, MappedLanes, SpatialSampler, TREE_WIDTH};
 
 /// The share of the region's pixels the lights' dots cover together (before the radius cap).
 pub const DOT_AREA_SHARE: f64 = 0.03;
@@ -42,6 +45,10 @@ pub const MAX_DOT_RADIUS: f64 = 9.0;
 
 /// The decades of probability the colouring spans (below `max q · 10^-4`: the darkest).
 pub const PROBABILITY_DECADES: f64 = 4.0;
+
+/// The octaves of a lane's map drawn ([`tree_view_plane`] at a node of spots): cells below
+/// `2^-MAP_OCTAVES` of the map's largest value are the faintest.
+pub const MAP_OCTAVES: f64 = 8.0;
 
 /// Spot footprints are drawn for at most this many lights.
 pub const FOOTPRINT_LIMIT: usize = 2000;
@@ -396,6 +403,11 @@ fn draw_pick(
         }
     }
     if let Some(step) = pick.steps.get(stage) {
+        if let SpatialSampler::Tree(tree) = view.sampler
+            && let Some(mapped) = tree.mapped(step.node)
+        {
+            draw_lane_map(pixmap, mapped, step.lane, map, LANE_COLORS[step.lane]);
+        }
         for (lane, color) in step.lanes.iter().zip(LANE_COLORS) {
             if let Some(b) = lane.box_on_plane {
                 let width = if lane.culled.is_some() { 1.0 } else { 3.0 };
@@ -429,6 +441,36 @@ fn draw_pick(
         let (cx, cy) = map.point(at);
         ring(pixmap, (cx, cy), 12.0, ink);
         canvas::line(pixmap, (x, y), (cx, cy), 1.0, ink.with_alpha(160));
+    }
+}
+
+/// The map of what lane `lane`'s lights give the plane ([`MappedLanes`], a 16 × 16 raster
+/// over their footprints, for spots and ranges), its cells filled in `color` with an opacity
+/// that follows the cell's logarithmic code (brighter where the lane weighs more).
+fn draw_lane_map(
+    pixmap: &mut Pixmap,
+    mapped: &MappedLanes,
+    lane: usize,
+    map: &PlaneToPixels,
+    color: Rgba8,
+) {
+    let [lo_x, lo_y, per_x, per_y, scale] = mapped.map.map(|field| field[lane]);
+    if !(per_x > 0.0 && per_y > 0.0 && scale > 0.0 && per_x.is_finite() && per_y.is_finite()) {
+        return;
+    }
+    let (dx, dy) = (1.0 / per_x, 1.0 / per_y);
+    for (cell, &code) in mapped.codes[lane].iter().enumerate() {
+        if code == 0 {
+            continue;
+        }
+        let (i, j) = ((cell % GRID_SIDE) as f64, (cell / GRID_SIDE) as f64);
+        let lo = DVec2::new(lo_x + i * dx, lo_y + j * dy);
+        let (x, y, w, h) = map.rect([lo, lo + DVec2::new(dx, dy)], 0.0);
+        // The top MAP_OCTAVES octaves of the map, from faint to strong.
+        let top = 255.0 - 8.0 * MAP_OCTAVES;
+        let strength = ((f64::from(code) - top) / (255.0 - top)).clamp(0.0, 1.0);
+        let alpha = 12.0 + 150.0 * strength;
+        canvas::fill_rect(pixmap, x, y, w, h, color.with_alpha(alpha as u8));
     }
 }
 

@@ -521,19 +521,32 @@ fn guide_ui(ui: &mut Ui, state: &mut AppState) {
         }
     });
     let variances = state.current_scene_sentence().map(|s| s.variances);
-    let text = guide_text(step, variances, state.built.len());
+    let powers = state.built.scene.powers.as_slice();
+    let equal = powers.windows(2).all(|w| w[0] == w[1]);
+    let text = guide_text(step, variances, state.built.len(), equal);
     ui.label(text);
 }
 
 /// The text of guide step `step`, with the scene's mean variances of one sample (uniform,
-/// power, spatial) when known.
-pub fn guide_text(step: usize, variances: Option<[f64; 3]>, lights: usize) -> String {
+/// power, spatial) when known, its number of lights and whether their powers are all equal.
+pub fn guide_text(
+    step: usize,
+    variances: Option<[f64; 3]>,
+    lights: usize,
+    equal_powers: bool,
+) -> String {
     match step {
+        0 if equal_powers => format!(
+            "Power picking chooses a light by its power alone. Here all {lights} lights have \
+             the same power (as on the grid preset), so it picks as uniformly as uniform \
+             picking does — yet at any pixel only the few lights nearby matter (G falls as \
+             1/r³ for low lights)."
+        ),
         0 => format!(
-            "Power picking chooses a light by its power alone. On the grid preset every light \
-             has the same power, so it picks as uniformly as uniform picking does — yet at any \
-             pixel only the few lights nearby matter (G falls as 1/r³ for low lights). This \
-             scene has {lights} lights."
+            "Power picking chooses a light by its power alone, the same everywhere. But what \
+             one of these {lights} lights gives a pixel depends on where it is (G falls as \
+             1/r³ for low lights) and, for a spot, on where it points: the brightest light \
+             may give this pixel nothing."
         ),
         1 => "The tree groups nearby lights. At each node a group's weight is its \
               representative light (at the group's power-weighted centre, with the group's \
