@@ -54,6 +54,9 @@ impl LightpickApp {
         self.open_dropped(ctx);
         self.shortcuts(ctx);
         self.apply_theme(ctx);
+        let (device, adapter) = (self.state.settings.device, self.adapter());
+        self.renderer_choice
+            .skip_trial_on_large_scene(device, adapter, self.state.built.len());
         self.advance(ctx);
         let published = self.published();
         self.observe_renderer_choice(published.as_deref());

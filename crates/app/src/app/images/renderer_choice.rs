@@ -9,10 +9,21 @@
 //! counting the samples per pixel each image gains per second (the mean of the three
 //! images), and keeps the faster one for the rest of the session. `Gpu` and `Cpu` choose by
 //! hand.
+//!
+//! Except on a large scene: above [`TRIAL_MAX_LIGHTS`] lights `Auto` on a software adapter
+//! takes the CPU without a trial. The GPU runs would upload about 47 bytes per light, and a
+//! software device (lavapipe) gives a dropped buffer's memory back only with the device, so
+//! a trial would leave that memory resident for the rest of the session whichever renderer
+//! won — and on this kind of adapter the GPU runs share the CPU's cores anyway (on the
+//! development machine the trial measured the CPU 4.4× faster even on three lights).
 
 use std::time::Instant;
 
 use crate::app::state::settings::Device;
+
+/// The most lights a scene may have for `Auto` to try the software GPU on it (4 MB of GPU
+/// runs at about 47 bytes per light).
+pub const TRIAL_MAX_LIGHTS: usize = 1 << 17;
 
 /// Seconds of running images each candidate is measured for.
 pub const TRIAL_SECONDS: f64 = 1.5;
@@ -43,6 +54,8 @@ pub struct RendererChoice {
     gpu_rate: Option<f64>,
     cpu_rate: Option<f64>,
     decided: Option<Renderer>,
+    /// The light count that made `Auto` take the CPU without a trial, when it did.
+    skipped_for: Option<usize>,
 }
 
 /// What the adapter is, as far as the choice cares.
@@ -61,6 +74,16 @@ impl RendererChoice {
     /// until it decides, both keep their images (the app drops the idle one's afterwards).
     pub fn is_measuring(&self, device: Device, adapter: Adapter) -> bool {
         device == Device::Auto && adapter == Adapter::Software && self.decided.is_none()
+    }
+
+    /// Takes the CPU without a trial in `Auto` on a software adapter while undecided, when
+    /// the scene has more than [`TRIAL_MAX_LIGHTS`] lights (see the module docs).
+    pub fn skip_trial_on_large_scene(&mut self, device: Device, adapter: Adapter, lights: usize) {
+        if self.is_measuring(device, adapter) && lights > TRIAL_MAX_LIGHTS {
+            self.decided = Some(Renderer::Cpu);
+            self.trial = None;
+            self.skipped_for = Some(lights);
+        }
     }
 
     /// The renderer for this frame under `device` on `adapter`.
@@ -148,6 +171,10 @@ impl RendererChoice {
             (_, Adapter::None) => "no wgpu compute device".to_owned(),
             (Device::Gpu | Device::Cpu, _) => "chosen by hand".to_owned(),
             (Device::Auto, Adapter::Hardware) => "auto: a hardware GPU".to_owned(),
+            (Device::Auto, Adapter::Software) if self.skipped_for.is_some() => format!(
+                "auto: no trial of the software GPU on {} lights, whose memory it would keep",
+                self.skipped_for.unwrap_or(0)
+            ),
             (Device::Auto, Adapter::Software) => match (self.decided, self.gpu_rate) {
                 (Some(_), Some(gpu)) => format!(
                     "auto, measured: {} spp/s per image on the CPU, {} on the software GPU",
@@ -191,6 +218,30 @@ mod tests {
 
     fn at(start: Instant, s: f64) -> Instant {
         start + Duration::from_secs_f64(s)
+    }
+
+    #[test]
+    fn a_large_scene_takes_the_cpu_without_a_trial_on_a_software_adapter() {
+        let mut p = RendererChoice::default();
+        p.skip_trial_on_large_scene(Device::Auto, Adapter::Software, TRIAL_MAX_LIGHTS);
+        assert!(
+            p.is_measuring(Device::Auto, Adapter::Software),
+            "small enough to try"
+        );
+        assert_eq!(p.renderer(Device::Auto, Adapter::Software), Renderer::Gpu);
+        p.skip_trial_on_large_scene(Device::Auto, Adapter::Software, TRIAL_MAX_LIGHTS + 1);
+        assert!(!p.is_measuring(Device::Auto, Adapter::Software));
+        assert_eq!(p.renderer(Device::Auto, Adapter::Software), Renderer::Cpu);
+        assert!(
+            p.describe(Device::Auto, Adapter::Software, "llvmpipe")
+                .contains("no trial of the software GPU on 131073 lights")
+        );
+        // By hand, and on hardware, nothing changes.
+        let mut q = RendererChoice::default();
+        q.skip_trial_on_large_scene(Device::Gpu, Adapter::Software, 1 << 20);
+        assert_eq!(q.renderer(Device::Gpu, Adapter::Software), Renderer::Gpu);
+        q.skip_trial_on_large_scene(Device::Auto, Adapter::Hardware, 1 << 20);
+        assert_eq!(q.renderer(Device::Auto, Adapter::Hardware), Renderer::Gpu);
     }
 
     #[test]
