@@ -523,17 +523,19 @@ fn guide_ui(ui: &mut Ui, state: &mut AppState) {
     let variances = state.current_scene_sentence().map(|s| s.variances);
     let powers = state.built.scene.powers.as_slice();
     let equal = powers.windows(2).all(|w| w[0] == w[1]);
-    let text = guide_text(step, variances, state.built.len(), equal);
+    let spots = state.built.scene.emission.is_some();
+    let text = guide_text(step, variances, state.built.len(), (equal, spots));
     ui.label(text);
 }
 
 /// The text of guide step `step`, with the scene's mean variances of one sample (uniform,
-/// power, spatial) when known, its number of lights and whether their powers are all equal.
+/// power, spatial) when known, its number of lights, whether their powers are all equal and
+/// whether some have a spot cone or a range.
 pub fn guide_text(
     step: usize,
     variances: Option<[f64; 3]>,
     lights: usize,
-    equal_powers: bool,
+    (equal_powers, spots): (bool, bool),
 ) -> String {
     match step {
         0 if equal_powers => format!(
@@ -542,11 +544,17 @@ pub fn guide_text(
              picking does — yet at any pixel only the few lights nearby matter (G falls as \
              1/r³ for low lights)."
         ),
-        0 => format!(
+        0 if spots => format!(
             "Power picking chooses a light by its power alone, the same everywhere. But what \
              one of these {lights} lights gives a pixel depends on where it is (G falls as \
              1/r³ for low lights) and, for a spot, on where it points: the brightest light \
              may give this pixel nothing."
+        ),
+        0 => format!(
+            "Power picking chooses a light by its power alone, the same everywhere. But what \
+             one of these {lights} lights gives a pixel depends on where it is: G falls as \
+             1/r³ for low lights, so a bright light far away may give this pixel less than a \
+             dim one overhead."
         ),
         1 => "The tree groups nearby lights. At each node a group's weight is its \
               representative light (at the group's power-weighted centre, with the group's \
