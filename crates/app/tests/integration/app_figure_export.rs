@@ -2,13 +2,12 @@
 //! convergence, Trade plot, light tree) written as a PNG at the size chosen in the menu; a
 //! figure without data yet says what to do first and writes nothing.
 
-use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
 use lightpick::app::LightpickApp;
 use lightpick::app::state::figure::Figure;
 
-use crate::common::{click, scratch, step_paused, window};
+use crate::common::{click, scratch, step_paused, submit_path, window};
 
 /// Opens File → Export figure → `figure`, types `path` and confirms.
 fn export(harness: &mut Harness<'static, LightpickApp>, figure: Figure, path: &std::path::Path) {
@@ -18,11 +17,7 @@ fn export(harness: &mut Harness<'static, LightpickApp>, figure: Figure, path: &s
         .get_by_label(&format!("{}…", figure.title()))
         .click();
     harness.run();
-    harness
-        .get_by_role_and_label(Role::TextInput, "Path")
-        .set_text_value_accesskit(path.to_str().expect("utf-8 path"));
-    harness.run();
-    click(harness, "OK");
+    submit_path(harness, path);
 }
 
 #[test]

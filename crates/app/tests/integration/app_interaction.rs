@@ -1,20 +1,11 @@
 //! The app driven through its accessibility tree (`egui_kittest`), as a user would: typing
 //! powers, bad input, a malformed scene file, a single draw, keyboard shortcuts.
 
-use crate::common::{app_harness as harness, click, scratch, shows};
+use crate::common::{app_harness as harness, click, scratch, shows, submit_path};
 use egui::accesskit::Role;
-use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable as _;
-use lightpick::app::LightpickApp;
 
 /// Types `path` into the open file dialog's Path field and presses OK.
-fn submit_path(harness: &mut Harness<'_, LightpickApp>, path: &std::path::Path) {
-    harness
-        .get_by_role_and_label(Role::TextInput, "Path")
-        .set_text_value_accesskit(path.to_str().expect("utf-8 path"));
-    harness.run();
-    click(harness, "OK");
-}
 
 #[test]
 fn seed_table_is_shown_with_exact_fractions() {

@@ -73,6 +73,15 @@ pub fn click(harness: &mut Harness<'_, LightpickApp>, label: &str) {
     harness.run();
 }
 
+/// Types `path` into the open file dialog's Path field and confirms with OK.
+pub fn submit_path(harness: &mut Harness<'_, LightpickApp>, path: &std::path::Path) {
+    harness
+        .get_by_role_and_label(egui::accesskit::Role::TextInput, "Path")
+        .set_text_value_accesskit(path.to_str().expect("utf-8 path"));
+    harness.run();
+    click(harness, "OK");
+}
+
 /// Snapshots compare against (and, with `UPDATE_SNAPSHOTS=1`, write) the goldens in
 /// `crates/app/tests/snapshots`.
 pub fn snapshot_options() -> SnapshotOptions {

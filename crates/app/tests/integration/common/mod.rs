@@ -14,8 +14,8 @@ use std::time::Duration;
 
 #[allow(unused_imports)] // Re-exports: each test binary uses a subset.
 pub use app::{
-    app_harness, click, panel, shows, shows_containing, snapshot_options, step_paused, wgpu_eframe,
-    wgpu_panel, wgpu_window, window,
+    app_harness, click, panel, shows, shows_containing, snapshot_options, step_paused, submit_path,
+    wgpu_eframe, wgpu_panel, wgpu_window, window,
 };
 #[allow(unused_imports)] // Re-exports: each test binary uses a subset.
 pub use cli::{
