@@ -120,6 +120,23 @@ fn no_text_is_smaller_than_the_body_text_and_the_zoom_scales_it() {
             small.is_empty(),
             "smaller than body text ({body}) at {size:?}: {small:?}"
         );
+        // The light tree's tab, a pick stepped to its first node and to its leaf.
+        harness.state_mut().layout.select(PanelKind::LightTree);
+        harness.state_mut().state.light_tree.select_pixel([10, 12]);
+        for stage in [0, 1] {
+            harness.state_mut().state.light_tree.stage = stage;
+            harness.run();
+            let texts = painted_texts(&harness);
+            assert!(
+                texts.iter().any(|(t, _)| t.contains("One spatial pick")),
+                "the light tree is shown"
+            );
+            let small: Vec<&(String, f32)> = texts.iter().filter(|(_, s)| *s < body).collect();
+            assert!(
+                small.is_empty(),
+                "light tree: smaller than body text ({body}) at {size:?}: {small:?}"
+            );
+        }
     }
     // Ctrl + zooms everything: the points stay, each point gets more pixels.
     let mut harness = window(LightpickApp::for_tests(), [1024.0, 768.0]);
