@@ -28,6 +28,7 @@ mod cli_bench_precision;
 mod cli_device;
 mod cli_e2e;
 mod cli_gpu_scale;
+mod cli_plot_tree_variance;
 mod cli_render_plot;
 mod cli_scene;
 mod cli_spatial;
