@@ -23,6 +23,7 @@ mod app_snapshots;
 mod app_spatial;
 mod app_trade_precision;
 mod app_undo;
+mod app_variance_maps;
 mod cli_animation;
 mod cli_bench_precision;
 mod cli_device;
