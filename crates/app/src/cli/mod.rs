@@ -7,6 +7,7 @@ mod device;
 mod estimate;
 mod input;
 mod plot;
+mod plot_output;
 mod plot_tree;
 mod precision;
 mod render;

@@ -3,21 +3,19 @@
 //! image sheet, the convergence animation (GIF, [`super::animation`]), the light tree from
 //! above ([`super::plot_tree`]) and the schemes' per-pixel variance maps.
 
-use std::path::PathBuf;
-
-use anyhow::{Context as _, bail};
+use anyhow::bail;
 use clap::{Args, Subcommand, ValueEnum};
 use lightpick_core::draw::{
     self, ConvergenceAxis, ConvergencePoint, ConvergenceSeries, HistogramData, SchemeCounts,
-    SheetImages, Style, Theme,
+    SheetImages,
 };
 use lightpick_core::render::{CpuRenderer, Reference, cpu_convergence};
-use lightpick_core::scene::Scene;
 use lightpick_core::stats::variance_map::VarianceMap;
 use lightpick_core::{AliasTable, PointFreeSampler as _, Sampler, Scheme};
 use serde_json::json;
 
 use super::input::{PositionedArgs, PowersArgs};
+use super::plot_output::{OutputArgs, scene_or_seed};
 use super::sample::{check_count, count_cpu};
 
 /// Arguments of `lightpick plot`.
@@ -141,44 +139,6 @@ pub enum Axis {
     Spp,
     /// Rendering seconds.
     Seconds,
-}
-
-/// Where and how the picture is written.
-#[derive(Debug, Args)]
-pub struct OutputArgs {
-    /// The PNG to write.
-    #[arg(long, value_name = "FILE.png")]
-    pub out: PathBuf,
-    /// Picture width in pixels.
-    #[arg(long, default_value_t = 800)]
-    pub width: u32,
-    /// Picture height in pixels.
-    #[arg(long, default_value_t = 500)]
-    pub height: u32,
-    /// Light text on a dark background.
-    #[arg(long)]
-    pub dark: bool,
-}
-
-impl OutputArgs {
-    /// The drawing's size and theme; refuses a size outside 64 to 8192.
-    pub(super) fn style(&self) -> anyhow::Result<Style> {
-        for (flag, v) in [("--width", self.width), ("--height", self.height)] {
-            if !(64..=8192).contains(&v) {
-                bail!("{flag} must be between 64 and 8192 (got {v})");
-            }
-        }
-        Ok(Style {
-            width: self.width,
-            height: self.height,
-            theme: if self.dark { Theme::Dark } else { Theme::Light },
-        })
-    }
-
-    /// Writes the picture to `--out`.
-    pub(super) fn write(&self, pixmap: &draw::Pixmap) -> anyhow::Result<()> {
-        draw::write_png(pixmap, &self.out).with_context(|| format!("--out {}", self.out.display()))
-    }
 }
 
 /// Draws the requested picture.
@@ -424,12 +384,4 @@ fn check_schemes(schemes: &[Scheme]) -> anyhow::Result<()> {
         }
     }
     Ok(())
-}
-
-/// The scene named by `args`, or the worked example when none is.
-pub(super) fn scene_or_seed(args: &PositionedArgs, command: &str) -> anyhow::Result<Scene> {
-    match args.load(command)? {
-        Some(scene) => Ok(scene),
-        None => Ok(Scene::preset("worked-example")?),
-    }
 }

@@ -17,7 +17,7 @@ use lightpick_core::spatial::SpatialSampler;
 use serde_json::json;
 
 use super::input::PositionedArgs;
-use super::plot::{OutputArgs, scene_or_seed};
+use super::plot_output::{OutputArgs, scene_or_seed};
 use crate::numbers;
 
 /// The depth whose groups are outlined when `--depth` is not given (less on a shallower
