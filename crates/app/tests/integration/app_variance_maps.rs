@@ -1,13 +1,15 @@
 //! The images panel's variance maps: turned on with their checkbox on the worked example,
 //! they show the core's `VarianceMap` means (exact there): bit for bit those of the app's
 //! own samplers, and within the table's quantization of a map built apart from them; a new
-//! scene generation recomputes them.
+//! scene generation recomputes them. On `grid` (1024 lights × 256² pixels, beyond the exact
+//! budget) they are estimated on a coarser grid and say so; at a 1024×768 projector the
+//! images panel shows them instead of the error maps (golden in `tests/snapshots/`).
 
 use lightpick::app::{LightpickApp, PanelKind};
 use lightpick_core::Scheme;
 use lightpick_core::stats::variance_map::VarianceMap;
 
-use crate::common::{click, panel, shows_containing, step_paused};
+use crate::common::{click, panel, shows_containing, snapshot_options, step_paused, wgpu_window};
 
 const SCHEMES: [(Scheme, &str); 3] = [
     (Scheme::Uniform, "uniform"),
@@ -106,4 +108,35 @@ fn variance_maps_show_the_cores_means_and_follow_a_new_generation() {
     // Off again: the line goes.
     click(&mut harness, "variance maps");
     assert!(!shows_containing(&harness, "Mean variance"));
+}
+
+#[test]
+fn estimated_maps_instead_of_the_error_maps_at_a_projector() {
+    let mut app = LightpickApp::for_tests_on("grid");
+    app.state.settings.dark = false;
+    app.state.settings.show_error = false;
+    app.state.settings.show_variance = true;
+    app.layout.maximized = Some(PanelKind::Images);
+    let mut harness = wgpu_window(app, [1024.0, 768.0]);
+    harness.run();
+    step_paused(&mut harness, 4);
+    let maps = harness
+        .state()
+        .state
+        .current_variance_maps()
+        .expect("computed inline in tests")
+        .clone();
+    assert!(!maps.exact());
+    assert_eq!(maps.size(), [128, 128]);
+    assert!(shows_containing(
+        &harness,
+        "estimated from 8 samples per pixel"
+    ));
+    let means = maps.means();
+    assert!(
+        means[2] < means[1],
+        "spatial below power on the grid: {means:?}"
+    );
+    assert_means_shown(&harness, means);
+    harness.snapshot_options("app_variance_grid_1024x768", &snapshot_options());
 }

@@ -301,6 +301,8 @@ struct ImageRows {
     images: f32,
     /// Whether the variance maps' line is under the images.
     variance_note: bool,
+    /// Characters of the scene's sentence (0 while it is computed).
+    sentence_chars: usize,
 }
 
 impl ImageRows {
@@ -309,17 +311,28 @@ impl ImageRows {
         Self {
             images: 1.0 + f32::from(u8::from(error)) + f32::from(u8::from(variance)),
             variance_note: variance,
+            sentence_chars: state
+                .current_scene_sentence()
+                .map_or(0, |s| s.text.chars().count()),
         }
     }
 
-    /// Body-text rows under the images besides each image's own (the variance line).
+    /// Body-text rows under the images besides each image's own: with the variance maps,
+    /// their line and the scene's sentence below it (which the images then leave room for).
     fn note_rows(self, ui: &Ui, width: f32) -> f32 {
         if self.variance_note {
-            variance_ui::note_rows(ui, width)
+            variance_ui::note_rows(ui, width) + sentence_rows(ui, width, self.sentence_chars)
         } else {
             0.0
         }
     }
+}
+
+/// The rows the scene's sentence of `chars` characters takes in body text at `width`
+/// (about half an em a character); one row while it is being computed.
+fn sentence_rows(ui: &Ui, width: f32, chars: usize) -> f32 {
+    let per_row = (width / (0.52 * crate::app::text_size::body_size(ui))).max(20.0);
+    (chars as f32 / per_row).ceil().max(1.0)
 }
 
 /// The on-screen size of each image: `columns` side by side in the panel's width, and the
@@ -370,16 +383,17 @@ pub fn wanted_height(ui: &Ui, width: f32, state: &AppState, textures: &ImageText
     }
     let rows = ImageRows::of(state);
     let images = rows.images;
-    // The scene's sentence in body text, wrapped to the width (about half an em a
-    // character); one row while it is being computed.
-    let per_row = (width / (0.52 * crate::app::text_size::body_size(ui))).max(20.0);
-    let note_rows = state
-        .current_scene_sentence()
-        .map_or(1.0, |s| (s.text.chars().count() as f32 / per_row).ceil());
+    // The scene's sentence in body text, wrapped to the width.
+    let note_rows = sentence_rows(ui, width, rows.sentence_chars);
+    let variance_rows = if rows.variance_note {
+        variance_ui::note_rows(ui, width)
+    } else {
+        0.0
+    };
     images * (side + ui.spacing().item_spacing.y)
         + text_rows(
             ui,
-            TEXT_ROWS_PER_IMAGE + HEADER_ROWS + note_rows + rows.note_rows(ui, width),
+            TEXT_ROWS_PER_IMAGE + HEADER_ROWS + note_rows + variance_rows,
         )
 }
 
