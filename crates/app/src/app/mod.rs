@@ -87,6 +87,7 @@ impl LightpickApp {
         state.trade.inline = !threaded;
         state.precision.inline = !threaded;
         state.scene_sentence.inline = !threaded;
+        state.variance_maps.inline = !threaded;
         Self {
             state,
             layout: layout::Layout::default(),

@@ -7,6 +7,8 @@ mod device;
 mod estimate;
 mod input;
 mod plot;
+mod plot_output;
+mod plot_tree;
 mod precision;
 mod render;
 mod sample;
@@ -49,8 +51,8 @@ pub enum Command {
     Sample(sample::SampleArgs),
     /// Estimate a sum of light contributions by sampling one light at a time.
     Estimate(estimate::EstimateArgs),
-    /// Draw the app's pictures headless: table, histogram, convergence, sheet (PNG), and the
-    /// convergence animation (GIF).
+    /// Draw the app's pictures headless: table, histogram, convergence, sheet, the light tree
+    /// from above, the variance maps (PNG), and the convergence animation (GIF).
     Plot(plot::PlotArgs),
     /// Render a scene progressively; report its error against the exact reference.
     Render(render::RenderArgs),

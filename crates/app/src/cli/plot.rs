@@ -1,20 +1,21 @@
 //! `lightpick plot`: the app's pictures drawn headless (tiny-skia → PNG), for handouts and
 //! snapshot tests: the alias-table diagram, the pmf histogram, the convergence plot, the
-//! image sheet, and the convergence animation (GIF, [`super::animation`]).
+//! image sheet, the convergence animation (GIF, [`super::animation`]), the light tree from
+//! above ([`super::plot_tree`]) and the schemes' per-pixel variance maps.
 
-use std::path::PathBuf;
-
-use anyhow::{Context as _, bail};
+use anyhow::bail;
 use clap::{Args, Subcommand, ValueEnum};
 use lightpick_core::draw::{
     self, ConvergenceAxis, ConvergencePoint, ConvergenceSeries, HistogramData, SchemeCounts,
-    SheetImages, Style, Theme,
+    SheetImages,
 };
 use lightpick_core::render::{CpuRenderer, Reference, cpu_convergence};
-use lightpick_core::scene::Scene;
+use lightpick_core::stats::variance_map::VarianceMap;
 use lightpick_core::{AliasTable, PointFreeSampler as _, Sampler, Scheme};
+use serde_json::json;
 
 use super::input::{PositionedArgs, PowersArgs};
+use super::plot_output::{OutputArgs, scene_or_seed};
 use super::sample::{check_count, count_cpu};
 
 /// Arguments of `lightpick plot`.
@@ -107,6 +108,28 @@ pub enum PlotKind {
     /// Frames are spaced geometrically from 1 spp to --max-spp; the same arguments write the
     /// same bytes.
     Animation(super::animation::AnimationArgs),
+    /// The light tree seen from above: lights by power, the groups at a depth, and one
+    /// spatial pick recorded at a pixel (its path drawn, its steps printed).
+    Tree(super::plot_tree::TreeArgs),
+    /// Uniform, power and spatial per-pixel variance of one sample side by side, on one
+    /// log colour scale: exact where lights × pixels fit the budget, else estimated.
+    Variance {
+        /// The scene (default: the worked example).
+        #[command(flatten)]
+        scene: PositionedArgs,
+        /// Samples per pixel of an estimated map (used only beyond the exact budget).
+        #[arg(long, default_value_t = 16)]
+        spp: u32,
+        /// Random seed of an estimated map.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Print the means and the method as one JSON object.
+        #[arg(long)]
+        json: bool,
+        /// The output picture.
+        #[command(flatten)]
+        output: OutputArgs,
+    },
 }
 
 /// The convergence plot's horizontal axis.
@@ -116,42 +139,6 @@ pub enum Axis {
     Spp,
     /// Rendering seconds.
     Seconds,
-}
-
-/// Where and how the picture is written.
-#[derive(Debug, Args)]
-pub struct OutputArgs {
-    /// The PNG to write.
-    #[arg(long, value_name = "FILE.png")]
-    pub out: PathBuf,
-    /// Picture width in pixels.
-    #[arg(long, default_value_t = 800)]
-    pub width: u32,
-    /// Picture height in pixels.
-    #[arg(long, default_value_t = 500)]
-    pub height: u32,
-    /// Light text on a dark background.
-    #[arg(long)]
-    pub dark: bool,
-}
-
-impl OutputArgs {
-    fn style(&self) -> anyhow::Result<Style> {
-        for (flag, v) in [("--width", self.width), ("--height", self.height)] {
-            if !(64..=8192).contains(&v) {
-                bail!("{flag} must be between 64 and 8192 (got {v})");
-            }
-        }
-        Ok(Style {
-            width: self.width,
-            height: self.height,
-            theme: if self.dark { Theme::Dark } else { Theme::Light },
-        })
-    }
-
-    fn write(&self, pixmap: &draw::Pixmap) -> anyhow::Result<()> {
-        draw::write_png(pixmap, &self.out).with_context(|| format!("--out {}", self.out.display()))
-    }
 }
 
 /// Draws the requested picture.
@@ -180,6 +167,14 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
             output,
         } => sheet(scene, *spp, *seed, *image_width, output),
         PlotKind::Animation(args) => super::animation::run(args),
+        PlotKind::Tree(args) => super::plot_tree::run(args),
+        PlotKind::Variance {
+            scene,
+            spp,
+            seed,
+            json,
+            output,
+        } => variance(scene, *spp, *seed, *json, output),
     }
 }
 
@@ -305,6 +300,72 @@ fn sheet(
     output.write(&draw::image_sheet(&images, &style)?)
 }
 
+/// The schemes `plot variance` compares, left to right.
+pub const VARIANCE_SCHEMES: [Scheme; 3] = [Scheme::Uniform, Scheme::Alias, Scheme::Spatial];
+
+/// `plot variance`: each scheme's [`VarianceMap`] on one shared log scale.
+fn variance(
+    scene: &PositionedArgs,
+    spp: u32,
+    seed: u64,
+    print_json: bool,
+    output: &OutputArgs,
+) -> anyhow::Result<()> {
+    let style = output.style()?;
+    check_spp(spp)?;
+    if spp < 2 {
+        bail!("--spp must be at least 2 to estimate a variance (got {spp})");
+    }
+    let scene = scene_or_seed(scene, "plot variance")?;
+    let maps = VARIANCE_SCHEMES.map(|scheme| VarianceMap::compute(&scene, scheme, spp, seed));
+    let panels: Vec<(Scheme, &[f64])> = VARIANCE_SCHEMES
+        .iter()
+        .zip(&maps)
+        .map(|(&s, m)| (s, m.values.as_slice()))
+        .collect();
+    let (exact, k) = (maps[0].exact, maps[0].samples_per_pixel);
+    let sheet = draw::VarianceSheet {
+        width: scene.plane.width as usize,
+        height: scene.plane.height as usize,
+        maps: &panels,
+        exact,
+        samples_per_pixel: k,
+        lights: scene.light_count(),
+    };
+    output.write(&draw::variance_sheet(&sheet, &style)?)?;
+    let method = draw::variance_method_line(exact, k);
+    let rows: Vec<_> = panels
+        .iter()
+        .map(|&(scheme, values)| {
+            let mean = draw::variance_mean(values);
+            (scheme, mean, draw::variance_caption(scheme, mean))
+        })
+        .collect();
+    if print_json {
+        let schemes: Vec<_> = rows
+            .iter()
+            .map(|(scheme, mean, caption)| {
+                json!({ "scheme": scheme.name(), "mean": mean, "caption": caption })
+            })
+            .collect();
+        super::print_json(&json!({
+            "width": scene.plane.width,
+            "height": scene.plane.height,
+            "lights": scene.light_count(),
+            "exact": exact,
+            "samples_per_pixel": k,
+            "method": method,
+            "schemes": schemes,
+        }))?;
+    } else {
+        for (_, _, caption) in &rows {
+            println!("{caption}");
+        }
+        println!("{method}; wrote {}", output.out.display());
+    }
+    Ok(())
+}
+
 fn check_spp(spp: u32) -> anyhow::Result<()> {
     if spp == 0 || spp > 1 << 16 {
         bail!("--spp must be between 1 and 65536 (got {spp})");
@@ -323,11 +384,4 @@ fn check_schemes(schemes: &[Scheme]) -> anyhow::Result<()> {
         }
     }
     Ok(())
-}
-
-fn scene_or_seed(args: &PositionedArgs, command: &str) -> anyhow::Result<Scene> {
-    match args.load(command)? {
-        Some(scene) => Ok(scene),
-        None => Ok(Scene::preset("worked-example")?),
-    }
 }

@@ -11,7 +11,8 @@
 //! * [`animation_frame`]: one frame of a convergence animation (schemes side by side,
 //!   captioned with spp and RMSE);
 //! * [`tree_view`]: the light tree from above (lights by power, the groups at a depth, a
-//!   recorded pick, lights coloured by a pick probability).
+//!   recorded pick, lights coloured by a pick probability);
+//! * [`variance_sheet`]: per-pixel variance maps of several schemes on one log scale.
 //!
 //! Colours come from [`palette`], text from [`text`] (a bundled `DejaVu Sans` subset).
 //! [`encode_png`] and [`write_png`] turn any of them into a PNG.
@@ -26,6 +27,7 @@ pub mod palette;
 mod table_diagram;
 pub mod text;
 mod tree_view;
+mod variance_maps;
 
 use std::path::{Path, PathBuf};
 
@@ -49,6 +51,10 @@ pub use tree_view::{
     DOT_AREA_SHARE, FOOTPRINT_LIMIT, LANE_COLORS, MAP_OCTAVES, MAX_DOT_RADIUS, PROBABILITY_DECADES,
     PlaneToPixels, TreeGroup, TreeView, pick_stages, tree_groups, tree_view, tree_view_caption,
     tree_view_plane,
+};
+pub use variance_maps::{
+    VARIANCE_DECADES, VarianceScale, VarianceSheet, variance_caption, variance_mean,
+    variance_method_line, variance_rgba, variance_scheme_name, variance_sheet,
 };
 
 /// Errors of the drawing functions.

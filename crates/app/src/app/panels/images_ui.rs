@@ -1,5 +1,8 @@
 //! The images panel: uniform, power and spatial progressive images side by side, the
-//! exact reference and the error maps, with spp, RMSE and frame time under each.
+//! exact reference, the error maps and the variance maps ([`variance_ui`]), with spp, RMSE
+//! and frame time under each.
+
+pub mod variance_ui;
 
 use egui::{ColorImage, TextureHandle, TextureOptions, Ui};
 use lightpick_core::Scheme;
@@ -123,17 +126,23 @@ pub fn images_ui(
     };
     let stale = published.generation != state.built.generation;
     let dims = [published.width, published.height];
+    let variance = if state.settings.show_variance {
+        variance_ui::variance_textures(ui, state)
+    } else {
+        None
+    };
+    let rows = ImageRows::of(state);
     let mut columns = columns(state, textures);
-    let mut size = image_size(ui, columns, state.settings.show_error, dims);
+    let mut size = image_size(ui, columns, rows, dims);
     // A narrow panel (a 1024×768 projector, or zoomed in): three readable images rather
     // than four thumbnails; the reference comes back when the panel is wide enough.
     let reference_hidden = columns == 4 && size.x < MIN_IMAGE_SIDE && {
-        let three = image_size(ui, 3, state.settings.show_error, dims);
+        let three = image_size(ui, 3, rows, dims);
         three.x > size.x
     };
     if reference_hidden {
         columns = 3;
-        size = image_size(ui, 3, state.settings.show_error, dims);
+        size = image_size(ui, 3, rows, dims);
     }
     let ids = textures.native.map_or_else(
         || {
@@ -188,9 +197,10 @@ pub fn images_ui(
         ),
     ];
     ui.horizontal_top(|ui| {
-        for ((title, scheme, image, error), id) in schemes.into_iter().zip(ids) {
+        for (k, ((title, scheme, image, error), id)) in schemes.into_iter().zip(ids).enumerate() {
             let error = error.as_ref().filter(|_| show_error);
-            let response = image_column(ui, title, scheme, image, id, error, size);
+            let maps = [error, variance.as_ref().map(|v| &v[k])];
+            let response = image_column(ui, title, scheme, image, id, maps, size);
             inspect(ui, response);
         }
         if columns == 4
@@ -217,6 +227,9 @@ pub fn images_ui(
             .color(colors::muted(dark)),
         );
     }
+    if state.settings.show_variance {
+        variance_ui::variance_note_ui(ui, state);
+    }
     notes_ui(ui, state, published, stale);
 }
 
@@ -231,6 +244,11 @@ fn options_ui(ui: &mut Ui, state: &mut AppState, published: Option<&Published>) 
             .on_hover_text("Show the exact reference image (sum over every light)");
         ui.checkbox(&mut state.settings.show_error, "error maps")
             .on_hover_text("Show |estimate − reference| per pixel under each image");
+        ui.checkbox(&mut state.settings.show_variance, "variance maps")
+            .on_hover_text(
+                "Show each scheme's variance of one sample per pixel under its image, on one \
+                 log scale for the three (exact for small scenes, estimated beyond)",
+            );
         if let Some(published) = published {
             let mode = match state.settings.budget {
                 BudgetMode::EqualSamples => "equal samples",
@@ -275,16 +293,59 @@ fn notes_ui(ui: &mut Ui, state: &AppState, published: &Published, stale: bool) {
 /// Text rows under each image: title, spp, RMSE, time (which may wrap to two rows).
 const TEXT_ROWS_PER_IMAGE: f32 = 5.0;
 
+/// What each column stacks: the image, its error map and its variance map when shown, and
+/// the text rows under the images.
+#[derive(Clone, Copy, Debug)]
+struct ImageRows {
+    /// Images in each column (1 to 3).
+    images: f32,
+    /// Whether the variance maps' line is under the images.
+    variance_note: bool,
+    /// Characters of the scene's sentence (0 while it is computed).
+    sentence_chars: usize,
+}
+
+impl ImageRows {
+    fn of(state: &AppState) -> Self {
+        let (error, variance) = (state.settings.show_error, state.settings.show_variance);
+        Self {
+            images: 1.0 + f32::from(u8::from(error)) + f32::from(u8::from(variance)),
+            variance_note: variance,
+            sentence_chars: state
+                .current_scene_sentence()
+                .map_or(0, |s| s.text.chars().count()),
+        }
+    }
+
+    /// Body-text rows under the images besides each image's own: with the variance maps,
+    /// their line and the scene's sentence below it (which the images then leave room for).
+    fn note_rows(self, ui: &Ui, width: f32) -> f32 {
+        if self.variance_note {
+            variance_ui::note_rows(ui, width) + sentence_rows(ui, width, self.sentence_chars)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The rows the scene's sentence of `chars` characters takes in body text at `width`
+/// (about half an em a character); one row while it is being computed.
+fn sentence_rows(ui: &Ui, width: f32, chars: usize) -> f32 {
+    let per_row = (width / (0.52 * crate::app::text_size::body_size(ui))).max(20.0);
+    (chars as f32 / per_row).ceil().max(1.0)
+}
+
 /// The on-screen size of each image: `columns` side by side in the panel's width, and the
-/// image (plus its error map when shown) and its text rows within the panel's height.
-fn image_size(ui: &Ui, columns: usize, show_error: bool, [width, height]: [u32; 2]) -> egui::Vec2 {
+/// image (plus its error and variance maps when shown) and its text rows within the panel's
+/// height.
+fn image_size(ui: &Ui, columns: usize, rows: ImageRows, [width, height]: [u32; 2]) -> egui::Vec2 {
     let spacing = ui.spacing().item_spacing;
     let aspect = height as f32 / width.max(1) as f32;
     let by_width = side_by_width(ui, ui.available_width(), columns);
-    let images = if show_error { 2.0 } else { 1.0 };
+    let images = rows.images;
+    let text = TEXT_ROWS_PER_IMAGE + rows.note_rows(ui, ui.available_width());
     let by_height =
-        (ui.available_height() - text_rows(ui, TEXT_ROWS_PER_IMAGE) - images * spacing.y)
-            / (images * aspect);
+        (ui.available_height() - text_rows(ui, text) - images * spacing.y) / (images * aspect);
     let side = by_width.min(by_height).max(48.0);
     egui::vec2(side, side * aspect)
 }
@@ -320,15 +381,20 @@ pub fn wanted_height(ui: &Ui, width: f32, state: &AppState, textures: &ImageText
         // Narrow: three images abreast, the reference hidden (see `images_ui`).
         side = side.max(side_by_width(ui, width, 3));
     }
-    let images = if state.settings.show_error { 2.0 } else { 1.0 };
-    // The scene's sentence in body text, wrapped to the width (about half an em a
-    // character); one row while it is being computed.
-    let per_row = (width / (0.52 * crate::app::text_size::body_size(ui))).max(20.0);
-    let note_rows = state
-        .current_scene_sentence()
-        .map_or(1.0, |s| (s.text.chars().count() as f32 / per_row).ceil());
+    let rows = ImageRows::of(state);
+    let images = rows.images;
+    // The scene's sentence in body text, wrapped to the width.
+    let note_rows = sentence_rows(ui, width, rows.sentence_chars);
+    let variance_rows = if rows.variance_note {
+        variance_ui::note_rows(ui, width)
+    } else {
+        0.0
+    };
     images * (side + ui.spacing().item_spacing.y)
-        + text_rows(ui, TEXT_ROWS_PER_IMAGE + HEADER_ROWS + note_rows)
+        + text_rows(
+            ui,
+            TEXT_ROWS_PER_IMAGE + HEADER_ROWS + note_rows + variance_rows,
+        )
 }
 
 fn image_column(
@@ -337,7 +403,7 @@ fn image_column(
     scheme: Scheme,
     image: &SchemeImage,
     texture: Option<egui::TextureId>,
-    error: Option<&TextureHandle>,
+    [error, variance]: [Option<&TextureHandle>; 2],
     size: egui::Vec2,
 ) -> Option<egui::Response> {
     ui.vertical(|ui| {
@@ -387,6 +453,19 @@ fn image_column(
             );
             response.on_hover_text(format!(
                 "{title}: |estimate − reference| (brighter = larger)"
+            ));
+        }
+        if let Some(v) = variance {
+            let response = ui.image((v.id(), size));
+            ui.painter().rect_stroke(
+                response.rect,
+                0.0,
+                egui::Stroke::new(1.0, colors::scheme(scheme)),
+                egui::StrokeKind::Outside,
+            );
+            response.on_hover_text(format!(
+                "{title}: variance of one sample at each pixel, log scale shared with the \
+                 other two (brighter = noisier)"
             ));
         }
         response

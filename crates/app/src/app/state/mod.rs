@@ -16,7 +16,8 @@
 //! an edit to [`Built`], in the frame or on a worker), [`built`] (the last valid scene and
 //! its samplers), [`sampling`] (histograms, chi-square, one draw), [`file_dialog`],
 //! [`animation_export`], and one file per window's state (trade, precision, inspector,
-//! estimator, walkthrough, stepper); `memory` counts what each part holds.
+//! estimator, walkthrough, stepper) or computed figure ([`scene_sentence`],
+//! [`variance_maps`]); `memory` counts what each part holds.
 
 use std::sync::Arc;
 
@@ -42,6 +43,7 @@ pub mod scene_sentence;
 pub mod settings;
 pub mod stepper;
 pub mod trade;
+pub mod variance_maps;
 pub mod walkthrough;
 
 pub use built::{Built, EXACT_TABLE_MAX_LIGHTS, construction_for};
@@ -98,6 +100,9 @@ pub struct AppState {
     pub precision: precision::PrecisionRun,
     /// The sentence under the images, computed for the current scene in the background.
     pub scene_sentence: crate::app::background::Background<scene_sentence::SceneSentence>,
+    /// The images panel's per-pixel variance maps, computed for the current scene in the
+    /// background while they are shown.
+    pub variance_maps: crate::app::background::Background<variance_maps::VarianceMaps>,
     /// The pixel inspector (a clicked pixel of the images).
     pub inspector: inspector::Inspector,
     /// The classroom walkthrough (step, saved scene).
@@ -158,6 +163,7 @@ impl AppState {
             trade: trade::TradeRun::default(),
             precision: precision::PrecisionRun::default(),
             scene_sentence: crate::app::background::Background::default(),
+            variance_maps: crate::app::background::Background::default(),
             inspector: inspector::Inspector::default(),
             walkthrough: walkthrough::WalkthroughState::default(),
             stepper: stepper::StepperState::default(),
@@ -204,6 +210,28 @@ impl AppState {
             .result
             .as_ref()
             .filter(|s| s.generation == self.built.generation)
+    }
+
+    /// Takes the variance maps when their job is done, and starts it for a new scene
+    /// generation; the images panel calls it each frame while the maps are shown.
+    pub fn update_variance_maps(&mut self) {
+        self.variance_maps.poll();
+        let generation = self.built.generation;
+        if self.variance_maps.is_stale(generation) {
+            let samplers = self.built.samplers.clone();
+            self.variance_maps
+                .start(generation, "lightpick-variance", move |_| {
+                    variance_maps::variance_maps(generation, &samplers)
+                });
+        }
+    }
+
+    /// The variance maps if they describe the current scene (never maps of an earlier one).
+    pub fn current_variance_maps(&self) -> Option<&variance_maps::VarianceMaps> {
+        self.variance_maps
+            .result
+            .as_ref()
+            .filter(|m| m.generation == self.built.generation)
     }
 
     /// Whether the images wait for the Trade measurement: while it runs, no live render

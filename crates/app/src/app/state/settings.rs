@@ -58,6 +58,8 @@ pub struct Settings {
     pub show_reference: bool,
     /// Show the error maps under the images.
     pub show_error: bool,
+    /// Show each scheme's per-pixel variance map of one sample under the images.
+    pub show_variance: bool,
     /// Power slider scale.
     pub slider_scale: SliderScale,
     /// Upper end of the power sliders.
@@ -97,6 +99,7 @@ impl Default for Settings {
             budget: BudgetMode::EqualSamples,
             show_reference: true,
             show_error: true,
+            show_variance: false,
             slider_scale: SliderScale::Linear,
             slider_max: 40.0,
             picks_per_frame: 200,
