@@ -123,7 +123,7 @@ pub struct AppState {
     /// The Light tree panel: depth, colouring, the stepped pick.
     pub light_tree: light_tree::LightTreeState,
     /// A panel to bring to the front on the next frame (a menu asked for it).
-    pub show_panel: Option<crate::app::panels::PanelKind>,
+    pub show_panel: Option<crate::app::panels::panel_kind::PanelKind>,
     /// The Floor control's value and the unedited preset of the installed scene (what an
     /// undo of the next scene change restores).
     installed: (f64, Option<String>),
