@@ -2,8 +2,8 @@
 //! figure): the alias-table diagram, the histogram of picks, the convergence plot (error
 //! against samples), the Trade plot (error against time) and the light tree from above. Each
 //! is the core's headless drawing ([`lightpick_core::draw`]) of the data the panel shows now,
-//! with its title and labels written at a size read from across a room; the images with
-//! their captions have their own export (File → Export images).
+//! with its title and labels written at a size read from across a room. The images with
+//! their captions are exported from the frame (`files.rs`), scaled to the size.
 
 use lightpick_core::Scheme;
 use lightpick_core::draw::{
@@ -71,6 +71,9 @@ pub fn figure_pixmap(
             convergence(&with_points(&series)?, ConvergenceAxis::Seconds, &style)
         }
         Figure::LightTree => return light_tree(state, &style),
+        // The images come from the frame (read back from the GPU where they live there):
+        // `files.rs` exports them.
+        Figure::Images => return Err("the images are exported from the frame".to_owned()),
     };
     drawn.map_err(|e| e.to_string())
 }

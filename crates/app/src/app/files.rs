@@ -6,6 +6,7 @@ use std::path::Path;
 
 use super::images::Published;
 use super::state::MessageKind;
+use super::state::figure::Figure;
 use super::state::file_dialog::FileAction;
 use super::{LightpickApp, scene_io};
 
@@ -63,7 +64,11 @@ impl LightpickApp {
             FileAction::OpenScene => self.open_scene(Path::new(path)),
             FileAction::SaveScene => scene_io::save(Path::new(path), &self.state.built.scene)
                 .map(|()| format!("saved {path}")),
-            FileAction::ExportImages => {
+            FileAction::ExportImages | FileAction::ExportFigure(Figure::Images) => {
+                let fit = match action {
+                    FileAction::ExportImages => None,
+                    _ => Some(self.state.settings.figure_size),
+                };
                 // GPU images are native textures: read them back first.
                 let exposure = self.state.settings.exposure;
                 let from_gpu = if self.uses_gpu() {
@@ -78,7 +83,7 @@ impl LightpickApp {
                         .cloned()
                         .ok_or_else(|| "no image has been rendered yet".to_owned()),
                 }
-                .and_then(|frame| export_images(Path::new(path), &frame))
+                .and_then(|frame| export_images(Path::new(path), &frame, fit))
                 .map(|()| format!("exported {path}"))
             }
             FileAction::ExportData => {
@@ -133,8 +138,10 @@ impl LightpickApp {
 }
 
 /// Writes uniform | power | spatial | reference side by side as one PNG, with the
-/// three error maps in a second row when there is a reference image.
-fn export_images(path: &Path, p: &Published) -> Result<(), String> {
+/// three error maps in a second row when there is a reference image; with `fit`, scaled
+/// (aspect kept) to the largest size within `fit` pixels: pixel for pixel (nearest) when
+/// enlarged, so that the noise stays as it was rendered, filtered when reduced.
+fn export_images(path: &Path, p: &Published, fit: Option<[u32; 2]>) -> Result<(), String> {
     let pixels = p.width as usize * p.height as usize * 4;
     if [&p.uniform, &p.power, &p.spatial]
         .iter()
@@ -172,16 +179,16 @@ fn export_images(path: &Path, p: &Published) -> Result<(), String> {
         place(1, k, part);
     }
     let out = captioned(&out, [total_w, h_total], w, &captions(p), &caption)?;
+    let sheet = image::RgbaImage::from_raw(total_w as u32, h_total as u32, out)
+        .ok_or("the image sheet has the wrong size")?;
+    let sheet = match fit {
+        Some(fit) => fitted(&sheet, fit),
+        None => sheet,
+    };
     let mut png = std::io::Cursor::new(Vec::new());
-    image::write_buffer_with_format(
-        &mut png,
-        &out,
-        total_w as u32,
-        h_total as u32,
-        image::ExtendedColorType::Rgba8,
-        image::ImageFormat::Png,
-    )
-    .map_err(|e| format!("{}: {e}", path.display()))?;
+    sheet
+        .write_to(&mut png, image::ImageFormat::Png)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     // Atomically: a failed write (a full disk, a read-only folder) leaves the old file.
     lightpick_core::atomic_file::write_bytes_atomically(path, png.get_ref()).map_err(|e| {
         format!(
@@ -189,6 +196,22 @@ fn export_images(path: &Path, p: &Published) -> Result<(), String> {
             path.display()
         )
     })
+}
+
+/// `sheet` scaled, aspect kept, to the largest size within `fit`.
+fn fitted(sheet: &image::RgbaImage, [fit_w, fit_h]: [u32; 2]) -> image::RgbaImage {
+    let (w, h) = (f64::from(sheet.width()), f64::from(sheet.height()));
+    let scale = (f64::from(fit_w) / w).min(f64::from(fit_h) / h);
+    let (new_w, new_h) = (
+        ((w * scale).round() as u32).max(1),
+        ((h * scale).round() as u32).max(1),
+    );
+    let filter = if scale >= 1.0 {
+        image::imageops::FilterType::Nearest
+    } else {
+        image::imageops::FilterType::Triangle
+    };
+    image::imageops::resize(sheet, new_w, new_h, filter)
 }
 
 /// The captions of the exported columns: scheme, samples per pixel and RMSE; "exact

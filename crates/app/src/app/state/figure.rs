@@ -13,11 +13,14 @@ pub enum Figure {
     Trade,
     /// The light tree from above, with the stepped pick and the colouring shown.
     LightTree,
+    /// The three images (and the reference) over their error maps, with their captions.
+    Images,
 }
 
 impl Figure {
     /// Every figure, in the menu's order.
-    pub const ALL: [Figure; 5] = [
+    pub const ALL: [Figure; 6] = [
+        Figure::Images,
         Figure::AliasTable,
         Figure::Histogram,
         Figure::Convergence,
@@ -33,6 +36,7 @@ impl Figure {
             Figure::Convergence => "Convergence (error against samples)",
             Figure::Trade => "Trade (error against time)",
             Figure::LightTree => "Light tree",
+            Figure::Images => "Images with their captions",
         }
     }
 
@@ -44,6 +48,7 @@ impl Figure {
             Figure::Convergence => "convergence",
             Figure::Trade => "trade",
             Figure::LightTree => "light-tree",
+            Figure::Images => "images",
         }
     }
 }

@@ -31,6 +31,7 @@ impl FileAction {
                 Figure::Convergence => "Export convergence plot (PNG)",
                 Figure::Trade => "Export Trade plot (PNG)",
                 Figure::LightTree => "Export light tree (PNG)",
+                Figure::Images => "Export images at the figure size (PNG)",
             },
             FileAction::ExportData => "Export data (CSV)",
         }
