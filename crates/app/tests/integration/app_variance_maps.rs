@@ -111,7 +111,7 @@ fn variance_maps_show_the_cores_means_and_follow_a_new_generation() {
 }
 
 #[test]
-fn estimated_maps_instead_of_the_error_maps_at_a_projector() {
+fn exact_maps_on_a_grid_instead_of_the_error_maps_at_a_projector() {
     let mut app = LightpickApp::for_tests_on("grid");
     app.state.settings.dark = false;
     app.state.settings.show_error = false;
@@ -126,11 +126,12 @@ fn estimated_maps_instead_of_the_error_maps_at_a_projector() {
         .current_variance_maps()
         .expect("computed inline in tests")
         .clone();
-    assert!(!maps.exact());
+    // 1024 lights × 256² pixels beyond the exact budget: exact on a 128² grid.
+    assert!(maps.exact());
     assert_eq!(maps.size(), [128, 128]);
     assert!(shows_containing(
         &harness,
-        "estimated from 8 samples per pixel"
+        "exact: Σ s_i²/q_i − E² at every pixel centre"
     ));
     let means = maps.means();
     assert!(
