@@ -1,4 +1,4 @@
-//! The figures the app draws and exports as PNG ([`crate::app::figure_export`]).
+//! The figures the app draws and exports as PNG (`crate::app::figure_export` draws them).
 
 /// A figure of the app.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -4,7 +4,7 @@
 //!
 //! The pick is [`TreePick::record`] of the scene's own spatial sampler (the one the images
 //! render with) at the pixel's centre, from the stream `Rng::new(seed ^ PICK_SALT, k)` of
-//! pick number `k`: the same draws as [`SpatialSampler::sample`], so its pdf is the
+//! pick number `k`: the same draws as `SpatialSampler::sample`, so its pdf is the
 //! renderer's. It is recorded once per (generation, pixel, pick, seed) and kept.
 
 use std::sync::Arc;
@@ -44,7 +44,7 @@ pub struct SteppedPick {
     pub number: u64,
     /// The record, `None` when no light reaches `x` (no pick, the estimate is 0).
     pub record: Option<TreePick>,
-    /// The renderer's own `P(i | x)` of the picked light ([`SpatialSampler::pdf`]), to show
+    /// The renderer's own `P(i | x)` of the picked light (`SpatialSampler::pdf`), to show
     /// it equals the product of the steps.
     pub renderer_pdf: Option<f64>,
     /// `Φ_total`: the record's normalized figures times it are irradiances.
