@@ -335,17 +335,7 @@ fn color_bar(
 ) -> Result<(), DrawError> {
     let bar_w = 22.0;
     let bar_x = x + 12.0;
-    let steps = height as usize;
-    for k in 0..steps {
-        let t = 1.0 - (k as f64 + 0.5) / steps as f64;
-        canvas::fill_rect(pixmap, bar_x, y + k as f32, bar_w, 1.0, viridis(t));
-    }
-    canvas::stroke_rect(
-        pixmap,
-        (bar_x - 0.5, y - 0.5, bar_w + 1.0, height + 1.0),
-        1.0,
-        colors.foreground,
-    );
+    viridis_bar(pixmap, (bar_x, y, bar_w, height), colors.foreground);
     let (lo, hi) = ERROR_LOG10_RANGE;
     let tick = TextStyle::new(TICK_SIZE, colors.foreground);
     for e in lo..=hi {
@@ -405,6 +395,26 @@ fn short(v: f64) -> String {
     } else {
         format!("{v:.3}")
     }
+}
+
+/// A vertical viridis colour bar filling `(x, y, width, height)`, brightest at the top, in a
+/// one-pixel `outline` (the error sheets' and the variance maps' scale).
+pub(crate) fn viridis_bar(
+    pixmap: &mut Pixmap,
+    (x, y, width, height): (f32, f32, f32, f32),
+    outline: Rgba8,
+) {
+    let steps = height.max(1.0) as usize;
+    for k in 0..steps {
+        let t = 1.0 - (k as f64 + 0.5) / steps as f64;
+        canvas::fill_rect(pixmap, x, y + k as f32, width, 1.0, viridis(t));
+    }
+    canvas::stroke_rect(
+        pixmap,
+        (x - 0.5, y - 0.5, width + 1.0, height + 1.0),
+        1.0,
+        outline,
+    );
 }
 
 #[cfg(test)]

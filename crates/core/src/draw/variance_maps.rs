@@ -227,17 +227,7 @@ fn color_bar(
     colors: &super::palette::ThemeColors,
 ) -> Result<(), DrawError> {
     let bar_w = 18.0;
-    let steps = height.max(1.0) as usize;
-    for k in 0..steps {
-        let t = 1.0 - (k as f64 + 0.5) / steps as f64;
-        canvas::fill_rect(pixmap, x, y + k as f32, bar_w, 1.0, viridis(t));
-    }
-    canvas::stroke_rect(
-        pixmap,
-        (x - 0.5, y - 0.5, bar_w + 1.0, height + 1.0),
-        1.0,
-        colors.foreground,
-    );
+    super::image_sheet::viridis_bar(pixmap, (x, y, bar_w, height), colors.foreground);
     let tick = TextStyle::new(TICK_SIZE, colors.foreground);
     text::draw_text(
         pixmap,
