@@ -204,3 +204,13 @@ fn the_guide_ends_on_this_scenes_variances() {
     );
     assert!(text.contains("lower than power's"), "{text}");
 }
+
+#[test]
+fn each_group_shows_where_power_picking_would_go() {
+    // The grid's root splits 1024 equal lights in four groups of 256: a quarter each by
+    // power, wherever the point; the spatial probabilities are not a quarter.
+    let harness = tree_panel("grid", [72, 194]);
+    let text = painted(&harness);
+    assert_eq!(text.matches("by power: 0.250").count(), 4, "{text}");
+    assert!(!text.contains("P = 0.250"), "{text}");
+}

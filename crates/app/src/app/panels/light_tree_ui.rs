@@ -314,7 +314,17 @@ fn stepped_pick_ui(ui: &mut Ui, state: &mut AppState, pick: &SteppedPick) {
     });
     let dark = state.dark();
     if let Some(step) = record.steps.get(stage) {
-        node_stage_ui(ui, record, stage, step, dark);
+        let spatial = std::sync::Arc::clone(state.built.samplers.spatial());
+        let power_shares = match &*spatial {
+            SpatialSampler::Tree(tree) => {
+                let node = &tree.nodes()[step.node];
+                let powers: [f64; 4] = std::array::from_fn(|lane| node.power(lane));
+                let total: f64 = powers.iter().sum();
+                powers.map(|p| if total > 0.0 { p / total } else { 0.0 })
+            }
+            SpatialSampler::Exact(_) => [f64::NAN; 4],
+        };
+        node_stage_ui(ui, record, (stage, step, power_shares), dark);
     } else if stage == record.steps.len() {
         let powers = state.built.scene.powers.as_slice();
         leaf_stage_ui(ui, record, powers, pick.total_power, dark);
@@ -325,11 +335,15 @@ fn stepped_pick_ui(ui: &mut Ui, state: &mut AppState, pick: &SteppedPick) {
 
 /// A node: its four groups' probabilities as bars, culled ones greyed with the reason, the
 /// random number and the group it takes.
+/// `power_shares`: each group's share of the node's power, where power picking would go.
 fn node_stage_ui(
     ui: &mut Ui,
     record: &TreePick,
-    stage: usize,
-    step: &lightpick_core::lesson::tree_pick::TreePickStep,
+    (stage, step, power_shares): (
+        usize,
+        &lightpick_core::lesson::tree_pick::TreePickStep,
+        [f64; 4],
+    ),
     dark: bool,
 ) {
     ui.label(format!(
@@ -338,7 +352,7 @@ fn node_stage_ui(
         step.depth
     ));
     egui::Grid::new("lightpick_node_groups")
-        .num_columns(3)
+        .num_columns(4)
         .show(ui, |ui| {
             for (lane, (group, color)) in step.lanes.iter().zip(LANE_COLORS).enumerate() {
                 let color = colors::to_color32(color);
@@ -354,6 +368,7 @@ fn node_stage_ui(
                         colors::muted(dark),
                         culled_words(reason, group.light_count()),
                     );
+                    ui.label("");
                 } else {
                     bar_ui(ui, group.probability, color);
                     ui.label(format!(
@@ -361,6 +376,17 @@ fn node_stage_ui(
                         three_significant(group.probability),
                         group.light_count()
                     ));
+                }
+                let share = power_shares[lane];
+                if share.is_finite() && group.light_count() > 0 {
+                    ui.colored_label(
+                        colors::muted(dark),
+                        format!("by power: {}", three_significant(share)),
+                    )
+                    .on_hover_text(
+                        "The group's share of the node's power: where picking by power alone \
+                         would go, whatever the point",
+                    );
                 }
                 ui.end_row();
             }
