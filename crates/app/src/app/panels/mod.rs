@@ -1,6 +1,7 @@
 //! The panels and windows, one `*_ui.rs` each, over the [`AppState`] (which imports no panel):
 //! [`lights_ui`], [`table_ui`] (table, over the [`diagram_ui`]), [`sampling_ui`] (sampling),
-//! [`images_ui`] (images) with [`light_tree_ui`] (the light tree, a tab beside them),
+//! [`images_ui`] (images) with [`light_tree_ui`] (the light tree, a tab beside them, and its
+//! [`tree_guide_ui`]),
 //! [`convergence_ui`], and the windows [`trade_ui`] (speed against
 //! accuracy), [`precision_ui`], [`walkthrough_ui`] and [`stepper_ui`] (the classroom),
 //! [`inspector_ui`] (a clicked pixel), [`estimator_ui`], [`animation_export_ui`]; the
@@ -30,6 +31,7 @@ pub mod stepper_ui;
 pub mod table_ui;
 pub mod table_words;
 pub mod trade_ui;
+pub mod tree_guide_ui;
 pub mod walkthrough_ui;
 
 use egui::Ui;
