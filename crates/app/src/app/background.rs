@@ -206,9 +206,30 @@ impl<T: OfGeneration> Background<T> {
     /// Whether there is no result for scene `generation`: none yet, or one of an earlier
     /// scene.
     pub fn is_stale(&self, generation: u64) -> bool {
+        self.of_generation(generation).is_none()
+    }
+
+    /// The result if it is of scene `generation` (never one left from an earlier scene).
+    pub fn of_generation(&self, generation: u64) -> Option<&T> {
         self.result
             .as_ref()
-            .is_none_or(|m| m.generation() != generation)
+            .filter(|m| m.generation() == generation)
+    }
+
+    /// Once per frame: takes a finished result ([`Background::poll`]) and, when there is
+    /// none for `generation`, starts `job` for it ([`Background::start`]).
+    pub fn refresh(
+        &mut self,
+        generation: u64,
+        name: &str,
+        job: impl FnOnce(bool) -> T + Send + 'static,
+    ) where
+        T: Send + 'static,
+    {
+        self.poll();
+        if self.is_stale(generation) {
+            self.start(generation, name, job);
+        }
     }
 }
 

@@ -29,7 +29,7 @@ pub fn export_data(
     if state.sampling.picks > 0 {
         files.push(("histogram", histogram_csv(state)));
     }
-    if let Some(m) = &state.trade.result {
+    if let Some(m) = state.trade.of_generation(state.built.generation) {
         files.push(("trade", trade_csv(m)));
     }
     let built = std::sync::Arc::clone(&state.built);

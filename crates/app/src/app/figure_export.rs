@@ -54,9 +54,7 @@ pub fn figure_pixmap(
         Figure::Trade => {
             let m = state
                 .trade
-                .result
-                .as_ref()
-                .filter(|m| m.generation == state.built.generation)
+                .of_generation(state.built.generation)
                 .ok_or("the Trade window has not measured this scene yet")?;
             let series: Vec<ConvergenceSeries> = m
                 .rows

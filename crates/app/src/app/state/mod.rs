@@ -192,46 +192,34 @@ impl AppState {
     /// Once per frame: takes the sentence under the images when its worker is done, and
     /// starts it for a new scene generation.
     pub fn update_scene_sentence(&mut self) {
-        self.scene_sentence.poll();
         let generation = self.built.generation;
-        if self.scene_sentence.is_stale(generation) {
-            let samplers = self.built.samplers.clone();
-            self.scene_sentence
-                .start(generation, "lightpick-sentence", move |_| {
-                    scene_sentence::scene_sentence(generation, &samplers)
-                });
-        }
+        let samplers = self.built.samplers.clone();
+        self.scene_sentence
+            .refresh(generation, "lightpick-sentence", move |_| {
+                scene_sentence::scene_sentence(generation, &samplers)
+            });
     }
 
     /// The sentence under the images if it describes the current scene (never one left
     /// from an earlier scene).
     pub fn current_scene_sentence(&self) -> Option<&scene_sentence::SceneSentence> {
-        self.scene_sentence
-            .result
-            .as_ref()
-            .filter(|s| s.generation == self.built.generation)
+        self.scene_sentence.of_generation(self.built.generation)
     }
 
     /// Takes the variance maps when their job is done, and starts it for a new scene
     /// generation; the images panel calls it each frame while the maps are shown.
     pub fn update_variance_maps(&mut self) {
-        self.variance_maps.poll();
         let generation = self.built.generation;
-        if self.variance_maps.is_stale(generation) {
-            let samplers = self.built.samplers.clone();
-            self.variance_maps
-                .start(generation, "lightpick-variance", move |_| {
-                    variance_maps::variance_maps(generation, &samplers)
-                });
-        }
+        let samplers = self.built.samplers.clone();
+        self.variance_maps
+            .refresh(generation, "lightpick-variance", move |_| {
+                variance_maps::variance_maps(generation, &samplers)
+            });
     }
 
     /// The variance maps if they describe the current scene (never maps of an earlier one).
     pub fn current_variance_maps(&self) -> Option<&variance_maps::VarianceMaps> {
-        self.variance_maps
-            .result
-            .as_ref()
-            .filter(|m| m.generation == self.built.generation)
+        self.variance_maps.of_generation(self.built.generation)
     }
 
     /// Whether the images wait for the Trade measurement: while it runs, no live render
