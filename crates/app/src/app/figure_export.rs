@@ -14,7 +14,6 @@ use lightpick_core::draw::{
 use super::images::Published;
 use super::state::AppState;
 use super::state::figure::Figure;
-use super::state::light_tree::TreeColoring;
 
 /// The smallest and largest side of an exported figure, in pixels.
 pub const FIGURE_SIDES: std::ops::RangeInclusive<u32> = 320..=4096;
@@ -138,14 +137,9 @@ fn light_tree(state: &mut AppState, style: &Style) -> Result<Pixmap, String> {
     let built = std::sync::Arc::clone(&state.built);
     let spatial = std::sync::Arc::clone(built.samplers.spatial());
     let pick = state.light_tree.pick(&built, state.settings.seed);
-    let overlay = match state.light_tree.coloring {
-        TreeColoring::Power => None,
-        _ => state.light_tree.overlay(&built),
-    };
-    let probabilities = overlay.as_deref().map(|o| match state.light_tree.coloring {
-        TreeColoring::Spatial => o.spatial.as_slice(),
-        _ => o.ideal.as_slice(),
-    });
+    let overlay = state.light_tree.coloring_overlay(&built);
+    let coloring = state.light_tree.coloring;
+    let probabilities = overlay.as_deref().and_then(|o| coloring.probabilities(o));
     let view = TreeView {
         scene: &built.scene,
         sampler: &spatial,

@@ -63,24 +63,32 @@ impl ReceiverPlane {
         self.width as usize * self.height as usize
     }
 
-    /// The pixel centre ([`pixel_center`]) nearest to `point_on_plane`: that of the pixel
-    /// containing it, or of the nearest edge pixel when it lies outside. The centres form a
-    /// regular grid, so the nearest one is nearest along each axis.
-    pub fn nearest_pixel_center(&self, point_on_plane: DVec2) -> DVec2 {
+    /// The pixel `[px, py]` whose cell holds `point_on_plane`, or the nearest edge pixel when
+    /// it lies outside (the pixels form a regular grid, so the nearest one is nearest along
+    /// each axis).
+    pub fn pixel_at(&self, point_on_plane: DVec2) -> [u32; 2] {
         let cell = |offset: f64, extent: f64, count: u32| {
             // `as u32` saturates (and maps NaN to 0): the clamp to the last pixel remains.
             ((offset / extent * f64::from(count)).floor() as u32).min(count.saturating_sub(1))
         };
-        let px = cell(
-            point_on_plane.x - self.min.x,
-            self.max.x - self.min.x,
-            self.width,
-        );
-        let py = cell(
-            self.max.y - point_on_plane.y,
-            self.max.y - self.min.y,
-            self.height,
-        );
+        [
+            cell(
+                point_on_plane.x - self.min.x,
+                self.max.x - self.min.x,
+                self.width,
+            ),
+            cell(
+                self.max.y - point_on_plane.y,
+                self.max.y - self.min.y,
+                self.height,
+            ),
+        ]
+    }
+
+    /// The pixel centre ([`pixel_center`]) nearest to `point_on_plane`: that of
+    /// [`ReceiverPlane::pixel_at`].
+    pub fn nearest_pixel_center(&self, point_on_plane: DVec2) -> DVec2 {
+        let [px, py] = self.pixel_at(point_on_plane);
         pixel_center(self, px, py)
     }
 }

@@ -165,14 +165,8 @@ fn picture_ui(
     let id = egui::Id::unique("lightpick_light_tree_picture");
     let mut drawn: Option<Drawn> = ui.data(|d| d.get_temp(id));
     if drawn.as_ref().is_none_or(|d| d.key != key) {
-        let overlay = match coloring {
-            TreeColoring::Power => None,
-            _ => state.light_tree.overlay(&built),
-        };
-        let probabilities = overlay.as_deref().map(|o| match coloring {
-            TreeColoring::Spatial => o.spatial.as_slice(),
-            _ => o.ideal.as_slice(),
-        });
+        let overlay = state.light_tree.coloring_overlay(&built);
+        let probabilities = overlay.as_deref().and_then(|o| coloring.probabilities(o));
         let view = TreeView {
             scene,
             sampler: spatial,
@@ -227,7 +221,7 @@ fn picture_ui(
     {
         let local = (at - response.rect.min) * ppp;
         let x = drawn.map.plane_point((local.x, local.y));
-        state.light_tree.select_pixel(pixel_of(&scene.plane, x));
+        state.light_tree.select_pixel(scene.plane.pixel_at(x));
     }
     ui.label(tree_view_caption(
         key.depth,
@@ -242,17 +236,6 @@ fn picture_ui(
             p.pixel[0], p.pixel[1]
         ),
     });
-}
-
-/// The pixel whose cell holds the plane point `x` (the nearest edge pixel outside).
-fn pixel_of(plane: &lightpick_core::scene::ReceiverPlane, x: glam::DVec2) -> [u32; 2] {
-    let cell = |offset: f64, extent: f64, count: u32| {
-        ((offset / extent * f64::from(count)).floor().max(0.0) as u32).min(count.saturating_sub(1))
-    };
-    [
-        cell(x.x - plane.min.x, plane.max.x - plane.min.x, plane.width),
-        cell(plane.max.y - x.y, plane.max.y - plane.min.y, plane.height),
-    ]
 }
 
 /// The stepped pick, then the guide.

@@ -12,7 +12,7 @@ use std::sync::Arc;
 use lightpick_core::Rng;
 use lightpick_core::draw::pick_stages;
 use lightpick_core::lesson::tree_pick::TreePick;
-use lightpick_core::scene::pixel_center;
+use lightpick_core::scene::{ReceiverPlane, pixel_center};
 
 use super::built::Built;
 use super::pick_overlay::PickOverlay;
@@ -33,6 +33,17 @@ pub enum TreeColoring {
     Spatial,
     /// By the ideal pick probability `s_i = c_i(x)/Σ c` at the pick's pixel.
     Ideal,
+}
+
+impl TreeColoring {
+    /// The probabilities of `overlay` this colouring shows (none for [`TreeColoring::Power`]).
+    pub fn probabilities(self, overlay: &PickOverlay) -> Option<&[f64]> {
+        match self {
+            TreeColoring::Power => None,
+            TreeColoring::Spatial => Some(&overlay.spatial),
+            TreeColoring::Ideal => Some(&overlay.ideal),
+        }
+    }
 }
 
 /// A recorded pick with what the panel prints beside it.
@@ -110,6 +121,12 @@ impl LightTreeState {
         self.stage = 0;
     }
 
+    /// The pick's pixel, when it lies on `plane`'s image (a smaller scene may not hold it).
+    fn pixel_on(&self, plane: &ReceiverPlane) -> Option<[u32; 2]> {
+        self.pixel
+            .filter(|p| p[0] < plane.width && p[1] < plane.height)
+    }
+
     /// One stage on (up to the end of `pick`).
     pub fn next(&mut self, pick: &SteppedPick) {
         let last = pick.record.as_ref().map_or(0, |r| pick_stages(r) - 1);
@@ -124,9 +141,7 @@ impl LightTreeState {
     /// The pick at the current pixel on `built`'s scene with `seed`, recorded once.
     pub fn pick(&mut self, built: &Built, seed: u64) -> Option<Arc<SteppedPick>> {
         let scene = &built.scene;
-        let pixel = self
-            .pixel
-            .filter(|p| p[0] < scene.plane.width && p[1] < scene.plane.height)?;
+        let pixel = self.pixel_on(&scene.plane)?;
         let key = PickKey {
             generation: built.generation,
             pixel,
@@ -154,14 +169,21 @@ impl LightTreeState {
         Some(pick)
     }
 
+    /// The probabilities at the pick's pixel when the colouring shows some ([`Self::overlay`];
+    /// `None` for the power colouring).
+    pub fn coloring_overlay(&mut self, built: &Built) -> Option<Arc<PickOverlay>> {
+        match self.coloring {
+            TreeColoring::Power => None,
+            TreeColoring::Spatial | TreeColoring::Ideal => self.overlay(built),
+        }
+    }
+
     /// The three pick probabilities of every light at the pick's pixel (the inspector's
     /// [`PickOverlay`]), computed once per generation and pixel; `None` without a pixel or
     /// beyond the overlay's light count.
     pub fn overlay(&mut self, built: &Built) -> Option<Arc<PickOverlay>> {
         let scene = &built.scene;
-        let pixel = self
-            .pixel
-            .filter(|p| p[0] < scene.plane.width && p[1] < scene.plane.height)?;
+        let pixel = self.pixel_on(&scene.plane)?;
         let key = (built.generation, pixel);
         if let Some((k, overlay)) = &self.overlay
             && *k == key
