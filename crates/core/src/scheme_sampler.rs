@@ -38,19 +38,6 @@ impl SchemeSampler {
             SchemeSampler::Spatial(_) => Scheme::Spatial,
         }
     }
-
-    /// Heap bytes the sampler holds ([`crate::AliasTable::heap_bytes`],
-    /// [`SpatialSampler::heap_bytes`]), counted whether or not others share them.
-    pub fn heap_bytes(&self) -> usize {
-        match self {
-            SchemeSampler::PointFree(Sampler::Alias(t) | Sampler::AliasOneRandom(t)) => {
-                t.heap_bytes()
-            }
-            SchemeSampler::PointFree(Sampler::Cdf(c)) => 2 * c.len() * size_of::<f64>(),
-            SchemeSampler::PointFree(Sampler::Uniform(_)) => 0,
-            SchemeSampler::Spatial(s) => s.heap_bytes(),
-        }
-    }
 }
 
 impl From<Sampler> for SchemeSampler {
