@@ -12,7 +12,7 @@ use glam::DVec2;
 use lightpick_core::Rng;
 use lightpick_core::draw::{self, TreeView};
 use lightpick_core::lesson::tree_pick::{Culled, TreePick};
-use lightpick_core::scene::{Scene, pixel_center};
+use lightpick_core::scene::pixel_center;
 use lightpick_core::spatial::SpatialSampler;
 use serde_json::json;
 
@@ -109,7 +109,7 @@ pub fn run(args: &TreeArgs) -> anyhow::Result<()> {
     });
     let probabilities = match (args.color, &at) {
         (TreeColor::Spatial, Some((_, x, _))) => Some(sampler.pdfs(*x)),
-        (TreeColor::Ideal, Some((_, x, _))) => Some(ideal_shares(&scene, *x)),
+        (TreeColor::Ideal, Some((_, x, _))) => Some(scene.irradiance_shares(*x)),
         _ => Some(scene.powers.pmf()),
     };
     let pick = at.as_ref().and_then(|(_, _, p)| p.as_ref());
@@ -168,23 +168,6 @@ fn deepest_depth(sampler: &SpatialSampler) -> usize {
     match sampler {
         SpatialSampler::Exact(_) => 0,
         SpatialSampler::Tree(tree) => (tree.depth() as usize).saturating_sub(1),
-    }
-}
-
-/// `s_i(x)/E(x)`, each light's share of the irradiance at `x` (0 everywhere when nothing
-/// shines there).
-fn ideal_shares(scene: &Scene, x: DVec2) -> Vec<f64> {
-    let pmf = scene.powers.pmf();
-    let s: Vec<f64> = pmf
-        .iter()
-        .enumerate()
-        .map(|(i, &p)| p * scene.light_term(i, x))
-        .collect();
-    let total: f64 = s.iter().sum();
-    if total > 0.0 {
-        s.iter().map(|v| v / total).collect()
-    } else {
-        vec![0.0; s.len()]
     }
 }
 

@@ -115,11 +115,7 @@ impl PointInspection {
         let pmf = scene.powers.pmf();
         let n = pmf.len();
         // Normalized contributions p_i·G_i(x)·S_i(x): E(x)/ΣΦ.
-        let contribution: Vec<f64> = pmf
-            .iter()
-            .enumerate()
-            .map(|(i, &p)| p * scene.light_term(i, x))
-            .collect();
+        let contribution = scene.weighted_terms(&pmf, x);
         let normalized_irradiance: f64 = contribution.iter().sum();
         let share = |i: usize| {
             if normalized_irradiance > 0.0 {

@@ -191,6 +191,31 @@ impl Scene {
             .sum()
     }
 
+    /// `w_i·G_i(x)·S_i(x)` of every light at `point_on_plane`, for one weight per light: with
+    /// the pmf `p` ([`LightPowers::pmf`]) the normalized contributions `c_i(x)`, with the
+    /// powers `Φ` the contributions `f_i(x)`.
+    ///
+    /// # Panics
+    /// If `weights` holds fewer values than the scene has lights.
+    pub fn weighted_terms(&self, weights: &[f64], point_on_plane: DVec2) -> Vec<f64> {
+        weights
+            .iter()
+            .enumerate()
+            .take(self.light_count())
+            .map(|(i, &w)| w * self.light_term(i, point_on_plane))
+            .collect()
+    }
+
+    /// `s_i(x) = c_i(x) / Σ_j c_j(x)`: each light's share of the irradiance at
+    /// `point_on_plane`, the ideal pick's pmf there (all 0 where no light reaches it).
+    pub fn irradiance_shares(&self, point_on_plane: DVec2) -> Vec<f64> {
+        let c = self.weighted_terms(&self.powers.pmf(), point_on_plane);
+        let total: f64 = c.iter().sum();
+        c.iter()
+            .map(|&v| if total > 0.0 { v / total } else { 0.0 })
+            .collect()
+    }
+
     /// Light `i`'s emission profile, when the scene has any ([`Scene::emission`]).
     #[inline]
     pub fn emission_of(&self, i: usize) -> Option<&Emission> {

@@ -18,7 +18,6 @@
 //! interface ([`LightSampler::pmfs_at`], [`LightSampler::pick_at`]); the spatial exact pick
 //! (few lights) gives `V ≡ 0` up to rounding.
 
-use glam::DVec2;
 use rayon::prelude::*;
 
 use super::moments::analytic_moments;
@@ -129,14 +128,6 @@ impl VarianceMap {
     }
 }
 
-/// `s_i(x) = p_i·G_i(x)·S_i(x)` of every light.
-fn contributions(scene: &Scene, pmf: &[f64], x: DVec2) -> Vec<f64> {
-    pmf.iter()
-        .enumerate()
-        .map(|(i, &p)| p * scene.light_term(i, x))
-        .collect()
-}
-
 /// `Σ_{q_i > 0} s_i²/q_i − E²` at `at` ([`analytic_moments`]).
 fn exact_variance(
     scene: &Scene,
@@ -144,7 +135,7 @@ fn exact_variance(
     sampler: &(impl LightSampler + ?Sized),
     at: &ShadingContext,
 ) -> f64 {
-    let s = contributions(scene, pmf, at.point_on_plane);
+    let s = scene.weighted_terms(pmf, at.point_on_plane);
     let q = sampler.pmfs_at(at);
     analytic_moments(&s, |i| q[i]).variance
 }

@@ -219,13 +219,7 @@ fn build(built: &Built, point: EstimatorPoint, seed: u64) -> Result<PointEstimat
 /// `f_i = Φ_i·G_i(x)·S_i(x)` of every light at `point_on_plane`, refused when no light
 /// reaches it or when the irradiance leaves `f64`.
 fn pixel_contributions(scene: &Scene, point_on_plane: DVec2) -> Result<Vec<f64>, String> {
-    let contributions: Vec<f64> = scene
-        .powers
-        .as_slice()
-        .iter()
-        .enumerate()
-        .map(|(i, power)| power * scene.light_term(i, point_on_plane))
-        .collect();
+    let contributions = scene.weighted_terms(scene.powers.as_slice(), point_on_plane);
     let total: f64 = contributions.iter().sum();
     if !total.is_finite() {
         return Err("the irradiance at this point exceeds f64".to_owned());

@@ -37,12 +37,7 @@ impl PickOverlay {
             return None;
         }
         let power = scene.powers.pmf();
-        let contribution: Vec<f64> = (0..n).map(|i| power[i] * scene.light_term(i, x)).collect();
-        let total: f64 = contribution.iter().sum();
-        let ideal = contribution
-            .iter()
-            .map(|c| if total > 0.0 { c / total } else { 0.0 })
-            .collect();
+        let ideal = scene.irradiance_shares(x);
         Some(Self {
             x,
             lights: scene.positions.iter().map(|p| p.truncate()).collect(),
