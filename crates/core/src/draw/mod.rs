@@ -49,8 +49,8 @@ pub use palette::{Rgba8, Theme};
 pub use table_diagram::{TABLE_DETAIL_LIMIT, fraction_denominator, table_diagram};
 pub use tree_view::{
     DOT_AREA_SHARE, FOOTPRINT_LIMIT, LANE_COLORS, MAP_OCTAVES, MAX_DOT_RADIUS, PROBABILITY_DECADES,
-    PlaneToPixels, TreeGroup, TreeView, pick_stages, tree_groups, tree_view, tree_view_caption,
-    tree_view_plane,
+    PlaneToPixels, PlaneView, TreeGroup, TreeView, pick_stages, tree_groups, tree_view,
+    tree_view_caption, tree_view_plane,
 };
 pub use variance_maps::{
     VARIANCE_DECADES, VarianceScale, VarianceSheet, variance_caption, variance_mean,

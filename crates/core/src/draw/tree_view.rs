@@ -219,7 +219,7 @@ pub fn tree_view(view: &TreeView, style: &Style) -> Result<Pixmap, DrawError> {
     let mut pixmap = canvas::blank(style)?;
     let (w, h) = (f64::from(style.width), f64::from(style.height));
     let frame = (16.0, 64.0, (w - 32.0).max(1.0), (h - 88.0).max(1.0));
-    let groups = draw_plane(&mut pixmap, view, frame, &colors, usize::MAX)?;
+    let (groups, _) = draw_plane(&mut pixmap, view, frame, &colors, usize::MAX)?;
     canvas::title(
         &mut pixmap,
         "Light tree from above",
@@ -240,23 +240,36 @@ pub fn tree_view(view: &TreeView, style: &Style) -> Result<Pixmap, DrawError> {
     Ok(pixmap)
 }
 
+/// [`tree_view_plane`]'s picture and what its caller writes and clicks by.
+#[derive(Debug)]
+pub struct PlaneView {
+    /// The plane alone, filling the picture.
+    pub pixmap: Pixmap,
+    /// Its plane → pixel map, so that a click on the picture finds its point of the plane.
+    pub map: PlaneToPixels,
+    /// The groups outlined at the view's depth.
+    pub groups: usize,
+}
+
 /// The plane of [`tree_view`] alone, filling the picture (no title, no notes: the app
 /// writes those in its own text, at its own size), with the recorded pick shown up to
-/// stage `stage` ([`pick_stages`]); and the frame's plane → pixel map, so that a click on
-/// the picture finds its point of the plane.
+/// stage `stage` ([`pick_stages`]).
 pub fn tree_view_plane(
     view: &TreeView,
     style: &Style,
     stage: usize,
-) -> Result<(Pixmap, PlaneToPixels), DrawError> {
+) -> Result<PlaneView, DrawError> {
     check(view)?;
     let colors = style.theme.colors();
     let mut pixmap = canvas::blank(style)?;
     let (w, h) = (f64::from(style.width), f64::from(style.height));
     let frame = (6.0, 6.0, (w - 12.0).max(1.0), (h - 12.0).max(1.0));
-    draw_plane(&mut pixmap, view, frame, &colors, stage)?;
-    let region = view.region.unwrap_or_else(|| default_region(view.scene));
-    Ok((pixmap, PlaneToPixels::new(region, frame)))
+    let (groups, map) = draw_plane(&mut pixmap, view, frame, &colors, stage)?;
+    Ok(PlaneView {
+        pixmap,
+        map,
+        groups,
+    })
 }
 
 /// The number of lights, once the view is drawable (lights, probabilities of the right
@@ -279,14 +292,15 @@ fn check(view: &TreeView) -> Result<usize, DrawError> {
 }
 
 /// The plane in `frame` `(left, top, width, height)`: image rectangle, footprints, groups,
-/// lights and the pick up to `stage`; the margins cleared. Returns the number of groups.
+/// lights and the pick up to `stage`; the margins cleared. Returns the number of groups and
+/// the frame's plane → pixel map.
 fn draw_plane(
     pixmap: &mut Pixmap,
     view: &TreeView,
     frame: (f64, f64, f64, f64),
     colors: &palette::ThemeColors,
     stage: usize,
-) -> Result<usize, DrawError> {
+) -> Result<(usize, PlaneToPixels), DrawError> {
     let scene = view.scene;
     let n = scene.positions.len();
     let groups = tree_groups(view.sampler, view.depth);
@@ -314,7 +328,7 @@ fn draw_plane(
         draw_pick(pixmap, view, pick, &map, (colors.foreground, stage));
     }
     clear_margins(pixmap, frame, colors.background);
-    Ok(groups.len())
+    Ok((groups.len(), map))
 }
 
 /// The scene's image rectangle widened to hold every light with power.

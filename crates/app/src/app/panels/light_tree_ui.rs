@@ -9,8 +9,8 @@
 
 use egui::{Color32, ColorImage, Key, Modifiers, RichText, Sense, TextureHandle, Ui, vec2};
 use lightpick_core::draw::{
-    LANE_COLORS, PlaneToPixels, Style, Theme, TreeView, pick_stages, tree_groups,
-    tree_view_caption, tree_view_plane,
+    LANE_COLORS, PlaneToPixels, Style, Theme, TreeView, pick_stages, tree_view_caption,
+    tree_view_plane,
 };
 use lightpick_core::lesson::tree_pick::{Culled, TreePick};
 use lightpick_core::spatial::SpatialSampler;
@@ -181,8 +181,8 @@ fn picture_ui(
             theme: if key.dark { Theme::Dark } else { Theme::Light },
         };
         match tree_view_plane(&view, &style, key.stage) {
-            Ok((pixmap, map)) => {
-                let rgba = lightpick_core::draw::to_rgba8(&pixmap);
+            Ok(plane) => {
+                let rgba = lightpick_core::draw::to_rgba8(&plane.pixmap);
                 let image = ColorImage::from_rgba_unmultiplied(size, &rgba);
                 let texture = match drawn {
                     Some(d) => {
@@ -196,12 +196,11 @@ fn picture_ui(
                         egui::TextureOptions::LINEAR,
                     ),
                 };
-                let groups = tree_groups(spatial, key.depth).len();
                 drawn = Some(Drawn {
                     key,
                     texture,
-                    map,
-                    groups,
+                    map: plane.map,
+                    groups: plane.groups,
                 });
                 ui.data_mut(|d| d.insert_temp(id, drawn.clone()));
             }
