@@ -90,7 +90,7 @@ fn histogram_csv(state: &AppState) -> String {
         .enumerate()
     {
         let first = cell * per;
-        let lights = per.min(n.saturating_sub(first));
+        let lights = run.cell_lights(cell, n);
         let _ = writeln!(out, "{},{lights},{u},{a},{p:e}", first + 1);
     }
     out

@@ -109,12 +109,7 @@ fn histogram_data(state: &AppState) -> Result<HistogramData, String> {
     if run.picks == 0 || run.generation != state.built.generation {
         return Err("no picks yet: run the histograms (Sampling panel) first".to_owned());
     }
-    let n = state.built.len();
-    let per = run.per_cell.max(1);
-    let cells = run.alias_cell_pmf.len();
-    let uniform_pmf: Vec<f64> = (0..cells)
-        .map(|c| per.min(n.saturating_sub(c * per)) as f64 / n as f64)
-        .collect();
+    let uniform_pmf: Vec<f64> = run.uniform_cell_pmf(state.built.len()).collect();
     let counts = |c: &super::state::counts::PickCounts| c.iter().collect::<Vec<u64>>();
     let schemes = vec![
         SchemeCounts::new(Scheme::Uniform, counts(&run.uniform_counts), uniform_pmf)

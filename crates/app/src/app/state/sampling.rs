@@ -66,6 +66,20 @@ pub struct SamplingRun {
     pub flat_bins: Vec<f64>,
 }
 
+impl SamplingRun {
+    /// How many of the `n` lights chi-square cell `cell` holds: lights `c·k .. min((c + 1)·k,
+    /// N)` with `k` = [`SamplingRun::per_cell`] (one light each up to the cell limit).
+    pub fn cell_lights(&self, cell: usize, n: usize) -> usize {
+        let per = self.per_cell.max(1);
+        per.min(n.saturating_sub(cell * per))
+    }
+
+    /// Each cell's probability under uniform picking: its share of the `n` lights.
+    pub fn uniform_cell_pmf(&self, n: usize) -> impl Iterator<Item = f64> + Clone + '_ {
+        (0..self.uniform_counts.len()).map(move |c| self.cell_lights(c, n) as f64 / n as f64)
+    }
+}
+
 /// The alias-table diagram shows at most this many columns (a window of a larger table).
 pub const DIAGRAM_MAX_COLUMNS: usize = 64;
 
@@ -149,12 +163,12 @@ impl AppState {
         }
         let n = self.built.len();
         let sampling = &self.sampling;
-        let per_cell = sampling.per_cell;
-        // Cell c holds lights c·k .. min((c + 1)·k, N): its uniform probability is its size
-        // over N (1/N for every cell of one light).
-        let flat = (0..sampling.uniform_counts.len())
-            .map(|c| (((c + 1) * per_cell).min(n) - c * per_cell) as f64 / n as f64);
-        let uniform = chi_square_cells(sampling.uniform_counts.iter().zip(flat));
+        let uniform = chi_square_cells(
+            sampling
+                .uniform_counts
+                .iter()
+                .zip(sampling.uniform_cell_pmf(n)),
+        );
         let alias = chi_square_cells(
             sampling
                 .alias_counts
