@@ -58,12 +58,7 @@ pub fn figure_pixmap(
             let series: Vec<ConvergenceSeries> = m
                 .rows
                 .iter()
-                .map(|row| {
-                    series_of(
-                        row.scheme,
-                        row.series.iter().map(|q| (q.spp, q.seconds, q.rmse)),
-                    )
-                })
+                .map(|row| ConvergenceSeries::of_measured(row.scheme, &row.series))
                 .collect();
             convergence(&with_points(&series)?, ConvergenceAxis::Seconds, &style)
         }

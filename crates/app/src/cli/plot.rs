@@ -6,8 +6,7 @@
 use anyhow::bail;
 use clap::{Args, Subcommand, ValueEnum};
 use lightpick_core::draw::{
-    self, ConvergenceAxis, ConvergencePoint, ConvergenceSeries, HistogramData, SchemeCounts,
-    SheetImages,
+    self, ConvergenceAxis, ConvergenceSeries, HistogramData, SchemeCounts, SheetImages,
 };
 use lightpick_core::render::{CpuRenderer, Reference, cpu_convergence};
 use lightpick_core::stats::variance_map::VarianceMap;
@@ -232,18 +231,7 @@ fn convergence(
     let reference = Reference::compute(&scene);
     let series: Vec<ConvergenceSeries> = cpu_convergence(&scene, &reference, schemes, seed, spp)
         .into_iter()
-        .map(|s| {
-            let points = s
-                .series
-                .iter()
-                .map(|p| ConvergencePoint {
-                    spp: u64::from(p.spp),
-                    rmse: p.rmse,
-                    seconds: p.seconds,
-                })
-                .collect();
-            ConvergenceSeries::for_scheme(s.scheme, points)
-        })
+        .map(|s| ConvergenceSeries::of_measured(s.scheme, &s.series))
         .collect();
     let axis = match axis {
         Axis::Spp => ConvergenceAxis::Spp,

@@ -17,7 +17,7 @@ use super::canvas::{self, LegendEntry, Mark};
 use super::palette::{self, Rgba8};
 use super::{DrawError, Style};
 use crate::Scaled;
-use crate::render::is_zero_variance_scaled;
+use crate::render::{SeriesPoint, is_zero_variance_scaled};
 use crate::sampler::Scheme;
 
 /// One measurement of a progressive render.
@@ -50,6 +50,19 @@ impl ConvergenceSeries {
             color: palette::scheme_color(scheme),
             points,
         }
+    }
+
+    /// A scheme's series as the renderers measure it ([`SeriesPoint`]: spp, seconds, RMSE).
+    pub fn of_measured(scheme: Scheme, measured: &[SeriesPoint]) -> Self {
+        let points = measured
+            .iter()
+            .map(|p| ConvergencePoint {
+                spp: u64::from(p.spp),
+                rmse: p.rmse,
+                seconds: p.seconds,
+            })
+            .collect();
+        Self::for_scheme(scheme, points)
     }
 }
 

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context as _, bail};
-use lightpick_core::draw::{self, ConvergenceAxis, ConvergencePoint, ConvergenceSeries};
+use lightpick_core::draw::{self, ConvergenceAxis, ConvergenceSeries};
 use serde::Serialize;
 
 use super::renders::PresetRender;
@@ -35,19 +35,7 @@ pub(super) fn write_plot(path: &Path, renders: &[PresetRender]) -> anyhow::Resul
     let series: Vec<ConvergenceSeries> = render
         .schemes
         .iter()
-        .map(|s| {
-            ConvergenceSeries::for_scheme(
-                s.scheme,
-                s.series
-                    .iter()
-                    .map(|p| ConvergencePoint {
-                        spp: u64::from(p.spp),
-                        rmse: p.rmse,
-                        seconds: p.seconds,
-                    })
-                    .collect(),
-            )
-        })
+        .map(|s| ConvergenceSeries::of_measured(s.scheme, &s.series))
         .collect();
     let pixmap = draw::convergence(&series, ConvergenceAxis::Seconds, &draw::Style::default())
         .with_context(|| format!("--plot: drawing {}", render.preset))?;
