@@ -199,7 +199,7 @@ struct SmallRenders {
     reference: Vec<f64>,
 }
 
-/// A small receiver plane lit by the seed lights, rendered for real: the exact sum and
+/// A small receiver plane lit by the worked example's lights, rendered for real: the exact sum and
 /// `spp`-sample Monte Carlo estimates `Φᵢ·Gᵢ / p(i)` with each scheme's picks, the spatial
 /// one picking `i` with `P(i | x) = Φᵢ·Gᵢ(x) / Σⱼ Φⱼ·Gⱼ(x)` (the exact pick of three lights,
 /// so its estimate is the exact sum up to rounding).

@@ -115,7 +115,7 @@ mod tests {
 
     #[test]
     fn comparisons_read_with_a_factor_of_at_least_one() {
-        // The inspector on the seed: power's variance 20.19 against uniform's 2.922.
+        // The inspector on the worked example: power's variance 20.19 against uniform's 2.922.
         assert_eq!(compare(20.19, 2.922, "higher", "lower"), "6.91× higher");
         assert_eq!(compare(2.922, 20.19, "higher", "lower"), "6.91× lower");
         assert_eq!(compare(14.85, 366.0, "more", "fewer"), "24.6× fewer");

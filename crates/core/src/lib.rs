@@ -6,7 +6,7 @@
 //! * [`LightPowers`] validates a set of powers (finite, non-negative, not all zero).
 //! * [`AliasTable`] is Walker's alias method in its packed `u32` form, shared bit for bit
 //!   with the GPU, built by one of two [`Construction`]s: an exact integer sweep (the fast
-//!   default) or Vose's algorithm in `f64` (exact seed fractions). [`CdfTable`] and
+//!   default) or Vose's algorithm in `f64` (exact fractions such as 6/27). [`CdfTable`] and
 //!   [`Uniform`] are the peers it is compared with.
 //! * [`LightSampler`] is the one interface of every scheme: `pick_at(ctx, rng)` and
 //!   `pmf_at(ctx, i)` at a [`ShadingContext`]; the point-free schemes ([`Sampler`]) ignore the

@@ -110,7 +110,7 @@ impl LightpickApp {
 
     /// The worked example, paused, rendering inline: the starting point of every UI test.
     pub fn for_tests() -> Self {
-        let mut state = AppState::seed();
+        let mut state = AppState::worked_example();
         state.settings.paused = true;
         // The GPU when the harness has one (kittest's wgpu device is lavapipe, where `Auto`
         // would measure both renderers first); tests of `Auto` set it themselves.

@@ -113,12 +113,12 @@ impl LightpickApp {
                 Err(e) => problems.push(format!("last scene not restored: {e}")),
             }
         }
-        // The exposure belongs to the scene it was set for: without that scene, the seed
-        // scene's own.
+        // The exposure belongs to the scene it was set for: without that scene, the worked
+        // example's own.
         let scene = scene.unwrap_or_else(|| {
-            let seed = scene_io::worked_example_scene();
-            settings.exposure = auto_exposure(&seed);
-            seed
+            let example = scene_io::worked_example_scene();
+            settings.exposure = auto_exposure(&example);
+            example
         });
         let mut app = Self::with_state(AppState::new(scene, settings), true);
         app.session_dir = session_dir;

@@ -18,7 +18,7 @@ pub struct TableArgs {
     /// Where the powers come from.
     #[command(flatten)]
     pub powers: PowersArgs,
-    /// How the table is built: `exact` (the `f64` construction, exact seed fractions) or
+    /// How the table is built: `exact` (the `f64` construction: exact fractions such as 6/27) or
     /// `integer` (the fast default of the samplers, thresholds `T/2^32`).
     #[arg(long, default_value = "exact")]
     pub construction: Construction,

@@ -1,5 +1,5 @@
 //! The classroom screens as a class sees them, at a 1024×768 projector and at 1600×1000:
-//! the inspector on the seed, the images with their sentence on `grid` and `stage`, equal
+//! the inspector on the worked example, the images with their sentence on `grid` and `stage`, equal
 //! time on `million`, the Trade and the Precision windows. Golden images in
 //! `docs/screenshots/` (the README's pictures); `UPDATE_SNAPSHOTS=1` redraws them.
 

@@ -187,7 +187,7 @@ fn a_large_scene_shows_no_example_powers_in_the_field() {
 
 #[test]
 fn the_status_bar_says_paused_instead_of_a_frame_time() {
-    let mut state = lightpick::app::AppState::seed();
+    let mut state = lightpick::app::AppState::worked_example();
     state.settings.paused = true;
     let mut harness = Harness::new_ui_state(
         |ui, state: &mut lightpick::app::AppState| {
@@ -368,7 +368,7 @@ fn the_data_behind_the_figures_exports_as_csv() {
     };
     assert_eq!(sum(2), picks);
     assert_eq!(sum(3), picks);
-    // Trade: one row per scheme; inspector: one row per light of the seed.
+    // Trade: one row per scheme; inspector: one row per light of the worked example.
     assert_eq!(read("trade").lines().count(), 1 + 5);
     let inspector = read("inspector");
     assert_eq!(

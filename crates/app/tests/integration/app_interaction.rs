@@ -49,7 +49,7 @@ fn a_negative_power_is_named_and_the_last_good_table_kept() {
         .set_value_accesskit(-1.0);
     harness.run();
     harness.get_by_label_contains("light 2: power -1 is negative");
-    // The table still shows the seed example, the typed value is kept.
+    // The table still shows the worked example, the typed value is kept.
     assert!(shows(&harness, "6/27"));
     let state = &harness.state().state;
     assert_eq!(state.edit.powers[..], [2.0, -1.0, 20.0]);

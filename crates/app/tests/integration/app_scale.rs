@@ -15,7 +15,7 @@ fn pow2(x: f64, k: i32) -> f64 {
     Scaled::new(x, k).to_f64()
 }
 
-/// The seed preset with every power times `2^k` (2, 5, 20 stay normal and finite for
+/// The worked-example preset with every power times `2^k` (2, 5, 20 stay normal and finite for
 /// `|k| ≤ 1000`).
 fn seed_times(k: i32) -> Scene {
     let mut scene = Scene::preset("worked-example").expect("worked-example preset");

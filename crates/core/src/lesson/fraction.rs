@@ -1,8 +1,8 @@
-//! Exact fractions for display: the seed example writes thresholds as `6/27`, not `0.2222`.
+//! Exact fractions for display: the worked example writes thresholds as `6/27`, not `0.2222`.
 //!
 //! When every power `Φ_i` is a whole number, every pmf value `Φ_i/S` and every alias-table
 //! threshold (`N·Φ_i/S` less whole donations of 1) is a multiple of `1/S`, `S = Σ Φ_i`. The
-//! table, the diagram and the CLI then show `m/S` unreduced, as the seed example does.
+//! table, the diagram and the CLI then show `m/S` unreduced, as the worked example does.
 
 /// The common denominator `S = Σ Φ_i` when every power is a whole number and `S` lies in
 /// `[1, max_total]` (`max_total ≤ 2^40`, where `m/S` is still resolved by an `f64`).

@@ -211,7 +211,7 @@ impl PointEstimator {
         })
     }
 
-    /// The seed example's point: contributions `1, 2, 15` (exact 18) with uniform and
+    /// The worked example's point: contributions `1, 2, 15` (exact 18) with uniform and
     /// importance (alias table over powers `2, 5, 20`) runs.
     pub fn worked_example(seed: u64) -> Self {
         let table = Arc::new(AliasTable::build_exact(&crate::WorkedExample::powers()));

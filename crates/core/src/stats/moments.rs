@@ -31,7 +31,7 @@ impl EstimatorMoments {
 /// near `10^-200`; scaling every `f_i` by `2^k` scales the means by `2^k` and the variance by
 /// `2^(2k)` bit for bit (while nothing is subnormal).
 ///
-/// The seed example (`f = 1, 2, 15`) gives variance 366 under uniform picking and 14.85
+/// The worked example (`f = 1, 2, 15`) gives variance 366 under uniform picking and 14.85
 /// under power picking (`p = 2/27, 5/27, 20/27`), both with mean 18.
 pub fn analytic_moments(f: &[f64], p: impl Fn(usize) -> f64) -> EstimatorMoments {
     let unit = contribution_unit(f);

@@ -6,7 +6,7 @@
 //! The plot shows each scheme's running estimate `F̂_n` against the number of samples `n`
 //! (log axis) with its `±2σ` band from the running variance (`σ = √(s²/n)`) and the exact
 //! value `F` as a line; the table puts the measured per-sample variance beside the analytic
-//! one (`Σ f_i²/q_i − F²`: 366 and 14.85 on the seed) and the samples each scheme needs for
+//! one (`Σ f_i²/q_i − F²`: 366 and 14.85 on the worked example) and the samples each scheme needs for
 //! a 1 % standard error, `n_1% = Var/(0.01·F)²`, with their ratio. Run / Step / Reset; the
 //! streams are seeded (the app's seed), and a change of powers starts the run over with the
 //! new contributions.

@@ -9,7 +9,7 @@ use crate::numbers;
 /// Rows of the table shown without scrolling when the table is small.
 pub const ROW_HEIGHT: f32 = 18.0;
 
-/// The sentence that explains column `i`, in the seed example's words: "column 1 keeps
+/// The sentence that explains column `i`, in the worked example's words: "column 1 keeps
 /// light 1 with probability 6/27, else light 3".
 pub fn column_sentence(state: &AppState, i: usize) -> String {
     let built = &state.built;

@@ -69,7 +69,7 @@ impl Default for EstimatorState {
     }
 }
 
-/// Whether the seed point uses the scene's own three lights (else the classic powers).
+/// Whether the worked example's point uses the scene's own three lights (else the classic powers).
 pub fn worked_example_uses_scene(built: &Built) -> bool {
     built.len() == CLASSIC_POWERS.len()
 }

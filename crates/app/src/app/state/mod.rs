@@ -185,7 +185,7 @@ impl AppState {
     }
 
     /// The worked example (powers 2, 5, 20) with default settings.
-    pub fn seed() -> Self {
+    pub fn worked_example() -> Self {
         Self::new(scene_io::worked_example_scene(), Settings::default())
     }
 

@@ -192,7 +192,7 @@ mod tests {
 
     #[test]
     fn the_images_pause_while_a_measurement_runs() {
-        let mut state = crate::app::state::AppState::seed();
+        let mut state = crate::app::state::AppState::worked_example();
         state.trade.inline = false;
         let (go, wait) = std::sync::mpsc::channel::<()>();
         let scene = std::sync::Arc::clone(&state.built.scene);

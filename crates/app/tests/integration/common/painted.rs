@@ -97,7 +97,7 @@ pub fn click_at(harness: &mut Harness<'static, LightpickApp>, pos: egui::Pos2) {
     harness.run();
 }
 
-/// The whole app on the seed at `size`, one step rendered, a pixel of the power image
+/// The whole app on the worked example at `size`, one step rendered, a pixel of the power image
 /// clicked (the inspector opens).
 pub fn seed_with_inspector(size: [f32; 2]) -> Harness<'static, LightpickApp> {
     let mut harness = window(LightpickApp::for_tests(), size);

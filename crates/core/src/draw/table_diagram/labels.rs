@@ -5,7 +5,7 @@ use crate::draw::axes;
 use crate::powers::LightPowers;
 
 /// The exact denominator for fraction labels: the total power, when every power is a whole
-/// number and the total is at most 1000, so fractions stay short (the seed powers 2, 5, 20
+/// number and the total is at most 1000, so fractions stay short (the worked example's powers 2, 5, 20
 /// give 27: labels read `6/27`, `15/27`, `60/27`). `None` otherwise: labels are decimals.
 pub fn fraction_denominator(powers: &LightPowers) -> Option<u64> {
     crate::fraction::common_denominator(powers.as_slice(), 1000.0)

@@ -50,7 +50,7 @@ pub(crate) struct ExactParts {
 /// Builds the exact table of `powers` into `parts` and the packed words into `words`,
 /// reusing their allocations (nothing is allocated when `N` is unchanged).
 ///
-/// The seed powers `2, 5, 20` give thresholds `6/27, 15/27, 1` and aliases `2, 2, 2`,
+/// The worked example's powers `2, 5, 20` give thresholds `6/27, 15/27, 1` and aliases `2, 2, 2`,
 /// each threshold the correctly rounded `f64` of its fraction.
 pub(crate) fn build(powers: &LightPowers, parts: &mut ExactParts, words: &mut Vec<u64>) {
     let values = powers.as_slice();

@@ -20,7 +20,7 @@
 //!   packed table on first use, so what they show is what is sampled.
 //! * [`Construction::Exact`] ([`AliasTable::build_exact`]): Vose's pairing in `f64` with
 //!   double-double carries (`exact.rs`). Its `f64` table implies `p_i` within `10^-12`
-//!   relative (a few ulps in practice) — the seed powers `2, 5, 20` give thresholds
+//!   relative (a few ulps in practice) — the worked example's powers `2, 5, 20` give thresholds
 //!   `6/27, 15/27, 1` and aliases `2, 2, 2` exactly, which the classroom views show — and
 //!   its packed form is that table quantized (within `(1 + a_i)·2^-32/N`). Several times
 //!   slower to build (docs/numbers.md) and 28 bytes per light.
@@ -76,7 +76,7 @@ pub enum Construction {
     #[default]
     Integer,
     /// Vose in `f64` with double-double carries: an `f64` table within `10^-12` relative
-    /// of `p_i` (exact seed fractions), quantized for sampling.
+    /// of `p_i` (exact fractions such as 6/27), quantized for sampling.
     Exact,
 }
 
