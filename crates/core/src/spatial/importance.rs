@@ -121,18 +121,34 @@ pub fn branch_probabilities<const K: usize>(importance: [f64; K], power: [f64; K
 /// (at most `K + 1` in size). All zero when no probability is positive.
 #[inline]
 pub fn grid_masses<const K: usize>(probabilities: [f64; K]) -> [u32; K] {
-    let one = f64::from(GRID);
     let mut masses = [0u32; K];
+    grid_masses_into(&probabilities, &mut masses);
+    masses
+}
+
+/// [`grid_masses`] over any number of probabilities, written into `masses` (one each, the
+/// same rule): the per-tile cuts ([`super::TileCuts`]) put their entries on the grid with it.
+///
+/// # Panics
+/// If the lengths differ.
+#[inline]
+pub fn grid_masses_into(probabilities: &[f64], masses: &mut [u32]) {
+    assert_eq!(
+        probabilities.len(),
+        masses.len(),
+        "one mass per probability"
+    );
+    let one = f64::from(GRID);
     let mut sum = 0i64;
-    let mut largest = 0;
-    for k in 0..K {
-        let p = probabilities[k];
+    let (mut largest, mut largest_mass) = (0, 0);
+    for (k, (&p, m)) in probabilities.iter().zip(masses.iter_mut()).enumerate() {
+        *m = 0;
         if p > 0.0 {
             // p ≤ 1 + rounding: p·2^24 < 2^25, and the conversion truncates (the floor).
-            masses[k] = ((p * one) as u32).clamp(1, GRID);
-            sum += i64::from(masses[k]);
-            if masses[k] > masses[largest] {
-                largest = k;
+            *m = ((p * one) as u32).clamp(1, GRID);
+            sum += i64::from(*m);
+            if *m > largest_mass {
+                (largest, largest_mass) = (k, *m);
             }
         }
     }
@@ -140,7 +156,6 @@ pub fn grid_masses<const K: usize>(probabilities: [f64; K]) -> [u32; K] {
         let corrected = i64::from(masses[largest]) + i64::from(GRID) - sum;
         masses[largest] = corrected.clamp(1, i64::from(GRID)) as u32;
     }
-    masses
 }
 
 /// The index whose interval of the cumulative `masses` holds `u` (`u < 2^24`): the first `k`

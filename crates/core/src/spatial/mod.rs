@@ -85,7 +85,10 @@ pub use bounds::LaneBounds;
 pub(crate) use bounds::REACH_SLACK;
 pub use exact::ExactSampler;
 pub use grid::{LaneGrid, MappedLanes};
-pub use tree::{Child, ChildRef, LEAF_SIZE, LightTree, TREE_WIDTH, TreeNode};
+pub use tree::{
+    CUT_MAX_ENTRIES, CUT_TILES_PER_SIDE, Child, ChildRef, LEAF_SIZE, LightTree, TREE_WIDTH,
+    TileCuts, TreeNode,
+};
 
 use glam::{DVec2, DVec3};
 
@@ -184,7 +187,8 @@ impl SpatialSampler {
 
     /// The sampler of a scene: its positions, powers and emission profiles; a tree over
     /// spots or ranges maps its lanes over the scene's receiver rectangle
-    /// ([`LightTree::build_over`]).
+    /// ([`LightTree::build_over`]), and a tree is cut per tile of the receiver's pixels
+    /// ([`TileCuts`], [`LightTree::with_tile_cuts`]).
     pub fn for_scene(scene: &Scene) -> Self {
         let (positions, powers) = (&scene.positions, &scene.powers);
         let emission = scene.emission.as_deref();
@@ -192,12 +196,10 @@ impl SpatialSampler {
             Self::build_with_emission(positions, powers, emission)
         } else {
             let region = [scene.plane.min, scene.plane.max];
-            SpatialSampler::Tree(LightTree::build_over(
-                positions,
-                powers,
-                emission,
-                Some(region),
-            ))
+            SpatialSampler::Tree(
+                LightTree::build_over(positions, powers, emission, Some(region))
+                    .with_tile_cuts(&scene.plane),
+            )
         }
     }
 

@@ -39,6 +39,7 @@ mod spatial;
 mod spatial_emission;
 mod spatial_rims;
 mod statistics;
+mod tile_cuts;
 mod tree_pick;
 #[cfg(feature = "draw")]
 mod tree_view;

@@ -305,7 +305,9 @@ fn renderer_uses_the_sampler_at_pixel_centres() {
     );
     let mut r = CpuRenderer::new(&scene, Scheme::Spatial, 77);
     r.accumulate(3);
-    let sampler = SpatialSampler::build(&positions, &powers);
+    // The scene's sampler: its tree cut per tile of these pixels.
+    let sampler = SpatialSampler::for_scene(&scene);
+    assert!(matches!(&sampler, SpatialSampler::Tree(t) if t.tile_cuts().is_some()));
     for py in 0..8 {
         for px in 0..8 {
             let p = u64::from(py * 8 + px);
@@ -376,7 +378,25 @@ fn interleaved_descents_equal_single_ones_bit_for_bit() {
     let mut r = CpuRenderer::new(&scene, Scheme::Spatial, 19);
     r.accumulate(2);
     r.accumulate(3);
-    let sampler = SpatialSampler::Tree(tree);
+    // The renderer's sampler is the scene's, cut per tile; its interleaved picks equal its
+    // single ones too.
+    let sampler = SpatialSampler::for_scene(&scene);
+    let SpatialSampler::Tree(cut) = &sampler else {
+        panic!("3000 lights take the tree");
+    };
+    assert_eq!(cut.clone().with_cuts(None), tree, "the same tree, cut");
+    for s in 0..50u64 {
+        let points: [DVec2; 8] = std::array::from_fn(|b| {
+            pixel_center(&scene.plane, (s as u32 + b as u32) % 11, (s as u32 / 3) % 5)
+        });
+        let mut rngs: [Rng; 8] = std::array::from_fn(|b| Rng::new(s, b as u64));
+        let many = cut.sample_many(&points, &mut rngs);
+        for b in 0..8 {
+            let mut rng = Rng::new(s, b as u64);
+            assert_eq!(many[b], cut.sample(points[b], &mut rng), "cut: s = {s}, b = {b}");
+            assert_eq!(rngs[b], rng, "the same draws");
+        }
+    }
     let to_unit = lightpick_core::Scaled::pow2(-scene.irradiance_shift()).to_f64();
     for py in 0..5 {
         for px in 0..11 {

@@ -77,20 +77,18 @@ fn tree(scene: &Scene) -> LightTree {
     LightTree::build_with_emission(&scene.positions, &scene.powers, scene.emission.as_deref())
 }
 
-/// The two trees a scene with spots gets: without a region (unbounded lights weighed as
-/// representative lights) and mapped over the receiver's rectangle (as
-/// [`SpatialSampler::for_scene`] builds it).
-fn trees(scene: &Scene) -> [LightTree; 2] {
+/// The trees a scene with spots gets: without a region (unbounded lights weighed as
+/// representative lights), mapped over the receiver's rectangle, and that one cut per tile
+/// of the receiver's pixels (as [`SpatialSampler::for_scene`] builds it).
+fn trees(scene: &Scene) -> [LightTree; 3] {
     let region = [scene.plane.min, scene.plane.max];
-    [
-        tree(scene),
-        LightTree::build_over(
-            &scene.positions,
-            &scene.powers,
-            scene.emission.as_deref(),
-            Some(region),
-        ),
-    ]
+    let mapped = LightTree::build_over(
+        &scene.positions,
+        &scene.powers,
+        scene.emission.as_deref(),
+        Some(region),
+    );
+    [tree(scene), mapped.clone(), mapped.with_tile_cuts(&scene.plane)]
 }
 
 /// `Σ_i P(i | x) ≤ 1`: with spots a descent may end in a leaf cluster none of whose lights

@@ -83,6 +83,7 @@ impl LightTree {
             footprints: emission
                 .map_or_else(Vec::new, |e| footprints_in(&order, positions, e, region)),
             mapped: Vec::new(),
+            cuts: None,
             order,
         };
         tree.depth = tree.deepest(tree.root);
@@ -177,7 +178,9 @@ impl LightTree {
     /// mapped over a region, every lane's map ([`crate::spatial::grid`]) is recomputed from
     /// its lights as a build does: each light is integrated into the maps of the lanes above
     /// it, `O(N · depth)` footprint integrations, and one array of lane ranges (a word pair
-    /// per node lane) is allocated. `lightpick bench` times it as `tree-refit-spots`.
+    /// per node lane) is allocated. `lightpick bench` times it as `tree-refit-spots`. A tree
+    /// with per-tile cuts ([`super::TileCuts`]) cuts every tile again (`O(tiles · K · depth)`, in
+    /// parallel, its arrays allocated anew), as [`LightTree::with_tile_cuts`] does.
     ///
     /// # Panics
     /// If `powers` holds a different number of lights.
@@ -193,6 +196,9 @@ impl LightTree {
             .with_min_len(1 << 14)
             .for_each(|(l, &i)| l.power = pmf.of(raw[i as usize]));
         self.fill_lanes();
+        if let Some(cuts) = self.cuts.take() {
+            self.cuts = cuts.recut(self);
+        }
     }
 }
 

@@ -45,12 +45,40 @@ impl LightTree {
         (grid_masses(p), c)
     }
 
-    /// Descends from the root with one draw per node and one in the leaf cluster; `None`
-    /// when there is no contributing light or every contribution of the leaf reached is 0
-    /// (then `ê = 0`).
+    /// Where a pick at `x` starts and with what probability: on a tile of the per-tile cuts
+    /// the entry its cut takes by the next draw (`None` when no entry has power), elsewhere
+    /// the root with probability 1.
+    #[inline]
+    fn start(&self, x: DVec2, rng: &mut Rng) -> Option<(ChildRef, f64)> {
+        match self.cuts.as_ref().and_then(|c| Some((c, c.tile_at(x)?))) {
+            Some((cuts, tile)) => {
+                let (entry, mass) = cuts.pick(tile, rng.next_u32() >> 8)?;
+                Some((entry, f64::from(mass) * GRID_CELL))
+            }
+            None => Some((self.root, 1.0)),
+        }
+    }
+
+    /// The entries a pick at `x` may start from with their probabilities: the tile's cut,
+    /// or the root alone off the cuts.
+    fn starts(&self, x: DVec2) -> Vec<(ChildRef, f64)> {
+        match self.cuts.as_ref().and_then(|c| Some((c, c.tile_at(x)?))) {
+            Some((cuts, tile)) => cuts
+                .entries(tile)
+                .filter(|&(_, m)| m > 0)
+                .map(|(e, m)| (e, f64::from(m) * GRID_CELL))
+                .collect(),
+            None => vec![(self.root, 1.0)],
+        }
+    }
+
+    /// A pick at `x`: on a tile of the per-tile cuts ([`super::TileCuts`]) one draw takes
+    /// an entry of its cut, then (as from the root without cuts) one draw per node and one
+    /// in the leaf cluster; `None` when there is no contributing light or every
+    /// contribution of the leaf reached is 0 (then `ê = 0`).
     #[inline]
     pub fn sample(&self, x: DVec2, rng: &mut Rng) -> Option<SpatialPick> {
-        let (mut at, mut pdf) = (self.root, 1.0);
+        let (mut at, mut pdf) = self.start(x, rng)?;
         while let Child::Node(k) = at.get() {
             at = self.step(k, x, rng, &mut pdf);
         }
@@ -67,7 +95,13 @@ impl LightTree {
         points: &[DVec2; B],
         rngs: &mut [Rng; B],
     ) -> [Option<SpatialPick>; B] {
-        let (mut at, mut pdf) = ([self.root; B], [1.0; B]);
+        let mut at = [ChildRef::EMPTY; B];
+        let mut pdf = [0.0; B];
+        for b in 0..B {
+            (at[b], pdf[b]) = self
+                .start(points[b], &mut rngs[b])
+                .unwrap_or((ChildRef::EMPTY, 0.0));
+        }
         loop {
             let mut descending = false;
             for b in 0..B {
@@ -141,7 +175,7 @@ impl LightTree {
     /// outside the tree): one traversal with the masses of [`LightTree::sample`], `O(N)`.
     pub fn pdfs(&self, x: DVec2) -> Vec<f64> {
         let mut out = vec![0.0; self.n];
-        let mut stack = vec![(self.root, 1.0f64)];
+        let mut stack = self.starts(x);
         while let Some((at, pdf)) = stack.pop() {
             match at.get() {
                 Child::Node(k) => {
@@ -170,8 +204,13 @@ impl LightTree {
         let Some(j) = self.order.iter().position(|&i| i as usize == light) else {
             return 0.0;
         };
-        let mut at = self.root;
-        let mut pdf = 1.0;
+        let Some((mut at, mut pdf)) = self
+            .starts(x)
+            .into_iter()
+            .find(|&(e, _)| self.span(e).is_some_and(|s| s.contains(&j)))
+        else {
+            return 0.0;
+        };
         loop {
             match at.get() {
                 Child::Node(k) => {

@@ -57,15 +57,17 @@ mod fill;
 mod footprint_split;
 mod layout;
 mod node;
+mod tile_cut;
 
 pub use node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
+pub use tile_cut::{CUT_MAX_ENTRIES, CUT_TILES_PER_SIDE, TileCuts};
 
 use glam::DVec2;
 
 use super::SpatialLight;
 use super::bounds::LaneBounds;
 use super::grid::MappedLanes;
-use crate::scene::Emission;
+use crate::scene::{Emission, ReceiverPlane};
 
 /// A light tree over the contributing lights of a scene; see the module docs.
 #[derive(Clone, Debug, PartialEq)]
@@ -95,6 +97,9 @@ pub struct LightTree {
     /// Each node's lanes as the descent over spots reads them ([`super::grid`]; empty for
     /// point lights).
     mapped: Vec<MappedLanes>,
+    /// The per-tile cuts a pick starts from on the receiver's rectangle ([`TileCuts`];
+    /// `None`: every pick descends from the root).
+    cuts: Option<TileCuts>,
 }
 
 impl LightTree {
@@ -189,6 +194,27 @@ impl LightTree {
             + self.bounds.capacity() * size_of::<[LaneBounds; TREE_WIDTH]>()
             + self.footprints.capacity() * size_of::<Option<[DVec2; 2]>>()
             + self.mapped.capacity() * size_of::<MappedLanes>()
+            + self.cuts.as_ref().map_or(0, TileCuts::heap_bytes)
+    }
+
+    /// The tree with per-tile cuts over `plane`'s pixel grid ([`TileCuts`]): picks on the
+    /// plane's rectangle start at the entry their tile's cut draws instead of the root. A
+    /// tree whose root is a leaf cluster keeps none.
+    pub fn with_tile_cuts(mut self, plane: &ReceiverPlane) -> Self {
+        self.cuts = TileCuts::build(&self, plane);
+        self
+    }
+
+    /// The tree with the given per-tile cuts (`None`: every pick descends from the root);
+    /// `cuts` must have been built over this tree ([`TileCuts::build_sized`]).
+    pub fn with_cuts(mut self, cuts: Option<TileCuts>) -> Self {
+        self.cuts = cuts;
+        self
+    }
+
+    /// The per-tile cuts picks start from, if any.
+    pub fn tile_cuts(&self) -> Option<&TileCuts> {
+        self.cuts.as_ref()
     }
 
     /// The internal nodes, depth first.
@@ -212,9 +238,9 @@ impl LightTree {
     }
 
     /// The most draws a pick takes: internal nodes on the deepest path, plus one for the
-    /// leaf cluster.
+    /// leaf cluster, plus one for a tile's cut when the tree has them.
     pub fn depth(&self) -> u32 {
-        self.depth
+        self.depth + u32::from(self.cuts.is_some())
     }
 }
 

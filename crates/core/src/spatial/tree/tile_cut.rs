@@ -1,0 +1,421 @@
+//! Per-tile cuts of the light tree: the top of the descent decided once per tile of pixels
+//! instead of at every sample.
+//!
+//! # What a cut is
+//! The receiver is one plane with a known pixel grid ([`ReceiverPlane`]). It is split into
+//! square tiles of [`TileCuts::tile_side`] pixels (about [`CUT_TILES_PER_SIDE`] along the
+//! longer side). Each tile keeps a **cut** of the tree: at most [`CUT_MAX_ENTRIES`] subtrees
+//! whose leaf-order ranges partition the tree's lights (internal nodes, leaf clusters, or
+//! single lights of an expanded leaf cluster), each with a mass `m_e` on the `2^24` grid
+//! (`Σ_e m_e = 2^24`). A pick at `x` in the tile takes entry `e` by one draw (`u = r >> 8`
+//! against the cumulative masses, a binary search), then descends below `e` at `x` exactly as
+//! the tree does from its root ([`super::LightTree::sample`]). Its probability is
+//!
+//! `P(i | x) = m_e / 2^24 · Π_{nodes below e} m_lane(x) / 2^24 · m_j(x) / 2^24`,
+//!
+//! the product of realized grid probabilities: exact, and `Σ_i P(i | x) = 1` since the
+//! entries partition the lights and every level's masses sum to `2^24`.
+//!
+//! # How a tile weighs its entries
+//! The cut is grown from the root's lanes by splitting, while it fits, the entry of largest
+//! weight (a node into its lanes, a leaf cluster into its lights). An entry's weight is the
+//! tree's own probability of reaching it, averaged over five points of the tile (its centre
+//! and the centres of its four quarters): `q̄_e = (1/5)·Σ_k P_tree(e | x_k)`, with the
+//! lanes' importances (representative lights, or the maps of spots) exactly as the descent
+//! computes them. Mixed with the entry's share of power,
+//!
+//! `w_e = (1 − ε)·q̄_e / Σ q̄ + ε·Φ_e / Σ Φ`,  `ε =` [`POWER_SHARE`],
+//!
+//! every entry holding power keeps a mass `m_e ≥ 1`: a light that contributes anywhere in
+//! the tile (even where the five points say nothing, at a spot's edge) keeps `P(i | x) > 0`,
+//! so the estimate stays unbiased. What the cut changes is only how well the top of the
+//! descent fits `x`: the tile's average instead of `x` itself; the module docs of
+//! [`crate::spatial`] hold the variances and times measured.
+//!
+//! Points off the plane's rectangle (the inspector or a test may ask there) descend from
+//! the root as before: the pdf at a point is defined by the rule that point falls under.
+
+use glam::DVec2;
+
+use super::LightTree;
+use super::node::{Child, ChildRef, TREE_WIDTH};
+use crate::scene::ReceiverPlane;
+use crate::spatial::importance::{GRID, GRID_CELL, POWER_SHARE, grid_masses_into};
+
+/// Tiles along the longer side of the receiver (32 × 32 tiles on a square one).
+pub const CUT_TILES_PER_SIDE: u32 = 64;
+
+/// The most entries of one tile's cut.
+pub const CUT_MAX_ENTRIES: usize = 64;
+
+/// The most a cut may spread its entries' probabilities: `Σ_e max_k P_tree(e | x_k)` over
+/// the tile's weighing points `x_k` (module docs), at most this.
+pub const CUT_MAX_SPREAD: f64 = 1.25;
+
+/// Weighing points along a tile's side.
+const WEIGHING_SIDE: usize = 4;
+
+/// The points of a tile (as fractions of its width and height) where the cut's weights are
+/// taken: the centres of its 4 × 4 sixteenths.
+const WEIGHING_POINTS: [[f64; 2]; WEIGHING_SIDE * WEIGHING_SIDE] = {
+    let mut points = [[0.0; 2]; WEIGHING_SIDE * WEIGHING_SIDE];
+    let mut k = 0;
+    while k < points.len() {
+        let (i, j) = ((k % WEIGHING_SIDE) as f64, (k / WEIGHING_SIDE) as f64);
+        points[k] = [
+            (i + 0.5) / WEIGHING_SIDE as f64,
+            (j + 0.5) / WEIGHING_SIDE as f64,
+        ];
+        k += 1;
+    }
+    points
+};
+
+/// One tile's cut as it is grown: each entry's subtree, its probability under the tree at
+/// each weighing point, its power, and whether it may still be split.
+#[derive(Clone, Copy, Debug)]
+struct Candidate {
+    at: ChildRef,
+    reach: [f64; WEIGHING_POINTS.len()],
+    power: f64,
+    splittable: bool,
+}
+
+impl Candidate {
+    /// The largest probability of reaching it at a weighing point.
+    fn reach(&self) -> f64 {
+        self.reach.iter().fold(0.0f64, |m, &r| m.max(r))
+    }
+}
+
+/// The cuts of every tile of one receiver's pixel grid; see the module docs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TileCuts {
+    /// The receiver (its rectangle and pixel grid) the tiles split.
+    plane: ReceiverPlane,
+    /// Pixels along a tile's side.
+    tile_side: u32,
+    /// The most entries of a tile's cut.
+    max_entries: usize,
+    /// The most `Σ_e max_k P_tree(e | x_k)` of a tile's cut.
+    max_spread: f64,
+    /// Tiles along `x` (columns).
+    tiles_x: u32,
+    /// Tiles along `y` (rows, from the plane's top row of pixels).
+    tiles_y: u32,
+    /// Where each tile's entries start in `ends` and `entries`, plus the end of the last.
+    tile_first: Vec<u32>,
+    /// Each entry's end in its tile's cumulative masses (the last is `2^24`, or 0 when no
+    /// entry of the tile has power).
+    ends: Vec<u32>,
+    /// Each entry's subtree: a node, a leaf cluster, or one light (a cluster of one).
+    entries: Vec<ChildRef>,
+}
+
+impl TileCuts {
+    /// The cuts of `tree` over `plane`'s pixel grid (`None` when the tree's root is not an
+    /// internal node, or the plane has no pixels): the tiles are cut independently, in
+    /// parallel, and the result does not depend on the thread count.
+    pub fn build(tree: &LightTree, plane: &ReceiverPlane) -> Option<Self> {
+        Self::build_sized(
+            tree,
+            plane,
+            CUT_TILES_PER_SIDE,
+            CUT_MAX_ENTRIES,
+            CUT_MAX_SPREAD,
+        )
+    }
+
+    /// [`TileCuts::build`] with about `tiles_per_side` tiles along the receiver's longer
+    /// side, at most `max_entries` entries a cut (at least 4) and a spread of at most
+    /// `max_spread` (at least 1): for measuring alternatives (the `tile_cuts` example).
+    pub fn build_sized(
+        tree: &LightTree,
+        plane: &ReceiverPlane,
+        tiles_per_side: u32,
+        max_entries: usize,
+        max_spread: f64,
+    ) -> Option<Self> {
+        let tile_side = plane
+            .width
+            .max(plane.height)
+            .div_ceil(tiles_per_side.max(1));
+        Self::build_with_side(tree, plane, tile_side, (max_entries, max_spread))
+    }
+
+    /// The cuts of tiles of `tile_side` pixels (at least 1).
+    fn build_with_side(
+        tree: &LightTree,
+        plane: &ReceiverPlane,
+        tile_side: u32,
+        (max_entries, max_spread): (usize, f64),
+    ) -> Option<Self> {
+        use rayon::prelude::*;
+        let Child::Node(_) = tree.root().get() else {
+            return None;
+        };
+        if plane.width == 0 || plane.height == 0 {
+            return None;
+        }
+        let tile_side = tile_side.max(1);
+        let (tiles_x, tiles_y) = (
+            plane.width.div_ceil(tile_side),
+            plane.height.div_ceil(tile_side),
+        );
+        let mut cuts = Self {
+            plane: plane.clone(),
+            tile_side,
+            max_entries: max_entries.max(TREE_WIDTH),
+            max_spread: max_spread.max(1.0),
+            tiles_x,
+            tiles_y,
+            tile_first: Vec::new(),
+            ends: Vec::new(),
+            entries: Vec::new(),
+        };
+        let per_tile: Vec<(Vec<u32>, Vec<ChildRef>)> = (0..tiles_x * tiles_y)
+            .into_par_iter()
+            .map(|t| cuts.cut_tile(tree, t))
+            .collect();
+        let total: usize = per_tile.iter().map(|(e, _)| e.len()).sum();
+        cuts.tile_first.reserve_exact(per_tile.len() + 1);
+        cuts.ends.reserve_exact(total);
+        cuts.entries.reserve_exact(total);
+        for (ends, entries) in per_tile {
+            cuts.tile_first.push(cuts.ends.len() as u32);
+            cuts.ends.extend(ends);
+            cuts.entries.extend(entries);
+        }
+        cuts.tile_first.push(cuts.ends.len() as u32);
+        Some(cuts)
+    }
+
+    /// The receiver whose pixel grid the tiles split.
+    pub fn plane(&self) -> &ReceiverPlane {
+        &self.plane
+    }
+
+    /// Pixels along a tile's side.
+    pub fn tile_side(&self) -> u32 {
+        self.tile_side
+    }
+
+    /// The most entries of a tile's cut.
+    pub fn max_entries(&self) -> usize {
+        self.max_entries
+    }
+
+    /// The same cuts over `tree` (new powers, same layout): every tile cut again.
+    pub(super) fn recut(&self, tree: &LightTree) -> Option<Self> {
+        let limits = (self.max_entries, self.max_spread);
+        Self::build_with_side(tree, &self.plane, self.tile_side, limits)
+    }
+
+    /// Tiles along `x` and along `y`.
+    pub fn tiles(&self) -> [u32; 2] {
+        [self.tiles_x, self.tiles_y]
+    }
+
+    /// The tile of pixel `(px, py)` (row-major from the plane's top row).
+    #[inline]
+    pub fn tile_of_pixel(&self, px: u32, py: u32) -> usize {
+        ((py / self.tile_side) * self.tiles_x + px / self.tile_side) as usize
+    }
+
+    /// The tile holding `point_on_plane`, `None` off the plane's rectangle (then the
+    /// descent starts at the root).
+    #[inline]
+    pub fn tile_at(&self, point_on_plane: DVec2) -> Option<usize> {
+        let (lo, hi) = (self.plane.min, self.plane.max);
+        let inside = point_on_plane.cmpge(lo).all() && point_on_plane.cmple(hi).all();
+        inside.then(|| {
+            let [px, py] = self.plane.pixel_at(point_on_plane);
+            self.tile_of_pixel(px, py)
+        })
+    }
+
+    /// Tile `tile`'s entries and their grid masses `m_e` (of `2^24`).
+    pub fn entries(&self, tile: usize) -> impl Iterator<Item = (ChildRef, u32)> + '_ {
+        let range = self.range(tile);
+        let ends = &self.ends[range.clone()];
+        self.entries[range]
+            .iter()
+            .zip(ends)
+            .scan(0u32, |start, (&entry, &end)| {
+                let mass = end - *start;
+                *start = end;
+                Some((entry, mass))
+            })
+    }
+
+    /// The entry of tile `tile` whose interval of the cumulative masses holds the 24-bit
+    /// draw `u`, with its mass (`m_e / 2^24` is the probability of taking it); `None` when
+    /// no entry of the tile has power.
+    #[inline]
+    pub fn pick(&self, tile: usize, u: u32) -> Option<(ChildRef, u32)> {
+        let range = self.range(tile);
+        let ends = &self.ends[range.clone()];
+        if ends.last().is_none_or(|&end| end == 0) {
+            return None;
+        }
+        let k = ends.partition_point(|&end| end <= u);
+        let start = if k == 0 { 0 } else { ends[k - 1] };
+        Some((self.entries[range.start + k], ends[k] - start))
+    }
+
+    /// The arrays the GPU reads: per tile its first entry (and one past the last), then
+    /// per entry its cumulative end and its subtree's child word.
+    pub fn gpu_words(&self) -> (&[u32], &[u32], Vec<u32>) {
+        (
+            &self.tile_first,
+            &self.ends,
+            self.entries.iter().map(|e| e.bits()).collect(),
+        )
+    }
+
+    /// Heap bytes held, by capacity (8 per entry, 4 per tile).
+    pub fn heap_bytes(&self) -> usize {
+        self.tile_first.capacity() * 4 + self.ends.capacity() * 4 + self.entries.capacity() * 4
+    }
+
+    fn range(&self, tile: usize) -> std::ops::Range<usize> {
+        self.tile_first[tile] as usize..self.tile_first[tile + 1] as usize
+    }
+
+    /// The weighing points of tile `tile` on the plane, and the box that holds every point
+    /// of the tile with half a pixel to spare (for the tile's cull, whatever the rounding of
+    /// [`ReceiverPlane::pixel_at`] at its edges).
+    fn tile_geometry(&self, tile: u32) -> ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]) {
+        let p = &self.plane;
+        let (tx, ty) = (tile % self.tiles_x, tile / self.tiles_x);
+        let x0 = f64::from(tx * self.tile_side);
+        let x1 = f64::from(((tx + 1) * self.tile_side).min(p.width));
+        let y0 = f64::from(ty * self.tile_side);
+        let y1 = f64::from(((ty + 1) * self.tile_side).min(p.height));
+        let size = p.max - p.min;
+        let x = |pixels: f64| p.min.x + pixels / f64::from(p.width) * size.x;
+        let y = |pixels: f64| p.max.y - pixels / f64::from(p.height) * size.y;
+        let points = WEIGHING_POINTS
+            .map(|[fx, fy]| DVec2::new(x(x0 + fx * (x1 - x0)), y(y0 + fy * (y1 - y0))));
+        let rect = [
+            DVec2::new(x(x0 - 0.5), y(y1 + 0.5)),
+            DVec2::new(x(x1 + 0.5), y(y0 - 0.5)),
+        ];
+        (points, rect)
+    }
+
+    /// One tile's cut: its entries' cumulative grid masses and subtrees, in leaf order.
+    fn cut_tile(&self, tree: &LightTree, tile: u32) -> (Vec<u32>, Vec<ChildRef>) {
+        let tile = self.tile_geometry(tile);
+        let mut cut = vec![Candidate {
+            at: tree.root(),
+            reach: [1.0; WEIGHING_POINTS.len()],
+            power: 1.0,
+            splittable: true,
+        }];
+        // Σ_e max_k P_tree(e | x_k): the bound on how much fixing the cut's decisions can
+        // raise the variance at the weighing points (module docs).
+        let mut spread = 1.0;
+        let mut children = Vec::with_capacity(self.max_entries);
+        while let Some(k) = cut
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.splittable)
+            .max_by(|a, b| a.1.reach().total_cmp(&b.1.reach()))
+            .map(|(k, _)| k)
+        {
+            children.clear();
+            split_into(tree, cut[k].at, cut[k].reach, tile, &mut children);
+            let grown =
+                spread - cut[k].reach() + children.iter().map(Candidate::reach).sum::<f64>();
+            if cut.len() - 1 + children.len() > self.max_entries || grown > self.max_spread {
+                cut[k].splittable = false;
+                continue;
+            }
+            spread = grown;
+            cut.splice(k..=k, children.drain(..));
+        }
+        let (reach, power) = cut
+            .iter()
+            .fold((0.0, 0.0), |(r, p), c| (r + c.reach(), p + c.power));
+        let weights: Vec<f64> = cut
+            .iter()
+            .map(|c| {
+                let by_power = if power > 0.0 { c.power / power } else { 0.0 };
+                if reach > 0.0 && reach.is_finite() {
+                    (1.0 - POWER_SHARE) * c.reach() / reach + POWER_SHARE * by_power
+                } else {
+                    by_power
+                }
+            })
+            .collect();
+        let mut masses = vec![0u32; cut.len()];
+        grid_masses_into(&weights, &mut masses);
+        let ends = masses
+            .iter()
+            .scan(0u32, |end, &m| {
+                *end += m;
+                Some(*end)
+            })
+            .collect();
+        debug_assert!(masses.iter().map(|&m| u64::from(m)).sum::<u64>() % u64::from(GRID) == 0);
+        (ends, cut.iter().map(|c| c.at).collect())
+    }
+}
+
+/// Whether the footprint box `footprint` (`None`: unbounded) meets the box `rect`.
+fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
+    footprint.is_none_or(|[a, b]| a.cmple(hi).all() && b.cmpge(lo).all())
+}
+
+/// The parts of subtree `at` (reached with probability `reach[k]` at weighing point `k`)
+/// that can light the tile (`tile`: its weighing points and box), appended to `out` in leaf
+/// order: a node's non-empty lanes, each reached with the node's grid probability at each
+/// point; a leaf cluster's lights, each with the cluster's. A part whose footprint misses
+/// the tile's box is left out: none of its lights gives the tile anything, and a pick
+/// there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
+fn split_into(
+    tree: &LightTree,
+    at: ChildRef,
+    reach: [f64; WEIGHING_POINTS.len()],
+    (points, rect): ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]),
+    out: &mut Vec<Candidate>,
+) {
+    match at.get() {
+        Child::Node(n) => {
+            let node = &tree.nodes()[n];
+            let masses = points.map(|x| tree.node_masses_at(n, x));
+            let bounds = tree.bounds(n);
+            for lane in 0..TREE_WIDTH {
+                let child = node.child[lane];
+                let footprint = bounds.map(|b| b[lane].footprint);
+                if child.get() == Child::Empty || !meets(footprint, rect) {
+                    continue;
+                }
+                out.push(Candidate {
+                    at: child,
+                    reach: std::array::from_fn(|k| {
+                        reach[k] * f64::from(masses[k][lane]) * GRID_CELL
+                    }),
+                    power: node.power(lane),
+                    splittable: matches!(child.get(), Child::Node(_)),
+                });
+            }
+        }
+        Child::Leaf { first, count } => {
+            let masses = points.map(|x| tree.leaf_masses_at(first, count, x).0);
+            for j in 0..count {
+                if !meets(tree.footprints.get(first + j).copied().flatten(), rect) {
+                    continue;
+                }
+                out.push(Candidate {
+                    at: ChildRef::leaf(first + j, 1),
+                    reach: std::array::from_fn(|k| reach[k] * f64::from(masses[k][j]) * GRID_CELL),
+                    power: tree.lights()[first + j].power,
+                    splittable: false,
+                });
+            }
+        }
+        Child::Empty => {}
+    }
+}

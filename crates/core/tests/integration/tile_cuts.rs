@@ -1,0 +1,232 @@
+//! The light tree's per-tile cuts: each tile's entries partition the tree's lights that can
+//! light the tile, their masses sum to `2^24`; the pdf of a pick through a cut equals a
+//! reference recomputed from the entries and the tree's own branch masses, is positive
+//! wherever a light contributes (at pixel centres, corners and tile edges, for points,
+//! spots and ranges), and picks follow it.
+
+use glam::{DVec2, dvec2, dvec3};
+use lightpick_core::Rng;
+use lightpick_core::scene::{Emission, ReceiverPlane, Scene, pixel_center};
+use lightpick_core::spatial::importance::{GRID, GRID_CELL};
+use lightpick_core::spatial::{Child, ChildRef, LightTree, SpatialSampler};
+
+use crate::common::SplitMix;
+use crate::common::fit::assert_picks_fit;
+use crate::common::scenes::{preset_at, random_powers, scattered_positions, tilted_spot};
+
+/// Point lights over `[-1, 1]²` (a fifth of power 0, some below the plane) on a 40 × 24
+/// pixel plane.
+fn points_scene(n: usize, seed: u64) -> Scene {
+    let mut d = SplitMix(seed);
+    let positions = scattered_positions(&mut d, n, 1.0, 0.05..0.8, (7, 6));
+    let powers = random_powers(&mut d, n, 3.0, 4);
+    let plane = ReceiverPlane {
+        min: dvec2(-1.0, -0.6),
+        max: dvec2(1.0, 0.6),
+        width: 40,
+        height: 24,
+    };
+    Scene::from_parts("points", plane, positions, powers).expect("valid")
+}
+
+/// Narrow and wide spots, some ranged, over `[-2, 2]²` on a 30 × 30 pixel plane.
+fn spots_scene(n: usize, seed: u64) -> Scene {
+    let mut d = SplitMix(seed);
+    let (mut positions, mut powers, mut emission) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..n {
+        positions.push(dvec3(
+            d.range(-2.0, 2.0),
+            d.range(-2.0, 2.0),
+            d.range(0.2, 1.5),
+        ));
+        powers.push(10f64.powf(d.range(-2.0, 2.0)));
+        let spot = (i % 4 != 0).then(|| {
+            let (outer, tilt) = (d.range(0.05, 1.0), d.range(0.0, 0.9));
+            tilted_spot(&mut d, outer, tilt, 0.0..0.9)
+        });
+        let range = (i % 3 == 1).then(|| d.range(0.4, 3.0));
+        emission.push(Emission::new(spot, range).expect("valid"));
+    }
+    let plane = ReceiverPlane {
+        min: dvec2(-2.0, -2.0),
+        max: dvec2(2.0, 2.0),
+        width: 30,
+        height: 30,
+    };
+    Scene::from_parts("spots", plane, positions, powers)
+        .expect("valid")
+        .with_emission(emission)
+}
+
+fn cut_tree(scene: &Scene) -> LightTree {
+    match SpatialSampler::for_scene(scene) {
+        SpatialSampler::Tree(tree) => {
+            assert!(tree.tile_cuts().is_some(), "a scene's tree is cut per tile");
+            tree
+        }
+        SpatialSampler::Exact(_) => panic!("enough lights for a tree"),
+    }
+}
+
+/// Points of the plane where a cut could go wrong: every pixel centre and corner (tile
+/// edges among them), and points just inside the plane's edges.
+fn probe_points(plane: &ReceiverPlane) -> Vec<DVec2> {
+    let mut points = Vec::new();
+    let size = plane.max - plane.min;
+    for py in 0..=plane.height {
+        for px in 0..=plane.width {
+            let corner = dvec2(
+                plane.min.x + f64::from(px) / f64::from(plane.width) * size.x,
+                plane.max.y - f64::from(py) / f64::from(plane.height) * size.y,
+            );
+            points.push(corner.clamp(plane.min, plane.max));
+            if px < plane.width && py < plane.height {
+                points.push(pixel_center(plane, px, py));
+            }
+        }
+    }
+    points.push(plane.min);
+    points.push(plane.max);
+    points
+}
+
+/// `P(i | x)` recomputed from the tile's entries: the entry whose leaf-order range holds
+/// the light, its mass, then the tree's branch masses below it (one product, as a pick
+/// realizes it).
+fn reference_pdf(tree: &LightTree, x: DVec2, j: usize) -> f64 {
+    let cuts = tree.tile_cuts().expect("cuts");
+    let Some(tile) = cuts.tile_at(x) else {
+        return tree.clone().with_cuts(None).pdf(x, tree.order()[j] as usize);
+    };
+    let Some((entry, mass)) = cuts
+        .entries(tile)
+        .find(|&(e, _)| tree.span(e).is_some_and(|s| s.contains(&j)))
+    else {
+        return 0.0;
+    };
+    let mut pdf = f64::from(mass) * GRID_CELL;
+    let mut at: ChildRef = entry;
+    loop {
+        match at.get() {
+            Child::Node(k) => {
+                let masses = tree.node_masses_at(k, x);
+                let node = &tree.nodes()[k];
+                let lane = (0..4)
+                    .find(|&l| tree.span(node.child(l)).is_some_and(|s| s.contains(&j)))
+                    .expect("a lane holds the light");
+                pdf *= f64::from(masses[lane]) * GRID_CELL;
+                at = node.child(lane);
+            }
+            Child::Leaf { first, count } => {
+                let (masses, _) = tree.leaf_masses_at(first, count, x);
+                return pdf * (f64::from(masses[j - first]) * GRID_CELL);
+            }
+            Child::Empty => return 0.0,
+        }
+    }
+}
+
+#[test]
+fn each_tile_partitions_the_lights_that_can_light_it_with_masses_summing_to_the_grid() {
+    for scene in [points_scene(500, 1), spots_scene(400, 2)] {
+        let tree = cut_tree(&scene);
+        let cuts = tree.tile_cuts().expect("cuts");
+        let [tx, ty] = cuts.tiles();
+        for tile in 0..(tx * ty) as usize {
+            let entries: Vec<_> = cuts.entries(tile).collect();
+            assert!(entries.len() <= cuts.max_entries());
+            let total: u64 = entries.iter().map(|&(_, m)| u64::from(m)).sum();
+            assert!(
+                total == u64::from(GRID) || total == 0,
+                "tile {tile}: Σ m = {total}"
+            );
+            // Disjoint leaf-order ranges, in order.
+            let mut end = 0;
+            for &(e, _) in &entries {
+                let span = tree.span(e).expect("no empty entry");
+                assert!(span.start >= end, "tile {tile}: entries overlap");
+                end = span.end;
+            }
+        }
+    }
+}
+
+#[test]
+fn the_pdf_through_a_cut_equals_the_reference_and_is_positive_wherever_a_light_contributes() {
+    for scene in [points_scene(300, 3), spots_scene(300, 4)] {
+        let tree = cut_tree(&scene);
+        let pmf = scene.powers.pmf();
+        let mut away = 0;
+        for x in probe_points(&scene.plane) {
+            let pdfs = tree.pdfs(x);
+            let total: f64 = pdfs.iter().sum();
+            assert!(
+                total <= 1.0 + 16.0 * f64::from(tree.depth()) * f64::EPSILON,
+                "Σ pdf = {total} at {x}"
+            );
+            for (j, &i) in tree.order().iter().enumerate() {
+                let i = i as usize;
+                assert_eq!(pdfs[i], reference_pdf(&tree, x, j), "light {i} at {x}");
+                let c = pmf[i] * scene.light_term(i, x);
+                assert!(
+                    pdfs[i] > 0.0 || c == 0.0,
+                    "light {i} gives {c} at {x} but has pdf 0"
+                );
+                away += usize::from(c == 0.0 && pdfs[i] == 0.0);
+            }
+        }
+        // The spots' tiles leave out lanes that cannot reach them.
+        if scene.emission.is_some() {
+            assert!(away > 0, "some light culled somewhere");
+        }
+    }
+}
+
+#[test]
+fn picks_through_a_cut_follow_their_pdf() {
+    for scene in [points_scene(200, 5), spots_scene(200, 6)] {
+        let tree = cut_tree(&scene);
+        for x in [
+            pixel_center(&scene.plane, 3, 4),
+            pixel_center(&scene.plane, 17, 11),
+        ] {
+            let pdfs = tree.pdfs(x);
+            let draws = 200_000u64;
+            let mut counts = vec![0u64; scene.light_count()];
+            let mut none = 0u64;
+            for s in 0..draws {
+                match tree.sample(x, &mut Rng::new(11, s)) {
+                    Some(pick) => {
+                        assert_eq!(pick.pdf, pdfs[pick.light as usize]);
+                        counts[pick.light as usize] += 1;
+                    }
+                    None => none += 1,
+                }
+            }
+            let picked = draws - none;
+            let total: f64 = pdfs.iter().sum();
+            assert_picks_fit(&counts, picked, |i| pdfs[i] / total);
+        }
+    }
+}
+
+#[test]
+fn presets_are_cut_with_fewer_draws_than_the_tree_needs_from_its_root() {
+    // The cut decides the top of the descent once per tile: on average over the plane a
+    // pick takes fewer node steps than from the root (the reason the cuts exist).
+    for name in ["heavy-tail", "grid", "stage"] {
+        let scene = preset_at(name, 64, 64);
+        let tree = cut_tree(&scene);
+        let cuts = tree.tile_cuts().expect("cuts");
+        let [tx, ty] = cuts.tiles();
+        let mut deeper = 0usize;
+        for tile in 0..(tx * ty) as usize {
+            deeper += usize::from(cuts.entries(tile).any(|(e, _)| e != tree.root()));
+        }
+        assert!(
+            deeper * 2 > (tx * ty) as usize,
+            "{name}: {deeper} of {} tiles start below the root",
+            tx * ty
+        );
+    }
+}
