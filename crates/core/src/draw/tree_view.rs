@@ -32,7 +32,7 @@ use super::image_sheet::viridis;
 use super::palette::{self, Rgba8};
 use super::text::{self, HAlign, TextStyle, VAlign};
 use super::{DrawError, Style};
-use crate::lesson::tree_pick::{TreePick, plane_box};
+use crate::lesson::tree_pick::{CutStep, TreePick, plane_box};
 use crate::scene::Scene;
 use crate::spatial::grid::GRID_SIDE;
 use crate::spatial::{Child, ChildRef, LightTree, MappedLanes, SpatialSampler, TREE_WIDTH};
@@ -204,12 +204,14 @@ pub const LANE_COLORS: [Rgba8; TREE_WIDTH] = [
     palette::LIGHTS[5],
 ];
 
-/// How far a recorded pick is shown ([`tree_view_plane`]), counting its stages: stage
-/// `s < steps` stands at node `steps[s]` (the path so far, and that node's four lanes in
-/// [`LANE_COLORS`]); stage `steps` at the leaf cluster (the whole path, the cluster's lights
-/// ringed); stage `steps + 1` and beyond: the picked light, as [`tree_view`] draws it.
+/// How far a recorded pick is shown ([`tree_view_plane`]), counting its stages: with a
+/// tile's cut ([`TreePick::cut`]) stage 0 stands at the cut (the tile outlined, its entries'
+/// boxes thin, the one drawn thick) and the rest shift by one; then stage `s < steps` stands
+/// at node `steps[s]` (the path so far, and that node's four lanes in [`LANE_COLORS`]);
+/// stage `steps` at the leaf cluster (the whole path, the cluster's lights ringed); stage
+/// `steps + 1` and beyond: the picked light, as [`tree_view`] draws it.
 pub fn pick_stages(pick: &TreePick) -> usize {
-    pick.steps.len() + 2
+    usize::from(pick.cut.is_some()) + pick.steps.len() + 2
 }
 
 /// Draws the top view of `view` (see the module docs).
@@ -411,6 +413,20 @@ fn draw_pick(
     map: &PlaneToPixels,
     (ink, stage): (Rgba8, usize),
 ) {
+    let stage = match &pick.cut {
+        Some(cut) if stage == 0 => {
+            draw_cut(pixmap, view, cut, map, ink);
+            draw_cross(pixmap, map.point(pick.x));
+            return;
+        }
+        Some(cut) => {
+            if let Some(b) = cut.entries[cut.entry].box_on_plane {
+                canvas::stroke_rect(pixmap, map.rect(b, 5.0), 2.5, ink);
+            }
+            stage - 1
+        }
+        None => stage,
+    };
     for step in pick.steps.iter().take(stage) {
         if let Some(b) = step.lanes[step.lane].box_on_plane {
             canvas::stroke_rect(pixmap, map.rect(b, 5.0), 2.5, ink);
@@ -435,26 +451,57 @@ fn draw_pick(
         }
     }
     let (x, y) = map.point(pick.x);
-    let arm = 7.0;
-    canvas::line(
-        pixmap,
-        (x - arm, y - arm),
-        (x + arm, y + arm),
-        2.5,
-        palette::UNIFORM,
-    );
-    canvas::line(
-        pixmap,
-        (x - arm, y + arm),
-        (x + arm, y - arm),
-        2.5,
-        palette::UNIFORM,
-    );
+    draw_cross(pixmap, (x, y));
     if stage > pick.steps.len() {
         let at = view.scene.positions[pick.light as usize].truncate();
         let (cx, cy) = map.point(at);
         ring(pixmap, (cx, cy), 12.0, ink);
         canvas::line(pixmap, (x, y), (cx, cy), 1.0, ink.with_alpha(160));
+    }
+}
+
+/// The shading point: a cross.
+fn draw_cross(pixmap: &mut Pixmap, (x, y): (f32, f32)) {
+    let arm = 7.0;
+    for (dx, dy) in [(arm, arm), (arm, -arm)] {
+        canvas::line(
+            pixmap,
+            (x - dx, y - dy),
+            (x + dx, y + dy),
+            2.5,
+            palette::UNIFORM,
+        );
+    }
+}
+
+/// A tile's cut: the tile outlined, each entry's box thin in its lane colour's order, the
+/// entry drawn thick.
+fn draw_cut(pixmap: &mut Pixmap, view: &TreeView, cut: &CutStep, map: &PlaneToPixels, ink: Rgba8) {
+    let plane = &view.scene.plane;
+    let size = plane.max - plane.min;
+    let at = |[px, py]: [u32; 2]| {
+        DVec2::new(
+            plane.min.x + f64::from(px) / f64::from(plane.width) * size.x,
+            plane.max.y - f64::from(py) / f64::from(plane.height) * size.y,
+        )
+    };
+    let [first, end] = cut.pixels;
+    let (a, b) = (at(first), at(end));
+    canvas::stroke_rect(
+        pixmap,
+        map.rect([a.min(b), a.max(b)], 2.0),
+        2.0,
+        palette::UNIFORM,
+    );
+    for (k, entry) in cut.entries.iter().enumerate() {
+        if let Some(b) = entry.box_on_plane {
+            let (width, color) = if k == cut.entry {
+                (3.0, ink)
+            } else {
+                (1.0, LANE_COLORS[k % TREE_WIDTH].with_alpha(200))
+            };
+            canvas::stroke_rect(pixmap, map.rect(b, 5.0), width, color);
+        }
     }
 }
 

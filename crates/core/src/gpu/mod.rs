@@ -348,13 +348,16 @@ mod tests {
             ("rng alone", shader_source(&[])),
         ];
         for (label, shape) in [("one binding", one), ("three bindings", three)] {
-            kernels.push((label, spatial::spatial_source(shape, shape, None)));
+            kernels.push((label, spatial::spatial_source(shape, shape, None, shape)));
             let shaped = spatial::ShapedSplit {
                 shapes: shape,
                 bounds: shape,
                 codes: shape,
             };
-            kernels.push((label, spatial::spatial_source(shape, shape, Some(shaped))));
+            kernels.push((
+                label,
+                spatial::spatial_source(shape, shape, Some(shaped), shape),
+            ));
             kernels.push((label, histogram::histogram_source(shape, shape)));
             kernels.push((label, render_kernel::render_source(shape, None)));
             kernels.push((label, render_kernel::render_source(shape, Some(shape))));

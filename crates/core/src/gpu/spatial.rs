@@ -142,16 +142,23 @@ fn light_vec4(l: &SpatialLight) -> Vec4 {
 }
 
 /// The source of the spatial kernel for lights and nodes split as given, and for a scene
-/// with spots or ranges its profiles and node bounds.
+/// with spots or ranges its profiles and node bounds; the tree's per-tile cuts take the
+/// bindings after them (`cuts`).
 pub(crate) fn spatial_source(
     lights: SplitShape,
     nodes: SplitShape,
     shaped: Option<ShapedSplit>,
+    cuts: SplitShape,
 ) -> String {
     let lights_wgsl = declarations(LIGHTS_LAYOUT, lights, 2, Access::Read);
     let mut binding = 2 + lights.chunks as u32;
     let nodes_wgsl = declarations(NODES_LAYOUT, nodes, binding, Access::Read);
     binding += nodes.chunks as u32;
+    let cuts_first = binding
+        + shaped.map_or(0, |s| {
+            (s.shapes.chunks + s.bounds.chunks + s.codes.chunks) as u32
+        });
+    let cuts_wgsl = declarations(CUTS_LAYOUT, cuts, cuts_first, Access::Read);
     let (emission_wgsl, bounds_wgsl) = match shaped {
         Some(ShapedSplit {
             shapes,
@@ -177,6 +184,7 @@ pub(crate) fn spatial_source(
         super::render_kernel::RENDER_COMMON_WGSL,
         &lights_wgsl,
         &nodes_wgsl,
+        &cuts_wgsl,
         &emission_wgsl,
         SPATIAL_WGSL,
         &bounds_wgsl,
@@ -194,21 +202,54 @@ pub(crate) const NODES_LAYOUT: ArrayLayout = ArrayLayout {
     element: "SpatialNode",
     bytes: BYTES_PER_NODE,
 };
+/// The per-tile cuts' words ([`cut_words`]).
+pub(crate) const CUTS_LAYOUT: ArrayLayout = ArrayLayout {
+    name: "spatial_cuts",
+    element: "u32",
+    bytes: 4,
+};
+
+/// The tree's per-tile cuts ([`crate::spatial::TileCuts`]) as `spatial.wgsl` reads them, one
+/// `u32` array: the tile side in pixels (0: no cuts, every pick from the root), the tiles
+/// along `x`, the tile count `T`; each tile's first entry (and one past the last, `T + 1`
+/// words); then per entry its cumulative end on the `2^24` grid and its child word.
+fn cut_words(sampler: &SpatialSampler, plane: &crate::scene::ReceiverPlane) -> Vec<u32> {
+    let SpatialSampler::Tree(tree) = sampler else {
+        return vec![0];
+    };
+    let Some(cuts) = tree.tile_cuts() else {
+        return vec![0];
+    };
+    // The kernel finds a pixel's tile from its indices: the cuts split this very grid
+    // (the sampler is the scene's, built over the plane the renderer draws).
+    debug_assert_eq!(
+        (cuts.plane().width, cuts.plane().height),
+        (plane.width, plane.height)
+    );
+    let [tiles_x, tiles_y] = cuts.tiles();
+    let (first, ends, entries) = cuts.gpu_words();
+    let mut words = vec![cuts.tile_side(), tiles_x, tiles_x * tiles_y];
+    words.extend_from_slice(first);
+    words.extend(ends.iter().zip(&entries).flat_map(|(&e, &c)| [e, c]));
+    words
+}
 
 impl SpatialGpu {
     /// Uploads the spatial sampler (built in `f64` on the CPU, as the CPU renderer's, so both
     /// descend the same tree) beside the renderer's `params` and `sums`.
     pub(crate) fn new(
         ctx: &GpuContext,
-        sampler: &SpatialSampler,
+        (sampler, plane): (&SpatialSampler, &crate::scene::ReceiverPlane),
         [params, sums]: [&wgpu::Buffer; 2],
     ) -> Result<Self, GpuError> {
         let (code, root, lights, nodes) = sampler_arrays(sampler);
+        let cuts = cut_words(sampler, plane);
         // Spots or ranges: the profiles in the lights' order, the tree's node bounds and
         // the maps' codes.
         let shaped = shaped_arrays(sampler);
         let bytes = lights.len() as u64 * BYTES_PER_LIGHT
             + nodes.len() as u64 * BYTES_PER_NODE
+            + cuts.len() as u64 * 4
             + shaped.as_ref().map_or(0, |(s, b, _)| {
                 s.len() as u64 * super::emission::BYTES_PER_SHAPE
                     + b.len() as u64 * (BYTES_PER_NODE_BOUNDS + BYTES_PER_NODE_CODES)
@@ -231,10 +272,21 @@ impl SpatialGpu {
         let shaped = shaped
             .map(|arrays| upload_shaped(ctx, arrays))
             .transpose()?;
+        let cuts = SplitArray::with_contents(
+            ctx,
+            "light tree tile cuts",
+            CUTS_LAYOUT,
+            bytemuck::cast_slice(&cuts),
+            wgpu::BufferUsages::empty(),
+        )?;
         let shaped_bindings = shaped.as_ref().map_or(0, |(s, b, c)| {
             s.buffers().len() + b.buffers().len() + c.buffers().len()
         });
-        let storage = 1 + (lights.buffers().len() + nodes.buffers().len() + shaped_bindings) as u32;
+        let storage = 1
+            + (lights.buffers().len()
+                + nodes.buffers().len()
+                + shaped_bindings
+                + cuts.buffers().len()) as u32;
         check_bindings(ctx, "the spatial render kernel", storage)?;
         let pipeline = super::compute_pipeline_from_source(
             ctx,
@@ -247,6 +299,7 @@ impl SpatialGpu {
                     bounds: b.shape(),
                     codes: c.shape(),
                 }),
+                cuts.shape(),
             ),
             "accumulate_spatial",
         )?;
@@ -259,6 +312,7 @@ impl SpatialGpu {
                     .chain(shaped.iter().flat_map(|(s, b, c)| {
                         s.buffers().iter().chain(b.buffers()).chain(c.buffers())
                     }))
+                    .chain(cuts.buffers())
                     .collect();
             Ok(super::bind_buffers(
                 ctx,

@@ -2,7 +2,8 @@
 // contribution pick for few lights, the 4-wide light tree with leaf clusters for many).
 // Needs the RNG prelude, render_common.wgsl and the split arrays (split.rs)
 // `spatial_lights` (vec4<f32>: x, y, z, p_i of the contributing lights, in leaf order) and
-// `spatial_nodes` (SpatialNode), read through spatial_lights_at and spatial_nodes_at.
+// `spatial_nodes` (SpatialNode) and `spatial_cuts` (u32: the tree's per-tile cuts), read
+// through spatial_lights_at, spatial_nodes_at and spatial_cuts_at.
 // The scene's emission profiles enter through fn light_emission(j, light, x) (leaf order;
 // 1 for point lights) and fn lane_weights (for a tree over spots or ranges the lanes' maps
 // and bounds of spatial_bounds.wgsl; for point lights point_lane_weights): both from
@@ -121,13 +122,55 @@ fn scale_pow2(v: f32, e: i32) -> f32 {
     return (v * pow2(half)) * pow2(c - half);
 }
 
-// LightTree::sample: one draw per node, one in the leaf cluster; ê = c_j / pdf with the pdf
-// kept as a mantissa and a power of two (frexp after every factor), so that neither a deep
-// product of small probabilities nor the final ratio under- or overflows early.
-fn spatial_tree_estimate(x: vec2<f32>, state: ptr<function, u32>) -> f32 {
+// TileCuts::pick for pixel (px, py): its tile's entry whose interval of the cumulative
+// masses holds the draw's top 24 bits (a binary search), as (child word, mass); mass 0 when
+// no entry of the tile has power (the pick ends with ê = 0). The cuts' words (spatial.rs,
+// cut_words): tile side (0: no cuts), tiles along x, tile count T, T + 1 first entries,
+// then per entry (cumulative end, child word).
+fn spatial_cut_entry(px: u32, py: u32, state: ptr<function, u32>) -> vec2<u32> {
+    let side = spatial_cuts_at(0u);
+    let tile = (py / side) * spatial_cuts_at(1u) + px / side;
+    let base = 4u + spatial_cuts_at(2u);
+    let first = spatial_cuts_at(3u + tile);
+    let last = spatial_cuts_at(4u + tile);
+    let u = rng_next(state) >> 8u;
+    if first == last || spatial_cuts_at(base + 2u * (last - 1u)) == 0u {
+        return vec2<u32>(0u, 0u);
+    }
+    // The first entry whose end exceeds u (the last one's end, 2^24, does).
+    var lo = first;
+    var hi = last - 1u;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if spatial_cuts_at(base + 2u * mid) <= u {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    let start = select(0u, spatial_cuts_at(base + 2u * (lo - 1u)), lo > first);
+    return vec2<u32>(spatial_cuts_at(base + 2u * lo + 1u), spatial_cuts_at(base + 2u * lo) - start);
+}
+
+// LightTree::sample: with per-tile cuts one draw for the tile's entry, then one draw per node,
+// one in the leaf cluster; ê = c_j / pdf with the pdf kept as a mantissa and a power of two
+// (frexp after every factor), so that neither a deep product of small probabilities nor the
+// final ratio under- or overflows early.
+fn spatial_tree_estimate(x: vec2<f32>, px: u32, py: u32, state: ptr<function, u32>) -> f32 {
     var at = params.spatial_root;
     var pdf_m = 1.0;
     var pdf_e = 0i;
+    if spatial_cuts_at(0u) != 0u {
+        let entry = spatial_cut_entry(px, py, state);
+        if entry.y == 0u {
+            return 0.0;
+        }
+        at = entry.x;
+        // m_e · 2^-24 is exact in f32 (m_e ≤ 2^24).
+        let f = frexp(f32(entry.y) * GRID_CELL);
+        pdf_m = f.fract;
+        pdf_e = f.exp;
+    }
     var node: SpatialNode;
     while (at & LEAF_BIT) == 0u {
         node = spatial_nodes_at(at);
@@ -237,7 +280,7 @@ fn accumulate_spatial(@builtin(global_invocation_id) gid: vec3<u32>) {
         if params.scheme == SCHEME_SPATIAL_EXACT {
             e = spatial_exact_estimate(x, &state);
         } else {
-            e = spatial_tree_estimate(x, &state);
+            e = spatial_tree_estimate(x, gid.x, py, &state);
         }
         acc += vec2<f32>(e, e * e);
     }

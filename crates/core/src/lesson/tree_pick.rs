@@ -3,6 +3,9 @@
 //! which random number it draws, which lane that takes, and what the pick's pdf becomes.
 //!
 //! # What a step holds
+//! On a tile of the tree's per-tile cuts ([`crate::spatial::TileCuts`]) the pick starts with
+//! the tile's cut: its entries (subtrees) with grid masses `m_e` fixed for the tile, and one
+//! draw that takes entry `e` with probability `m_e / 2^24`; the descent goes on from there.
 //! At internal node `k` the four lanes get importances `I_l(x)` (a representative light's
 //! `Φ_l·c_z/|c − x|³` for point lights, a lane map's value for spots and ranges), the
 //! defensive mixture with their power shares
@@ -16,7 +19,7 @@
 //! contributions `c_j = p_j·G_j(x)·S_j(x)` are evaluated and one more draw picks light `j` by
 //! the masses of `c_j / Σ c`. The pick's probability is the product of the realized factors
 //!
-//! `P(i | x) = Π_steps m_lane / 2^24 · m_j / 2^24`,
+//! `P(i | x) = m_e / 2^24 · Π_steps m_lane / 2^24 · m_j / 2^24` (without the first factor off the cuts),
 //!
 //! bit for bit the pdf of [`SpatialSampler::sample`] and [`SpatialSampler::pdf`], since the
 //! record multiplies the same factors in the same order. For few lights
@@ -36,8 +39,8 @@ use crate::spatial::importance::{
     GRID_CELL, IMPORTANCE_CAP, branch_probabilities, lane_importances, pick_on_grid,
 };
 use crate::spatial::{
-    Child, ExactSampler, LaneBounds, LightTree, REACH_SLACK, SpatialLight, SpatialSampler,
-    TREE_WIDTH, unit24,
+    Child, ChildRef, ExactSampler, LaneBounds, LightTree, REACH_SLACK, SpatialLight,
+    SpatialSampler, TREE_WIDTH, unit24,
 };
 
 /// Why a lane of a node has no probability at the shading point.
@@ -96,6 +99,43 @@ impl LaneStep {
     }
 }
 
+/// One entry of a tile's cut ([`crate::spatial::TileCuts`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct CutEntry {
+    /// Its subtree (a node or a leaf cluster).
+    #[serde(skip)]
+    pub child: Child,
+    /// Its depth in the tree (the root is 0).
+    pub depth: usize,
+    /// The leaf-order range of its lights ([`LightTree::span`]).
+    pub lights: Range<usize>,
+    /// The box of its lights' positions on the plane (`x, y`).
+    pub box_on_plane: Option<[DVec2; 2]>,
+    /// Its grid mass `m_e` (of `2^24`).
+    pub mass: u32,
+    /// `m_e / 2^24`, the probability the draw realizes.
+    pub probability: f64,
+}
+
+/// The first draw of a pick on a tile of the per-tile cuts: which entry of the tile's cut
+/// the descent starts from.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct CutStep {
+    /// The tile's index ([`crate::spatial::TileCuts::tile_at`]).
+    pub tile: usize,
+    /// Its pixels: first column and row, and one past the last.
+    pub pixels: [[u32; 2]; 2],
+    /// Its cut's entries, in leaf order.
+    pub entries: Vec<CutEntry>,
+    /// The draw's top 24 bits `u = r >> 8`.
+    pub random24: u32,
+    /// The index in [`CutStep::entries`] of the entry whose interval of the cumulative
+    /// masses holds `u`.
+    pub entry: usize,
+    /// The pick's probability so far, `m_e / 2^24`.
+    pub pdf_after: f64,
+}
+
 /// One internal node of the descent.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct TreePickStep {
@@ -146,8 +186,11 @@ pub struct LeafStep {
 pub struct TreePick {
     /// The shading point on the plane.
     pub x: DVec2,
-    /// The internal nodes from the root down (none for the exact pick or a tree whose root
-    /// is a leaf cluster).
+    /// The tile's cut the pick started from, when the tree has per-tile cuts and `x` lies
+    /// on the receiver (`None`: the descent starts at the root).
+    pub cut: Option<CutStep>,
+    /// The internal nodes from the cut's entry (or the root) down (none for the exact pick,
+    /// or when the descent starts at a leaf cluster).
     pub steps: Vec<TreePickStep>,
     /// The pick in the cluster reached.
     pub leaf: LeafStep,
@@ -227,6 +270,7 @@ fn record_exact(exact: &ExactSampler, x: DVec2, rng: &mut Rng) -> Option<TreePic
     let pdf = lights[picked].probability;
     Some(TreePick {
         x,
+        cut: None,
         steps: Vec::new(),
         light: lights[picked].light,
         pdf,
@@ -243,9 +287,54 @@ fn record_exact(exact: &ExactSampler, x: DVec2, rng: &mut Rng) -> Option<TreePic
     })
 }
 
-/// The descent recorded: one step per node, then the leaf cluster.
+/// The tile's cut at `x` recorded (its draw taken from `rng`), with the entry it takes;
+/// `Some(None)` when no entry of the tile has power (the pick ends there), `None` off the
+/// cuts.
+fn record_cut(tree: &LightTree, x: DVec2, rng: &mut Rng) -> Option<Option<(CutStep, ChildRef)>> {
+    let cuts = tree.tile_cuts()?;
+    let tile = cuts.tile_at(x)?;
+    let u = rng.next_u32() >> 8;
+    let Some((entry, mass)) = cuts.pick(tile, u) else {
+        return Some(None);
+    };
+    let entries: Vec<CutEntry> = cuts
+        .entries(tile)
+        .map(|(e, m)| {
+            let lights = tree.span(e).unwrap_or(0..0);
+            CutEntry {
+                child: e.get(),
+                depth: tree.depth_of(e).unwrap_or(0),
+                box_on_plane: plane_box(tree.lights(), lights.clone()),
+                lights,
+                mass: m,
+                probability: f64::from(m) * GRID_CELL,
+            }
+        })
+        .collect();
+    let index = cuts.entries(tile).position(|(e, _)| e == entry)?;
+    let step = CutStep {
+        tile,
+        pixels: cuts.tile_pixels(tile),
+        entries,
+        random24: u,
+        entry: index,
+        pdf_after: f64::from(mass) * GRID_CELL,
+    };
+    Some(Some((step, entry)))
+}
+
+/// The descent recorded: the tile's cut (when the tree has cuts), one step per node, then
+/// the leaf cluster.
 fn record_tree(tree: &LightTree, x: DVec2, rng: &mut Rng) -> Option<TreePick> {
-    let (mut at, mut pdf) = (tree.root(), 1.0);
+    let (cut, mut at, mut pdf) = match record_cut(tree, x, rng) {
+        Some(Some((step, entry))) => {
+            let pdf = step.pdf_after;
+            (Some(step), entry, pdf)
+        }
+        Some(None) => return None,
+        None => (None, tree.root(), 1.0),
+    };
+    let first_depth = tree.depth_of(at).unwrap_or(0);
     let mut steps = Vec::new();
     while let Child::Node(k) = at.get() {
         let masses = tree.node_masses_at(k, x);
@@ -254,7 +343,7 @@ fn record_tree(tree: &LightTree, x: DVec2, rng: &mut Rng) -> Option<TreePick> {
         pdf *= f64::from(masses[lane]) * GRID_CELL;
         steps.push(TreePickStep {
             node: k,
-            depth: steps.len(),
+            depth: first_depth + steps.len(),
             lanes: lanes_at(tree, k, x, masses),
             random24: u,
             lane,
@@ -282,6 +371,7 @@ fn record_tree(tree: &LightTree, x: DVec2, rng: &mut Rng) -> Option<TreePick> {
         .collect();
     Some(TreePick {
         x,
+        cut,
         steps,
         light: tree.order()[first + j],
         pdf,

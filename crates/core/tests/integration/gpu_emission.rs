@@ -361,7 +361,7 @@ fn the_light_tree_over_spots_and_ranges_matches_the_cpu_per_pixel() {
         };
         let leaf = leaves_by_light(tree, scene.light_count());
         let above = ancestors_by_light(tree, scene.light_count());
-        let depth = f64::from(tree.depth());
+        let depth = f64::from(tree.draws());
         let z_min = scene
             .positions
             .iter()

@@ -27,7 +27,7 @@ use lightpick_core::Scheme;
 use lightpick_core::gpu::GpuRenderer;
 use lightpick_core::render::CpuRenderer;
 use lightpick_core::scene::Scene;
-use lightpick_core::spatial::{LightTree, SpatialSampler};
+use lightpick_core::spatial::SpatialSampler;
 
 const U: f64 = 1.0 / (1u64 << 24) as f64;
 
@@ -48,7 +48,7 @@ fn criterion(scene: &Scene, spp: u32) -> (f64, f64) {
     }
     let depth = match SpatialSampler::build(&scene.positions, &scene.powers) {
         SpatialSampler::Exact(_) => 1.0, // the sum of ≤ 16 terms: covered by one "level"
-        SpatialSampler::Tree(t) => f64::from(t.depth()),
+        SpatialSampler::Tree(t) => f64::from(t.draws()),
     };
     let e = (57.0 * b / z_min + 26.0) * U;
     let spp = f64::from(spp);
@@ -156,7 +156,8 @@ fn one_light_and_lights_below_the_plane() {
 
 /// Switching to spatial and back, and new powers, give the images of fresh renderers; the
 /// tree costs its lights in leaf order (16 bytes each) and its 80-byte nodes (one per ~22
-/// lights): under 24 more GPU bytes per light.
+/// lights): under 24 more GPU bytes per light; its per-tile cuts 8 bytes an entry and 4 a
+/// tile, and 12 more.
 #[test]
 fn scheme_switches_and_new_powers_rebuild_the_tree() {
     let Some(ctx) = common::context() else {
@@ -166,10 +167,20 @@ fn scheme_switches_and_new_powers_rebuild_the_tree() {
     let mut r = GpuRenderer::new(ctx, &a, Scheme::Alias, 6).expect("renderer");
     assert_eq!(r.gpu_bytes_per_light(), 24);
     r.set_scheme(Scheme::Spatial).expect("spatial");
-    let tree = LightTree::build(&a.positions, &a.powers);
-    let expected = 24 + ((tree.nodes().len() * 80 + tree.lights().len() * 16) as u64).div_ceil(500);
-    assert_eq!(r.gpu_bytes_per_light(), expected);
-    assert!(r.gpu_bytes_per_light() <= 24 + 24);
+    let SpatialSampler::Tree(tree) = SpatialSampler::for_scene(&a) else {
+        panic!("500 lights take the tree");
+    };
+    let tree_bytes = (tree.nodes().len() * 80 + tree.lights().len() * 16) as u64;
+    assert!(tree_bytes.div_ceil(500) <= 24);
+    let cuts = tree.tile_cuts().expect("cut per tile");
+    let [tx, ty] = cuts.tiles();
+    let (first, ends, _) = cuts.gpu_words();
+    assert_eq!(first.len() as u32, tx * ty + 1);
+    let cut_bytes = 12 + 4 * first.len() as u64 + 8 * ends.len() as u64;
+    assert_eq!(
+        r.gpu_bytes_per_light(),
+        24 + (tree_bytes + cut_bytes).div_ceil(500)
+    );
     r.accumulate(4).expect("accumulate");
     let mut fresh = GpuRenderer::new(ctx, &a, Scheme::Spatial, 6).expect("renderer");
     fresh.accumulate(4).expect("accumulate");

@@ -107,7 +107,10 @@ fn a_split_light_tree_renders_the_image_of_one_binding() {
     let Some(ctx) = common::context() else {
         return;
     };
-    let s = scene(2000, 3);
+    // On 5 × 4 pixels: 20 tiles, whose cuts (up to 64 entries of 8 bytes each) split into
+    // a few chunks too, beside the lights' and the nodes'.
+    let mut s = scene(2000, 3);
+    (s.plane.width, s.plane.height) = (5, 4);
     let SpatialSampler::Tree(tree) = SpatialSampler::build(&s.positions, &s.powers) else {
         panic!("2000 lights take the tree");
     };

@@ -36,7 +36,7 @@ fn tree_pdf_sums_to_one_over_every_leaf() {
     for (n, seed) in [(17, 1), (64, 2), (333, 3), (1000, 4)] {
         let (positions, powers) = random_lights(n, seed, 3.0);
         let tree = LightTree::build(&positions, &powers);
-        let depth = f64::from(tree.depth());
+        let depth = f64::from(tree.draws());
         for x in POINTS {
             let total: f64 = (0..n).map(|i| tree.pdf(x, i)).sum();
             // Each level's two probabilities sum to 1 within 2 ulp; d levels: ≤ 4·d·ε.
@@ -393,7 +393,11 @@ fn interleaved_descents_equal_single_ones_bit_for_bit() {
         let many = cut.sample_many(&points, &mut rngs);
         for b in 0..8 {
             let mut rng = Rng::new(s, b as u64);
-            assert_eq!(many[b], cut.sample(points[b], &mut rng), "cut: s = {s}, b = {b}");
+            assert_eq!(
+                many[b],
+                cut.sample(points[b], &mut rng),
+                "cut: s = {s}, b = {b}"
+            );
             assert_eq!(rngs[b], rng, "the same draws");
         }
     }

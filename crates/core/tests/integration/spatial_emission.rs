@@ -88,7 +88,11 @@ fn trees(scene: &Scene) -> [LightTree; 3] {
         scene.emission.as_deref(),
         Some(region),
     );
-    [tree(scene), mapped.clone(), mapped.with_tile_cuts(&scene.plane)]
+    [
+        tree(scene),
+        mapped.clone(),
+        mapped.with_tile_cuts(&scene.plane),
+    ]
 }
 
 /// `Σ_i P(i | x) ≤ 1`: with spots a descent may end in a leaf cluster none of whose lights
@@ -108,7 +112,7 @@ fn pdf_sums_and_positivity(scene: &Scene, tree: &LightTree) {
     {
         let n = scene.light_count();
         let pmf = scene.powers.pmf();
-        let depth = f64::from(tree.depth());
+        let depth = f64::from(tree.draws());
         for x in POINTS {
             let pdfs = tree.pdfs(x);
             let total: f64 = pdfs.iter().sum();

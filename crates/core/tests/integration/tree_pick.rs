@@ -70,7 +70,7 @@ fn check_scene(scene: &Scene, count: usize, seed: u64) -> Vec<Culled> {
     let pmf = scene.powers.pmf();
     let mut d = SplitMix(seed);
     let mut reasons = Vec::new();
-    let mut recorded = 0;
+    let (mut recorded, mut cut_records) = (0, 0);
     for (k, x) in points(scene, count, &mut d).into_iter().enumerate() {
         let mut by_record = Rng::new(seed, k as u64);
         let mut by_sampler = by_record.clone();
@@ -82,6 +82,7 @@ fn check_scene(scene: &Scene, count: usize, seed: u64) -> Vec<Culled> {
             continue;
         };
         recorded += 1;
+        cut_records += usize::from(record.cut.is_some());
         assert_eq!(record.light, pick.light, "point {k}");
         assert_eq!(record.pdf.to_bits(), pick.pdf.to_bits(), "point {k}");
         assert_eq!(record.estimate.to_bits(), pick.estimate.to_bits());
@@ -106,6 +107,12 @@ fn check_scene(scene: &Scene, count: usize, seed: u64) -> Vec<Culled> {
         reasons.extend(check_steps(&record, &sampler, scene, x));
     }
     assert!(recorded > count / 4, "{recorded} of {count} points picked");
+    if matches!(sampler, SpatialSampler::Tree(_)) {
+        assert!(
+            cut_records > 0,
+            "picks on the plane start from its tiles' cuts"
+        );
+    }
     reasons
 }
 
@@ -120,8 +127,30 @@ fn check_steps(
 ) -> Vec<Culled> {
     let mut reasons = Vec::new();
     let mut pdf = 1.0;
+    let mut first_depth = 0;
+    if let Some(cut) = &record.cut {
+        // The cut's entries: masses summing to 2^24 over disjoint leaf-order ranges, the
+        // draw taking the entry whose interval holds it.
+        let total: u64 = cut.entries.iter().map(|e| u64::from(e.mass)).sum();
+        assert_eq!(total, 1 << 24, "tile {}", cut.tile);
+        let start: u64 = cut.entries[..cut.entry]
+            .iter()
+            .map(|e| u64::from(e.mass))
+            .sum();
+        let u = u64::from(cut.random24);
+        assert!(start <= u && u < start + u64::from(cut.entries[cut.entry].mass));
+        for pair in cut.entries.windows(2) {
+            assert!(pair[0].lights.end <= pair[1].lights.start);
+        }
+        let [[x0, y0], [x1, y1]] = cut.pixels;
+        let [px, py] = scene.plane.pixel_at(x);
+        assert!((x0..x1).contains(&px) && (y0..y1).contains(&py), "x's tile");
+        pdf = cut.entries[cut.entry].probability;
+        assert_eq!(cut.pdf_after, pdf);
+        first_depth = cut.entries[cut.entry].depth;
+    }
     for (depth, step) in record.steps.iter().enumerate() {
-        assert_eq!(step.depth, depth);
+        assert_eq!(step.depth, first_depth + depth);
         let total: u64 = step.lanes.iter().map(|l| u64::from(l.mass)).sum();
         assert_eq!(total, 1 << 24, "node {}", step.node);
         assert_eq!(step.lanes.iter().map(|l| l.probability).sum::<f64>(), 1.0);

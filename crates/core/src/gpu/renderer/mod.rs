@@ -303,7 +303,7 @@ impl GpuRenderer {
         if self.spatial.is_none() {
             self.spatial = Some(SpatialGpu::new(
                 &self.ctx,
-                self.samplers.spatial(),
+                (self.samplers.spatial(), &self.samplers.scene().plane),
                 [&self.targets.params, &self.targets.sums],
             )?);
         }

@@ -152,6 +152,25 @@ impl LightTree {
         self.node_first[k] as usize
     }
 
+    /// The depth of subtree `at` in the tree (the root's is 0): the lanes followed from the
+    /// root down to it, by its first light. `None` for an empty lane.
+    pub fn depth_of(&self, at: ChildRef) -> Option<usize> {
+        let first = self.first_of(at)?;
+        let (mut here, mut depth) = (self.root, 0);
+        while here != at {
+            let Child::Node(k) = here.get() else {
+                return None;
+            };
+            here = *self.nodes[k]
+                .child
+                .iter()
+                .rev()
+                .find(|&&c| self.first_of(c).is_some_and(|f| f <= first))?;
+            depth += 1;
+        }
+        Some(depth)
+    }
+
     /// The leaf-order range of the lights below `at` (`None` for an empty lane): a leaf
     /// cluster's own lights, or for a node every light from its first to the end of its
     /// last non-empty lane. Subtrees are contiguous in leaf order, so this is all of them.
@@ -237,9 +256,15 @@ impl LightTree {
         self.root
     }
 
-    /// The most draws a pick takes: internal nodes on the deepest path, plus one for the
-    /// leaf cluster, plus one for a tile's cut when the tree has them.
+    /// The tree's levels: internal nodes on the deepest path, plus one for the leaf
+    /// cluster (the most draws a pick from the root takes).
     pub fn depth(&self) -> u32 {
+        self.depth
+    }
+
+    /// The most draws a pick takes, and so the most grid factors its pdf multiplies: the
+    /// tree's [`LightTree::depth`], plus one for the tile's cut when the tree has cuts.
+    pub fn draws(&self) -> u32 {
         self.depth + u32::from(self.cuts.is_some())
     }
 }

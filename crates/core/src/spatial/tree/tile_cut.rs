@@ -5,32 +5,39 @@
 //! The receiver is one plane with a known pixel grid ([`ReceiverPlane`]). It is split into
 //! square tiles of [`TileCuts::tile_side`] pixels (about [`CUT_TILES_PER_SIDE`] along the
 //! longer side). Each tile keeps a **cut** of the tree: at most [`CUT_MAX_ENTRIES`] subtrees
-//! whose leaf-order ranges partition the tree's lights (internal nodes, leaf clusters, or
-//! single lights of an expanded leaf cluster), each with a mass `m_e` on the `2^24` grid
-//! (`Σ_e m_e = 2^24`). A pick at `x` in the tile takes entry `e` by one draw (`u = r >> 8`
-//! against the cumulative masses, a binary search), then descends below `e` at `x` exactly as
-//! the tree does from its root ([`super::LightTree::sample`]). Its probability is
+//! (internal nodes or leaf clusters) whose leaf-order ranges hold, between them, every light
+//! that can light the tile, each with a mass `m_e` on the `2^24` grid (`Σ_e m_e = 2^24`). A
+//! pick at `x` in the tile takes entry `e` by one draw (`u = r >> 8` against the cumulative
+//! masses, a binary search), then descends below `e` at `x` exactly as the tree does from
+//! its root ([`super::LightTree::sample`]). Its probability is
 //!
 //! `P(i | x) = m_e / 2^24 · Π_{nodes below e} m_lane(x) / 2^24 · m_j(x) / 2^24`,
 //!
-//! the product of realized grid probabilities: exact, and `Σ_i P(i | x) = 1` since the
-//! entries partition the lights and every level's masses sum to `2^24`.
+//! the product of realized grid probabilities: exact, and `Σ_i P(i | x) = 1` wherever the
+//! entries' lights reach `x` and every level's masses sum to `2^24`.
 //!
-//! # How a tile weighs its entries
-//! The cut is grown from the root's lanes by splitting, while it fits, the entry of largest
-//! weight (a node into its lanes, a leaf cluster into its lights). An entry's weight is the
-//! tree's own probability of reaching it, averaged over five points of the tile (its centre
-//! and the centres of its four quarters): `q̄_e = (1/5)·Σ_k P_tree(e | x_k)`, with the
-//! lanes' importances (representative lights, or the maps of spots) exactly as the descent
-//! computes them. Mixed with the entry's share of power,
+//! # How a tile cuts and weighs
+//! Let `x_1 … x_9` be the centres of the tile's ninths and `P_tree(e | x_k)` the tree's own
+//! probability of descending into subtree `e` at `x_k` (the product of its branch masses
+//! there, lanes weighed by their representative lights or, for spots, their maps). A cut
+//! starts as the root alone and splits, while it can, its node of largest
+//! `q̄_e = max_k P_tree(e | x_k)` into its lanes, leaving out a lane whose footprint box
+//! misses the tile (none of its lights gives the tile anything). Its entries are weighed
 //!
 //! `w_e = (1 − ε)·q̄_e / Σ q̄ + ε·Φ_e / Σ Φ`,  `ε =` [`POWER_SHARE`],
 //!
-//! every entry holding power keeps a mass `m_e ≥ 1`: a light that contributes anywhere in
-//! the tile (even where the five points say nothing, at a spot's edge) keeps `P(i | x) > 0`,
-//! so the estimate stays unbiased. What the cut changes is only how well the top of the
-//! descent fits `x`: the tile's average instead of `x` itself; the module docs of
-//! [`crate::spatial`] hold the variances and times measured.
+//! so every entry holding power keeps `m_e ≥ 1`: a light that contributes anywhere in the
+//! tile keeps `P(i | x) > 0`, and the estimate stays unbiased.
+//!
+//! **What fixing the top costs.** At a weighing point the cut pick's probability of any
+//! light is at least `(1 − ε)/S` times the tree's, where `S = Σ_e q̄_e ≥ 1` is the cut's
+//! **spread** (since `w_e ≥ (1 − ε)·P_tree(e | x_k)/S`): the second moment `Σ c_i²/P(i | x)`
+//! grows at most by `S/(1 − ε)` (up to the grid's rounding of `w_e`). A split is made only while `S` stays at most
+//! [`CUT_MAX_SPREAD`], so the cut fixes exactly the decisions that hardly change across the
+//! tile (far lights, lanes whose branch probabilities agree at all nine points) and leaves
+//! to the descent at `x` those that do. The first split that would pass either limit ends
+//! the cut (trying the smaller entries costs more build time than it saves). The variances
+//! and times measured are in the module docs of [`crate::spatial`].
 //!
 //! Points off the plane's rectangle (the inspector or a test may ask there) descend from
 //! the root as before: the pdf at a point is defined by the rule that point falls under.
@@ -40,7 +47,7 @@ use glam::DVec2;
 use super::LightTree;
 use super::node::{Child, ChildRef, TREE_WIDTH};
 use crate::scene::ReceiverPlane;
-use crate::spatial::importance::{GRID, GRID_CELL, POWER_SHARE, grid_masses_into};
+use crate::spatial::importance::{GRID_CELL, POWER_SHARE, grid_masses_into};
 
 /// Tiles along the longer side of the receiver (32 × 32 tiles on a square one).
 pub const CUT_TILES_PER_SIDE: u32 = 64;
@@ -53,10 +60,10 @@ pub const CUT_MAX_ENTRIES: usize = 64;
 pub const CUT_MAX_SPREAD: f64 = 1.25;
 
 /// Weighing points along a tile's side.
-const WEIGHING_SIDE: usize = 4;
+const WEIGHING_SIDE: usize = 3;
 
 /// The points of a tile (as fractions of its width and height) where the cut's weights are
-/// taken: the centres of its 4 × 4 sixteenths.
+/// taken: the centres of its 3 × 3 ninths.
 const WEIGHING_POINTS: [[f64; 2]; WEIGHING_SIDE * WEIGHING_SIDE] = {
     let mut points = [[0.0; 2]; WEIGHING_SIDE * WEIGHING_SIDE];
     let mut k = 0;
@@ -72,13 +79,12 @@ const WEIGHING_POINTS: [[f64; 2]; WEIGHING_SIDE * WEIGHING_SIDE] = {
 };
 
 /// One tile's cut as it is grown: each entry's subtree, its probability under the tree at
-/// each weighing point, its power, and whether it may still be split.
+/// each weighing point, and its power.
 #[derive(Clone, Copy, Debug)]
 struct Candidate {
     at: ChildRef,
     reach: [f64; WEIGHING_POINTS.len()],
     power: f64,
-    splittable: bool,
 }
 
 impl Candidate {
@@ -222,6 +228,19 @@ impl TileCuts {
         ((py / self.tile_side) * self.tiles_x + px / self.tile_side) as usize
     }
 
+    /// Tile `tile`'s pixels: its first column and row, and one past its last.
+    pub fn tile_pixels(&self, tile: usize) -> [[u32; 2]; 2] {
+        let (tx, ty) = (tile as u32 % self.tiles_x, tile as u32 / self.tiles_x);
+        let side = self.tile_side;
+        [
+            [tx * side, ty * side],
+            [
+                ((tx + 1) * side).min(self.plane.width),
+                ((ty + 1) * side).min(self.plane.height),
+            ],
+        ]
+    }
+
     /// The tile holding `point_on_plane`, `None` off the plane's rectangle (then the
     /// descent starts at the root).
     #[inline]
@@ -311,7 +330,6 @@ impl TileCuts {
             at: tree.root(),
             reach: [1.0; WEIGHING_POINTS.len()],
             power: 1.0,
-            splittable: true,
         }];
         // Σ_e max_k P_tree(e | x_k): the bound on how much fixing the cut's decisions can
         // raise the variance at the weighing points (module docs).
@@ -320,7 +338,7 @@ impl TileCuts {
         while let Some(k) = cut
             .iter()
             .enumerate()
-            .filter(|(_, c)| c.splittable)
+            .filter(|(_, c)| matches!(c.at.get(), Child::Node(_)))
             .max_by(|a, b| a.1.reach().total_cmp(&b.1.reach()))
             .map(|(k, _)| k)
         {
@@ -329,8 +347,9 @@ impl TileCuts {
             let grown =
                 spread - cut[k].reach() + children.iter().map(Candidate::reach).sum::<f64>();
             if cut.len() - 1 + children.len() > self.max_entries || grown > self.max_spread {
-                cut[k].splittable = false;
-                continue;
+                // The largest entry that can still be split cannot: the cut is done (trying
+                // the smaller ones costs more than it gains, measured).
+                break;
             }
             spread = grown;
             cut.splice(k..=k, children.drain(..));
@@ -358,7 +377,10 @@ impl TileCuts {
                 Some(*end)
             })
             .collect();
-        debug_assert!(masses.iter().map(|&m| u64::from(m)).sum::<u64>() % u64::from(GRID) == 0);
+        debug_assert!(matches!(
+            masses.iter().map(|&m| u64::from(m)).sum::<u64>(),
+            0 | 0x100_0000
+        ));
         (ends, cut.iter().map(|c| c.at).collect())
     }
 }
@@ -368,12 +390,12 @@ fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
     footprint.is_none_or(|[a, b]| a.cmple(hi).all() && b.cmpge(lo).all())
 }
 
-/// The parts of subtree `at` (reached with probability `reach[k]` at weighing point `k`)
-/// that can light the tile (`tile`: its weighing points and box), appended to `out` in leaf
-/// order: a node's non-empty lanes, each reached with the node's grid probability at each
-/// point; a leaf cluster's lights, each with the cluster's. A part whose footprint misses
-/// the tile's box is left out: none of its lights gives the tile anything, and a pick
-/// there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
+/// The lanes of node `at` (reached with probability `reach[k]` at weighing point `k`) that
+/// can light the tile (`tile`: its weighing points and box), appended to `out` in leaf
+/// order, each reached with the node's grid probability at each point (nothing for a leaf
+/// cluster: it stays whole, its light picked at `x` by contribution). A lane whose
+/// footprint misses the tile's box is left out: none of its lights gives the tile anything,
+/// and a pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
 fn split_into(
     tree: &LightTree,
     at: ChildRef,
@@ -381,41 +403,22 @@ fn split_into(
     (points, rect): ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]),
     out: &mut Vec<Candidate>,
 ) {
-    match at.get() {
-        Child::Node(n) => {
-            let node = &tree.nodes()[n];
-            let masses = points.map(|x| tree.node_masses_at(n, x));
-            let bounds = tree.bounds(n);
-            for lane in 0..TREE_WIDTH {
-                let child = node.child[lane];
-                let footprint = bounds.map(|b| b[lane].footprint);
-                if child.get() == Child::Empty || !meets(footprint, rect) {
-                    continue;
-                }
-                out.push(Candidate {
-                    at: child,
-                    reach: std::array::from_fn(|k| {
-                        reach[k] * f64::from(masses[k][lane]) * GRID_CELL
-                    }),
-                    power: node.power(lane),
-                    splittable: matches!(child.get(), Child::Node(_)),
-                });
-            }
+    let Child::Node(n) = at.get() else {
+        return;
+    };
+    let node = &tree.nodes()[n];
+    let masses = points.map(|x| tree.node_masses_at(n, x));
+    let bounds = tree.bounds(n);
+    for lane in 0..TREE_WIDTH {
+        let child = node.child[lane];
+        let footprint = bounds.map(|b| b[lane].footprint);
+        if child.get() == Child::Empty || !meets(footprint, rect) {
+            continue;
         }
-        Child::Leaf { first, count } => {
-            let masses = points.map(|x| tree.leaf_masses_at(first, count, x).0);
-            for j in 0..count {
-                if !meets(tree.footprints.get(first + j).copied().flatten(), rect) {
-                    continue;
-                }
-                out.push(Candidate {
-                    at: ChildRef::leaf(first + j, 1),
-                    reach: std::array::from_fn(|k| reach[k] * f64::from(masses[k][j]) * GRID_CELL),
-                    power: tree.lights()[first + j].power,
-                    splittable: false,
-                });
-            }
-        }
-        Child::Empty => {}
+        out.push(Candidate {
+            at: child,
+            reach: std::array::from_fn(|k| reach[k] * f64::from(masses[k][lane]) * GRID_CELL),
+            power: node.power(lane),
+        });
     }
 }
