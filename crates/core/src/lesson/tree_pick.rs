@@ -287,15 +287,24 @@ fn record_exact(exact: &ExactSampler, x: DVec2, rng: &mut Rng) -> Option<TreePic
     })
 }
 
-/// The tile's cut at `x` recorded (its draw taken from `rng`), with the entry it takes;
-/// `Some(None)` when no entry of the tile has power (the pick ends there), `None` off the
-/// cuts.
-fn record_cut(tree: &LightTree, x: DVec2, rng: &mut Rng) -> Option<Option<(CutStep, ChildRef)>> {
-    let cuts = tree.tile_cuts()?;
-    let tile = cuts.tile_at(x)?;
+/// Where a recorded descent starts.
+enum Start {
+    /// At the root: `x` is off the per-tile cuts, or the tree has none.
+    Root,
+    /// At the entry the tile's cut took.
+    Cut(CutStep, ChildRef),
+    /// Nowhere: no entry of the tile's cut has power (the pick ends with `ê = 0`).
+    Nothing,
+}
+
+/// The tile's cut at `x` recorded (its draw taken from `rng`), with the entry it takes.
+fn record_cut(tree: &LightTree, x: DVec2, rng: &mut Rng) -> Start {
+    let Some((cuts, tile)) = tree.tile_cuts().and_then(|c| Some((c, c.tile_at(x)?))) else {
+        return Start::Root;
+    };
     let u = rng.next_u32() >> 8;
     let Some((entry, mass)) = cuts.pick(tile, u) else {
-        return Some(None);
+        return Start::Nothing;
     };
     let entries: Vec<CutEntry> = cuts
         .entries(tile)
@@ -311,7 +320,9 @@ fn record_cut(tree: &LightTree, x: DVec2, rng: &mut Rng) -> Option<Option<(CutSt
             }
         })
         .collect();
-    let index = cuts.entries(tile).position(|(e, _)| e == entry)?;
+    let Some(index) = cuts.entries(tile).position(|(e, _)| e == entry) else {
+        return Start::Nothing;
+    };
     let step = CutStep {
         tile,
         pixels: cuts.tile_pixels(tile),
@@ -320,19 +331,19 @@ fn record_cut(tree: &LightTree, x: DVec2, rng: &mut Rng) -> Option<Option<(CutSt
         entry: index,
         pdf_after: f64::from(mass) * GRID_CELL,
     };
-    Some(Some((step, entry)))
+    Start::Cut(step, entry)
 }
 
 /// The descent recorded: the tile's cut (when the tree has cuts), one step per node, then
 /// the leaf cluster.
 fn record_tree(tree: &LightTree, x: DVec2, rng: &mut Rng) -> Option<TreePick> {
     let (cut, mut at, mut pdf) = match record_cut(tree, x, rng) {
-        Some(Some((step, entry))) => {
+        Start::Cut(step, entry) => {
             let pdf = step.pdf_after;
             (Some(step), entry, pdf)
         }
-        Some(None) => return None,
-        None => (None, tree.root(), 1.0),
+        Start::Nothing => return None,
+        Start::Root => (None, tree.root(), 1.0),
     };
     let first_depth = tree.depth_of(at).unwrap_or(0);
     let mut steps = Vec::new();

@@ -219,6 +219,7 @@ impl LightTree {
     /// The tree with per-tile cuts over `plane`'s pixel grid ([`TileCuts`]): picks on the
     /// plane's rectangle start at the entry their tile's cut draws instead of the root. A
     /// tree whose root is a leaf cluster keeps none.
+    #[must_use]
     pub fn with_tile_cuts(mut self, plane: &ReceiverPlane) -> Self {
         self.cuts = TileCuts::build(&self, plane);
         self
@@ -226,6 +227,7 @@ impl LightTree {
 
     /// The tree with the given per-tile cuts (`None`: every pick descends from the root);
     /// `cuts` must have been built over this tree ([`TileCuts::build_sized`]).
+    #[must_use]
     pub fn with_cuts(mut self, cuts: Option<TileCuts>) -> Self {
         self.cuts = cuts;
         self
