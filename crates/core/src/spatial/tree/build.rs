@@ -197,7 +197,7 @@ impl LightTree {
             .for_each(|(l, &i)| l.power = pmf.of(raw[i as usize]));
         self.fill_lanes();
         if let Some(cuts) = self.cuts.take() {
-            self.cuts = cuts.recut(self);
+            self.cuts = cuts.recut(self).map(Box::new);
         }
     }
 }

@@ -99,7 +99,7 @@ pub struct LightTree {
     mapped: Vec<MappedLanes>,
     /// The per-tile cuts a pick starts from on the receiver's rectangle ([`TileCuts`];
     /// `None`: every pick descends from the root).
-    cuts: Option<TileCuts>,
+    cuts: Option<Box<TileCuts>>,
 }
 
 impl LightTree {
@@ -213,7 +213,7 @@ impl LightTree {
             + self.bounds.capacity() * size_of::<[LaneBounds; TREE_WIDTH]>()
             + self.footprints.capacity() * size_of::<Option<[DVec2; 2]>>()
             + self.mapped.capacity() * size_of::<MappedLanes>()
-            + self.cuts.as_ref().map_or(0, TileCuts::heap_bytes)
+            + self.cuts.as_ref().map_or(0, |c| size_of::<TileCuts>() + c.heap_bytes())
     }
 
     /// The tree with per-tile cuts over `plane`'s pixel grid ([`TileCuts`]): picks on the
@@ -221,7 +221,7 @@ impl LightTree {
     /// tree whose root is a leaf cluster keeps none.
     #[must_use]
     pub fn with_tile_cuts(mut self, plane: &ReceiverPlane) -> Self {
-        self.cuts = TileCuts::build(&self, plane);
+        self.cuts = TileCuts::build(&self, plane).map(Box::new);
         self
     }
 
@@ -229,13 +229,13 @@ impl LightTree {
     /// `cuts` must have been built over this tree ([`TileCuts::build_sized`]).
     #[must_use]
     pub fn with_cuts(mut self, cuts: Option<TileCuts>) -> Self {
-        self.cuts = cuts;
+        self.cuts = cuts.map(Box::new);
         self
     }
 
     /// The per-tile cuts picks start from, if any.
     pub fn tile_cuts(&self) -> Option<&TileCuts> {
-        self.cuts.as_ref()
+        self.cuts.as_deref()
     }
 
     /// The internal nodes, depth first.
