@@ -227,7 +227,31 @@ fn pick_json(pick: &TreePick) -> serde_json::Value {
             })
         })
         .collect();
+    let cut = pick.cut.as_ref().map(|c| {
+        let entries: Vec<_> = c
+            .entries
+            .iter()
+            .map(|e| {
+                json!({
+                    "depth": e.depth,
+                    "light_count": e.lights.len(),
+                    "mass": e.mass,
+                    "probability": e.probability,
+                })
+            })
+            .collect();
+        json!({
+            "tile": c.tile,
+            "pixels": c.pixels,
+            "entries": entries,
+            "random24": c.random24,
+            "random": f64::from(c.random24) / f64::from(1u32 << 24),
+            "entry": c.entry,
+            "pdf_after": c.pdf_after,
+        })
+    });
     json!({
+        "cut": cut,
         "steps": steps,
         "leaf": {
             "lights": leaf_lights,
@@ -253,6 +277,22 @@ fn print_pick([px, py]: [u32; 2], x: DVec2, seed: u64, pick: &TreePick) {
         n(x.x),
         n(x.y)
     );
+    if let Some(c) = &pick.cut {
+        let [[x0, y0], [x1, y1]] = c.pixels;
+        let e = &c.entries[c.entry];
+        println!(
+            "tile {} (pixels {x0}..{x1} × {y0}..{y1}): cut of {} entries; u = {} (24-bit {}) → \
+             entry {} (depth {}, {} lights), P = {}",
+            c.tile,
+            c.entries.len(),
+            n(f64::from(c.random24) / f64::from(1u32 << 24)),
+            c.random24,
+            c.entry,
+            e.depth,
+            e.lights.len(),
+            n(c.pdf_after)
+        );
+    }
     for s in &pick.steps {
         println!(
             "node {} (depth {}): u = {} (24-bit {}) → lane {}",

@@ -105,8 +105,8 @@ fn trade_and_precision_windows() {
     results.unwrap();
 }
 
-/// The Light tree panel on `grid`, one pick stepped to its second node: the README's
-/// "Why the spatial scheme wins".
+/// The Light tree panel on `grid`, one pick at its first stage (the pixel's tile and its
+/// cut of the tree): the README's "Why the spatial scheme wins".
 #[test]
 fn light_tree_pick_on_grid() {
     let mut results = SnapshotResults::new();
@@ -115,7 +115,9 @@ fn light_tree_pick_on_grid() {
         app.state.settings.dark = false;
         app.layout.maximized = Some(lightpick::app::PanelKind::LightTree);
         app.state.light_tree.select_pixel([72, 194]);
-        app.state.light_tree.stage = 1;
+        // The first stage: the pixel's tile and the cut it keeps of the tree.
+        app.state.light_tree.stage = 0;
+        app.state.light_tree.depth = 2;
         let mut harness = screen(app, size, 2);
         assert!(
             harness
@@ -131,14 +133,31 @@ fn light_tree_pick_on_grid() {
     results.unwrap();
 }
 
-/// The Light tree panel on `stage` (spots): a node's chosen group with its map of what its
-/// spots give the floor, the lights coloured by their spatial pick probability.
+/// The Light tree panel on `stage` (spots): a node below the tile's cut, its chosen group
+/// with its map of what its spots give the floor, the lights coloured by their spatial pick
+/// probability.
 #[test]
 fn light_tree_spot_map_on_stage() {
     let mut app = LightpickApp::for_tests_on("stage");
     app.state.settings.dark = false;
     app.layout.maximized = Some(lightpick::app::PanelKind::LightTree);
-    app.state.light_tree.select_pixel([60, 70]);
+    // The first pick near the stage's centre whose descent goes on below the tile's cut:
+    // its first node.
+    let built = std::sync::Arc::clone(&app.state.built);
+    let seed = app.state.settings.seed;
+    let (pixel, number) = (0..16)
+        .map(|k| [60 + 11 * k, 70 + 5 * (k % 7)])
+        .find_map(|pixel| {
+            app.state.light_tree.select_pixel(pixel);
+            (0..20).find_map(|number| {
+                app.state.light_tree.number = number;
+                let record = app.state.light_tree.pick(&built, seed)?.record.clone()?;
+                (!record.steps.is_empty()).then_some((pixel, number))
+            })
+        })
+        .expect("a pick through a node");
+    app.state.light_tree.select_pixel(pixel);
+    app.state.light_tree.number = number;
     app.state.light_tree.stage = 1;
     app.state.light_tree.coloring = lightpick::app::state::light_tree::TreeColoring::Spatial;
     let mut harness = screen(app, [1024.0, 768.0], 2);

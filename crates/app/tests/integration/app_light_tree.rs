@@ -1,6 +1,7 @@
 //! The Light tree panel: a tab beside the images (key 6, View → Light tree), the tree from
-//! above with its groups at a chosen depth, and one spatial pick stepped from the root to a
-//! light (Next / Back, Page Down / Page Up) whose product of steps is the renderer's pdf.
+//! above with its groups at a chosen depth, and one spatial pick stepped from its tile's cut
+//! to a light (Next / Back, Page Down / Page Up) whose product of steps is the renderer's
+//! pdf.
 
 use egui::Key;
 use egui_kittest::Harness;
@@ -9,6 +10,7 @@ use lightpick::app::panels::layout::tabs_with;
 use lightpick::app::{LightpickApp, PanelKind};
 use lightpick::numbers::three_significant;
 use lightpick_core::draw::{pick_stages, tree_groups, tree_view_caption};
+use lightpick_core::lesson::tree_pick::TreePick;
 use lightpick_core::scene::pixel_center;
 
 use crate::common::painted::painted;
@@ -84,14 +86,33 @@ fn steps_to_the_renderers_pdf(preset: &str, pixel: [u32; 2]) {
     };
     assert_eq!(record.pdf.to_bits(), renderer_pdf.to_bits(), "{preset}");
     let product = record
-        .steps
+        .cut
         .iter()
-        .map(|s| s.lanes[s.lane].probability)
+        .map(|c| c.pdf_after)
+        .chain(record.steps.iter().map(|s| s.lanes[s.lane].probability))
         .chain(std::iter::once(record.picked().probability))
         .fold(1.0, |p, f| p * f);
     assert_eq!(product.to_bits(), record.pdf.to_bits(), "{preset}");
     let stages = pick_stages(&record);
     assert!(shows_containing(&harness, &format!("stage 1 of {stages}")));
+    // The first stage is the tile's cut: the groups fixed for the whole tile.
+    let cut = record.cut.as_ref().expect("the pixel's tile has a cut");
+    assert!(
+        shows_containing(
+            &harness,
+            &format!("keeps a cut of the tree: {}", cut.entries.len())
+        ),
+        "{preset}: {}",
+        painted(&harness)
+    );
+    assert!(shows_containing(
+        &harness,
+        &format!(
+            "→ group {}. P so far: {}",
+            cut.entry + 1,
+            three_significant(cut.pdf_after)
+        )
+    ));
     for stage in 1..stages {
         if stage % 2 == 1 {
             click(&mut harness, "Next");
@@ -145,32 +166,18 @@ fn a_pick_steps_down_a_spot_tree_to_the_renderers_pdf() {
 #[test]
 fn culled_groups_say_why_and_take_no_probability() {
     let mut harness = tree_panel("stage", [60, 70]);
-    let state = &mut harness.state_mut().state;
-    let built = std::sync::Arc::clone(&state.built);
-    let seed = state.settings.seed;
-    // The first node with a culled group, over a few picks at this pixel.
-    let found = (0..20).find_map(|number| {
-        state.light_tree.select_pixel([60, 70]);
-        for _ in 0..number {
-            state.light_tree.new_pick();
-        }
-        let pick = state.light_tree.pick(&built, seed)?;
-        let record = pick.record.clone()?;
-        let stage = record.steps.iter().position(|s| {
+    // Below the tiles' cuts (which leave out what cannot reach a tile) a node's group is
+    // culled where x alone is out of its lights' reach: at a pixel near a spot's edge.
+    let pixels: Vec<[u32; 2]> = (0..16).map(|k| [60 + 11 * k, 70 + 5 * (k % 7)]).collect();
+    let (pixel, number, stage, record) = find_pick(&mut harness, &pixels, |record| {
+        record.steps.iter().position(|s| {
             s.lanes
                 .iter()
                 .any(|l| l.culled.is_some() && l.light_count() > 0)
-        })?;
-        Some((number, stage, record))
-    });
-    let (number, stage, record) = found.expect("a culled group on the stage");
-    let state = &mut harness.state_mut().state;
-    state.light_tree.select_pixel([60, 70]);
-    for _ in 0..number {
-        state.light_tree.new_pick();
-    }
-    state.light_tree.stage = stage;
-    harness.run();
+        })
+    })
+    .expect("a culled group on the stage");
+    show_stage(&mut harness, pixel, number, stage + 1);
     let step = &record.steps[stage];
     for lane in step.lanes.iter().filter(|l| l.culled.is_some()) {
         assert_eq!(lane.probability, 0.0);
@@ -207,10 +214,55 @@ fn the_guide_ends_on_this_scenes_variances() {
 
 #[test]
 fn each_group_shows_where_power_picking_would_go() {
-    // The grid's root splits 1024 equal lights in four groups of 256: a quarter each by
-    // power, wherever the point; the spatial probabilities are not a quarter.
-    let harness = tree_panel("grid", [72, 194]);
+    // The grid's nodes split equal lights in four equal groups: a quarter each by power,
+    // wherever the point; the spatial probabilities are not a quarter.
+    let mut harness = tree_panel("grid", [72, 194]);
+    let pixels: Vec<[u32; 2]> = (0..8).map(|k| [72 + 17 * k, 194 - 13 * k]).collect();
+    let (pixel, number, stage, _) = find_pick(&mut harness, &pixels, |record| {
+        record.steps.iter().position(|s| {
+            s.lanes
+                .iter()
+                .all(|l| l.light_count() == s.lanes[0].light_count())
+        })
+    })
+    .expect("a pick through a node of four equal groups");
+    show_stage(&mut harness, pixel, number, stage + 1);
     let text = painted(&harness);
     assert_eq!(text.matches("by power: 0.250").count(), 4, "{text}");
     assert!(!text.contains("P = 0.250"), "{text}");
+}
+
+/// The first of the picks at `pixels` (each pixel's picks in turn, as New pick numbers them)
+/// whose record `stage_of` finds a step in: the pixel, the pick's number, that step, and the
+/// record.
+fn find_pick(
+    harness: &mut Harness<'static, LightpickApp>,
+    pixels: &[[u32; 2]],
+    stage_of: impl Fn(&TreePick) -> Option<usize>,
+) -> Option<([u32; 2], u64, usize, TreePick)> {
+    let state = &mut harness.state_mut().state;
+    let built = std::sync::Arc::clone(&state.built);
+    let seed = state.settings.seed;
+    pixels.iter().find_map(|&pixel| {
+        (0..100).find_map(|number| {
+            state.light_tree.select_pixel(pixel);
+            state.light_tree.number = number;
+            let record = state.light_tree.pick(&built, seed)?.record.clone()?;
+            Some((pixel, number, stage_of(&record)?, record))
+        })
+    })
+}
+
+/// Shows stage `stage` of pick `number` at `pixel` (stage 0 is the tile's cut).
+fn show_stage(
+    harness: &mut Harness<'static, LightpickApp>,
+    pixel: [u32; 2],
+    number: u64,
+    stage: usize,
+) {
+    let state = &mut harness.state_mut().state;
+    state.light_tree.select_pixel(pixel);
+    state.light_tree.number = number;
+    state.light_tree.stage = stage;
+    harness.run();
 }

@@ -121,6 +121,7 @@ fn bench_json_has_every_case_and_the_peers() {
         "rand::WeightedIndex",
         "tree-build",
         "tree-refit",
+        "tree-refit-cuts",
         "app-repower",
     ] {
         assert!(methods.contains(&m), "{m} missing from {methods:?}");

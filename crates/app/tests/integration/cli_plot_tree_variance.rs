@@ -43,7 +43,10 @@ fn the_grid_trees_top_view_with_a_pick_matches_its_golden() {
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.contains("depth 2: 16 groups · 1024 lights"), "{text}");
     assert!(text.contains("spatial pick at pixel (100, 60)"), "{text}");
-    assert!(text.contains("node 0 (depth 0)"), "{text}");
+    assert!(
+        text.contains("tile 985 (pixels 100..104 × 60..64): cut of "),
+        "{text}"
+    );
     assert!(text.contains("picked light "), "{text}");
     snapshot(&png, "plot_tree_grid");
 }
@@ -80,12 +83,28 @@ fn the_picks_pdf_is_the_product_of_its_steps_and_the_samplers_pdf() {
         let what = format!("{preset} at {pixel:?}");
         let pick = &v["pick"];
         let steps = pick["steps"].as_array().unwrap();
-        if preset == "grid" {
-            assert!(steps.len() >= 2, "{what}: a descent through the tree");
-        } else {
-            assert!(steps.is_empty(), "{what}: the exact pick has no node");
-        }
+        let cut = &pick["cut"];
         let mut product = 1.0;
+        if preset == "grid" {
+            // The tile's cut first: its entry's mass is where the draw falls.
+            let entries = cut["entries"].as_array().expect("a tile's cut");
+            let entry = cut["entry"].as_u64().unwrap() as usize;
+            let masses: Vec<u64> = entries
+                .iter()
+                .map(|e| e["mass"].as_u64().unwrap())
+                .collect();
+            assert_eq!(masses.iter().sum::<u64>(), 1 << 24, "{what}");
+            let start: u64 = masses[..entry].iter().sum();
+            let u = cut["random24"].as_u64().unwrap();
+            assert!(start <= u && u < start + masses[entry], "{what}");
+            product = num(&entries[entry]["probability"]);
+            assert_eq!(num(&cut["pdf_after"]), product, "{what}");
+        } else {
+            assert!(
+                cut.is_null() && steps.is_empty(),
+                "{what}: the exact pick has no node"
+            );
+        }
         for step in steps {
             let lane = step["lane"].as_u64().unwrap() as usize;
             let lanes = step["lanes"].as_array().unwrap();

@@ -12,7 +12,7 @@ use lightpick_core::draw::{
     LANE_COLORS, PlaneToPixels, Style, Theme, TreeView, pick_stages, tree_view_caption,
     tree_view_plane,
 };
-use lightpick_core::lesson::tree_pick::{Culled, TreePick};
+use lightpick_core::lesson::tree_pick::{Culled, CutStep, TreePick};
 use lightpick_core::spatial::SpatialSampler;
 
 use crate::app::colors;
@@ -295,6 +295,14 @@ fn stepped_pick_ui(ui: &mut Ui, state: &mut AppState, pick: &SteppedPick) {
         ui.label(format!("stage {} of {stages}", stage + 1));
     });
     let dark = state.dark();
+    let stage = match &record.cut {
+        Some(cut) if stage == 0 => {
+            cut_stage_ui(ui, cut, dark);
+            return;
+        }
+        Some(_) => stage - 1,
+        None => stage,
+    };
     if let Some(step) = record.steps.get(stage) {
         let spatial = std::sync::Arc::clone(state.built.samplers.spatial());
         let power_shares = match &*spatial {
@@ -313,6 +321,65 @@ fn stepped_pick_ui(ui: &mut Ui, state: &mut AppState, pick: &SteppedPick) {
     } else {
         end_stage_ui(ui, record, pick);
     }
+}
+
+/// Entries of a tile's cut listed by name (the picked one always among them).
+const CUT_ROWS: usize = 6;
+
+/// The tile's cut: the groups fixed for the whole tile, the largest few as bars (the picked
+/// one among them), the random number and the group it takes.
+fn cut_stage_ui(ui: &mut Ui, cut: &CutStep, dark: bool) {
+    let [[x0, y0], [x1, y1]] = cut.pixels;
+    ui.label(format!(
+        "This pixel's tile (pixels {x0}–{} across, {y0}–{} down) keeps a cut of the tree: \
+         {} groups that hold every light able to reach it, weighed once for the whole tile \
+         by the tree's own choices at nine points of it. The pick starts by drawing one of \
+         them, with no work at x.",
+        x1 - 1,
+        y1 - 1,
+        cut.entries.len()
+    ));
+    let mut order: Vec<usize> = (0..cut.entries.len()).collect();
+    order.sort_by(|&a, &b| cut.entries[b].mass.cmp(&cut.entries[a].mass));
+    let mut shown: Vec<usize> = order.iter().copied().take(CUT_ROWS).collect();
+    if !shown.contains(&cut.entry) {
+        shown.pop();
+        shown.push(cut.entry);
+    }
+    let ink = colors::foreground(dark);
+    egui::Grid::new("lightpick_cut_groups")
+        .num_columns(3)
+        .show(ui, |ui| {
+            for &k in &shown {
+                let entry = &cut.entries[k];
+                let name = format!("group {} (depth {})", k + 1, entry.depth);
+                if k == cut.entry {
+                    ui.label(RichText::new(format!("{name} ← picked")).strong());
+                } else {
+                    ui.label(name);
+                }
+                bar_ui(ui, entry.probability, ink);
+                ui.label(format!(
+                    "P = {} · {} lights",
+                    three_significant(entry.probability),
+                    entry.lights.len()
+                ));
+                ui.end_row();
+            }
+        });
+    if cut.entries.len() > shown.len() {
+        ui.colored_label(
+            colors::muted(dark),
+            format!("… and {} smaller groups", cut.entries.len() - shown.len()),
+        );
+    }
+    let u = f64::from(cut.random24) / 16_777_216.0;
+    ui.label(format!(
+        "Random number u = {u:.4} → group {}. P so far: {}. Below it the descent weighs \
+         each node at x itself.",
+        cut.entry + 1,
+        three_significant(cut.pdf_after)
+    ));
 }
 
 /// A node: its four groups' probabilities as bars, culled ones greyed with the reason, the
@@ -374,10 +441,10 @@ fn node_stage_ui(
             }
         });
     let u = f64::from(step.random24) / 16_777_216.0;
-    let before = if stage == 0 {
-        1.0
-    } else {
-        record.steps[stage - 1].pdf_after
+    let before = match (stage, &record.cut) {
+        (0, Some(cut)) => cut.pdf_after,
+        (0, None) => 1.0,
+        _ => record.steps[stage - 1].pdf_after,
     };
     ui.label(format!(
         "Random number u = {:.4} → group {}. P so far: {} × {} = {}",
@@ -449,9 +516,15 @@ fn leaf_stage_ui(ui: &mut Ui, record: &TreePick, powers: &[f64], total_power: f6
 /// against the exact irradiance, and what power picking would have paid.
 fn end_stage_ui(ui: &mut Ui, record: &TreePick, pick: &SteppedPick) {
     let factors: Vec<String> = record
-        .steps
+        .cut
         .iter()
-        .map(|s| three_significant(s.lanes[s.lane].probability))
+        .map(|c| three_significant(c.pdf_after))
+        .chain(
+            record
+                .steps
+                .iter()
+                .map(|s| three_significant(s.lanes[s.lane].probability)),
+        )
         .chain(std::iter::once(three_significant(
             record.picked().probability,
         )))

@@ -69,13 +69,16 @@ pub fn guide_text(
               power) as seen from x, mixed with a small share of plain power so that no group \
               that could light x is ever left out. Near groups weigh more."
             .to_owned(),
-        2 => "Click a point of the plane, then Next (Page Down): at each node one random \
-              number picks a group by those weights; at the leaf, one more picks a light by \
-              its exact contribution."
+        2 => "Click a point of the plane, then Next (Page Down). The first choices are the \
+              same all over a small tile of pixels, so each tile keeps them made once: a cut \
+              of the tree into groups, and one random number picks a group of it. Below it, \
+              at each node one random number picks a group by its weight at x; at the leaf, \
+              one more picks a light by its exact contribution."
             .to_owned(),
         3 => "The probability of the light picked is the product of the probabilities of the \
-              choices on its path, P(i | x) = P(group) × P(group) × … × P(light in leaf): \
-              exactly what the renderer divides by, so the estimate f_i / P stays unbiased."
+              choices on its path, P(i | x) = P(tile's group) × P(group) × … × P(light in \
+              leaf): exactly what the renderer divides by, so the estimate f_i / P stays \
+              unbiased."
             .to_owned(),
         _ => match variances {
             Some([uniform, power, spatial]) if spatial > 0.0 => format!(

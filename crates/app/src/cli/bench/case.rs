@@ -19,13 +19,14 @@ pub struct Case {
     /// `rand_distr::WeightedAliasIndex`, which has no in-place rebuild: its build).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rebuild_ns: Option<f64>,
-    /// Median time per sample, nanoseconds (for `tree-build`, `tree-refit` and
-    /// `app-repower`: one pick of the light tree at a shading point).
+    /// Median time per sample, nanoseconds (for `tree-build`, `tree-refit`,
+    /// `tree-refit-cuts` and `app-repower`: one pick of the light tree, without cuts, at a
+    /// shading point).
     pub sample_ns: f64,
     /// Threads the timed build ran on: rayon's pool for the integer alias table (`alias`,
-    /// `alias-batch`) and the light tree (`tree-build`, `tree-refit`), 1 for `alias-1t` and
-    /// the sequential constructions and peers (`app-repower`: the pool, for its table and
-    /// tree). Picks always run on one thread.
+    /// `alias-batch`) and the light tree (`tree-build`, `tree-refit`, `tree-refit-cuts`), 1
+    /// for `alias-1t` and the sequential constructions and peers (`app-repower`: the pool,
+    /// for its table and tree). Picks always run on one thread.
     pub threads: usize,
     /// Minor page faults per build (`alias`, `alias-1t` and the peer alias table; Linux).
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -15,7 +15,8 @@ use super::timing::median_ns;
 
 /// The light tree at `N` lights spread over a unit square at heights `0.1 … 1`: `tree-build`
 /// (layout by positions and lanes, `O(N log N)`), `tree-refit` (new powers, same
-/// positions: [`lightpick_core::spatial::LightTree::refit`], `O(N)` bottom up, in `build_ns`)
+/// positions: [`lightpick_core::spatial::LightTree::refit`], `O(N)` bottom up, in `build_ns`),
+/// `tree-refit-cuts` (the same with the tiles' cuts cut again, [`time_refit_with_cuts`])
 /// and `app-repower` (the app's whole answer to a power drag, [`time_app_repower`]), each
 /// with the time of one pick at a shading point.
 pub(super) fn time_tree(
@@ -45,10 +46,12 @@ pub(super) fn time_tree(
         let x = glam::dvec2(unit(k, 4), unit(k, 5));
         tree.sample(x, &mut rng).map_or(0, |p| p.light)
     });
+    let refit_cut_ns = time_refit_with_cuts(&positions, powers, other, reps);
     let repower_ns = time_app_repower(&positions, powers, other, reps);
     let mut cases = vec![
         ("tree-build", build_ns),
         ("tree-refit", refit_ns),
+        ("tree-refit-cuts", refit_cut_ns),
         ("app-repower", repower_ns),
     ];
     if n <= SPOT_REFIT_MAX_LIGHTS {
@@ -71,6 +74,27 @@ pub(super) fn time_tree(
             rebuild_faults: None,
         })
         .collect()
+}
+
+/// `tree-refit-cuts`: the refit of the tree cut per tile of a 512 × 512 pixel receiver
+/// over the unit square (as a scene's spatial sampler is), in `build_ns`: the lanes bottom
+/// up, then every tile's cut again ([`lightpick_core::spatial::TileCuts`]).
+fn time_refit_with_cuts(
+    positions: &[DVec3],
+    powers: &LightPowers,
+    other: &LightPowers,
+    reps: usize,
+) -> f64 {
+    let plane = lightpick_core::scene::ReceiverPlane {
+        min: glam::dvec2(0.0, 0.0),
+        max: glam::dvec2(1.0, 1.0),
+        width: 512,
+        height: 512,
+    };
+    let mut tree = LightTree::build(positions, powers).with_tile_cuts(&plane);
+    median_ns(reps.min(5), 1, |rep| {
+        tree.refit(if rep % 2 == 0 { other } else { powers });
+    })
 }
 
 /// The most lights the spot tree's refit is timed at (its maps make it the dearest case).

@@ -213,7 +213,10 @@ impl LightTree {
             + self.bounds.capacity() * size_of::<[LaneBounds; TREE_WIDTH]>()
             + self.footprints.capacity() * size_of::<Option<[DVec2; 2]>>()
             + self.mapped.capacity() * size_of::<MappedLanes>()
-            + self.cuts.as_ref().map_or(0, |c| size_of::<TileCuts>() + c.heap_bytes())
+            + self
+                .cuts
+                .as_ref()
+                .map_or(0, |c| size_of::<TileCuts>() + c.heap_bytes())
     }
 
     /// The tree with per-tile cuts over `plane`'s pixel grid ([`TileCuts`]): picks on the
