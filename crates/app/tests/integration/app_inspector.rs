@@ -146,8 +146,9 @@ fn the_inspector_shows_the_spatial_pick_and_its_variance() {
     let state = &harness.state().state;
     let scene = &state.built.scene;
     let x = pixel_center(&scene.plane, 100, 60);
-    let sampler = SpatialSampler::build(&scene.positions, &scene.powers);
-    assert!(matches!(sampler, SpatialSampler::Tree(_)));
+    // The scene's own sampler, cut per tile of its pixels as the renderers' is.
+    let sampler = SpatialSampler::for_scene(scene);
+    assert!(matches!(&sampler, SpatialSampler::Tree(t) if t.tile_cuts().is_some()));
     let inspection = PointInspection::at_with_spatial(scene, x, &sampler);
     let spatial = inspection.spatial_relative_variance.expect("spatial");
     assert!(
