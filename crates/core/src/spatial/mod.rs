@@ -38,42 +38,43 @@
 //! Cycles' bounds) and culls a lane whose bounds (pbrt-v4's `LightBounds`, see
 //! [`LightTree`]'s docs) cannot reach `x`.
 //!
-//! # Measured, not built: a per-tile cut for a cheaper pick
-//! A descent costs 9–22 alias picks (`docs/numbers.md`): one importance per lane and level,
-//! then every light of a leaf. The receiver is one plane with a known pixel grid, so the top
-//! of the descent could be decided once per tile of pixels instead of per sample (lightcuts
-//! and stochastic lightcuts cut the tree once per region): each tile keeps a cut of at most
-//! `K` entries (refining from the root the entry of largest importance at the tile's centre),
-//! with the mixture's probabilities on the `2^24` grid and an alias table over them; a pick
-//! takes an entry by the table, then, below the entry, either descends at `x` as today,
-//! or (leaves expanded) takes a light of the cut directly, or descends by power alone (no
-//! evaluation at `x`). The pdf stays exact (the entry's probability times the descent's) and
-//! positive wherever a light contributes. Exact variances over 24 × 24 shading points (×
-//! below power sampling; in brackets, over today's tree's) and time per pixel sample (ns, one
-//! thread, over the alias table's), at 128 × 128 pixels, from `cargo run --release -p
-//! lightpick-core --example tile_cuts -- heavy-tail grid equal` (one run, 2 cores shared):
+//! # Per-tile cuts: the top of the descent decided once per tile
+//! A descent from the root costs 10–22 alias picks: one importance per lane and level, then
+//! every light of a leaf. The receiver is one plane with a known pixel grid, so
+//! [`SpatialSampler::for_scene`] cuts the tree once per tile of pixels (lightcuts and
+//! stochastic lightcuts cut a tree once per region): [`TileCuts`] keeps, per tile, up to 64
+//! subtrees weighed once for the whole tile, a pick draws one of them and descends below it
+//! at `x` as before. The pdf stays exact (the entry's grid probability times the descent's)
+//! and positive wherever a light contributes; a cut splits a node only while the tree's own
+//! probabilities agree across the tile (the spread bound of [`TileCuts`]), so the variance
+//! stays close to the tree's. Exact variances over 24 × 24 points off the pixel centres (×
+//! below power sampling; in brackets, over the tree without cuts) and time per pixel sample
+//! (ns, one thread, over the alias table's) at 128 × 128 pixels, from `cargo run --release -p
+//! lightpick-core --example tile_cuts -- equal heavy-tail grid stage gallery random.json
+//! arena.json million` (one run; `million` over 6 × 6 points, its times dominated by cache
+//! misses that the renderers' interleaved descents hide):
 //!
-//! | pick | `equal` (64) | `grid` (1024) | `heavy-tail` (10^4) |
-//! | --- | ---: | ---: | ---: |
-//! | today's tree | 59×, 11.6× alias | 249×, 18.0× | 177×, 20.5× |
-//! | 4 × 4 px tiles, cut ≤ 64, descent at `x` below | 46× (1.28), 6.5× | 252× (0.99), 8.0× | 435× (0.41), 12.3× |
-//! | 8 × 8 px, cut ≤ 64, leaves as lights | 100× (0.59), 1.8× | 70× (3.56), 3.7× | 125× (1.42), 10.4× |
-//! | 4 × 4 px, cut ≤ 64, leaves as lights | 358× (0.17), 2.6× | 317× (0.79), 5.7× | 426× (0.42), 15.2× |
-//! | 4 × 4 px, cut ≤ 64, leaves as lights, by power below | 358× (0.17), 2.5× | 316× (0.79), 5.4× | 64× (2.79), 6.6× |
-//! | 4 × 4 px, cut ≤ 256, leaves as lights, by power below | 358× (0.17), 2.6× | 316× (0.79), 7.1× | 178× (0.99), 10.8× |
-//! | 2 × 2 px, cut ≤ 256, leaves as lights, by power below | 668× (0.09), 4.6× | 790× (0.32), 9.7× | 229× (0.77), 14.9× |
+//! | pick | `equal` | `heavy-tail` | `grid` | `stage` | `gallery` | `random` | `arena` |
+//! | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |
+//! | the tree from its root | 60×, 11.5× | 177×, 21.3× | 251×, 18.1× | 151×, 14.3× | 4366×, 9.8× | 156×, 19.8× | 195×, 20.0× |
+//! | 32 × 32 tiles, cut ≤ 64, spread ≤ 1.25 | 62× (0.96), 7.0× | 150× (1.18), 12.0× | 220× (1.14), 12.4× | 129× (1.17), 6.2× | 2665× (1.64), 7.0× | 151× (1.03), 8.1× | 171× (1.14), 9.6× |
+//! | **64 × 64 tiles, cut ≤ 64, spread ≤ 1.25 (built)** | **63× (0.95), 7.0×** | **175× (1.01), 12.3×** | **250× (1.00), 8.3×** | **145× (1.04), 5.8×** | **2780× (1.57), 5.5×** | **150× (1.04), 8.2×** | **191× (1.02), 8.3×** |
+//! | 64 × 64 tiles, cut ≤ 64, spread ≤ 1.4 | 63× (0.95), 6.9× | 175× (1.01), 12.3× | 250× (1.00), 8.0× | 146× (1.04), 5.8× | 2352× (1.86), 5.0× | 150× (1.04), 8.1× | 201× (0.97), 7.5× |
+//! | 64 × 64 tiles, cut ≤ 32, spread ≤ 1.25 | 63× (0.95), 6.8× | 176× (1.00), 13.9× | 251× (1.00), 8.6× | 145× (1.04), 5.9× | 2780× (1.57), 5.6× | 151× (1.03), 9.7× | 184× (1.06), 9.0× |
+//! | 128 × 128 tiles (one pixel each here), cut ≤ 64, spread ≤ 1.25 | 62× (0.97), 6.9× | 183× (0.97), 12.6× | 251× (1.00), 8.3× | 151× (1.00), 6.0× | 3131× (1.39), 4.8× | 151× (1.03), 8.4× | 204× (0.96), 7.7× |
 //!
-//! On `million` (10^6 lights, 6 × 6 shading points) the variances agree: 0.37× the tree's
-//! with a descent at `x` below a cut of 64 on 4 × 4 px tiles, 2.0–5.8× by power below (that
-//! run's timings are left out: the machine was busy, alias itself measured 6× slower).
-//!
-//! What it says: cutting per tile keeps (and on small tiles lowers) the variance, and where
-//! the cut reaches single lights the pick costs 2–3 alias picks (`equal`); where most of the
-//! probability lies below the cut (`heavy-tail`: 10^4 lights under 64–256 entries) the work
-//! below it decides, and the prototype's tables (48-byte entries, one alias table per tile,
-//! up to 2048 entries each) spend the rest in cache misses. Not built: the production form
-//! would need packed 8-byte entries, a cut sized to the tile's lights, a power-only pick
-//! below the cut whose pdf the GPU twin reproduces, and the same measurements on spots.
+//! On `million` the built cuts give 186× (0.87 of the tree's variance) at 872 ns against the
+//! tree's 932. Measured on the way, at 32 × 32 tiles: weighing a cut's entries by their
+//! mean over the tile instead of their largest, without the spread bound (1.0–1.3× the
+//! tree's variance on the point presets and `stage`, 9.2× on `gallery`, whose spots light
+//! patches smaller than a tile); taking a leaf cluster's lights into the cut as single
+//! entries, so that a pick evaluates only the light it takes (4.1× alias on `equal` at 1.10×
+//! the tree's variance, 2.9× on `stage` at 2.0×, 2.4× on `gallery` at 22×: a light's share
+//! changes within a tile); weighing the entries by their maps' largest cell over the tile
+//! (`stage` at 1.74×); and, in a prototype, picking below the cut by power alone
+//! (`heavy-tail` at 2.8× with 64 entries). With the cuts a pick costs 5–12 alias picks (the
+//! work below the cut: a node's four importances, a leaf's eight contributions), not the 3
+//! hoped for.
 
 mod bounds;
 mod exact;

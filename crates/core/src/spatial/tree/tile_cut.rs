@@ -84,13 +84,20 @@ const WEIGHING_POINTS: [[f64; 2]; WEIGHING_SIDE * WEIGHING_SIDE] = {
 struct Candidate {
     at: ChildRef,
     reach: [f64; WEIGHING_POINTS.len()],
+    /// The largest of `reach`: `q̄_e = max_k P_tree(e | x_k)`.
+    peak: f64,
     power: f64,
 }
 
 impl Candidate {
-    /// The largest probability of reaching it at a weighing point.
-    fn reach(&self) -> f64 {
-        self.reach.iter().fold(0.0f64, |m, &r| m.max(r))
+    fn new(at: ChildRef, reach: [f64; WEIGHING_POINTS.len()], power: f64) -> Self {
+        let peak = reach.iter().fold(0.0f64, |m, &r| m.max(r));
+        Self {
+            at,
+            reach,
+            peak,
+            power,
+        }
     }
 }
 
@@ -326,11 +333,11 @@ impl TileCuts {
     /// One tile's cut: its entries' cumulative grid masses and subtrees, in leaf order.
     fn cut_tile(&self, tree: &LightTree, tile: u32) -> (Vec<u32>, Vec<ChildRef>) {
         let tile = self.tile_geometry(tile);
-        let mut cut = vec![Candidate {
-            at: tree.root(),
-            reach: [1.0; WEIGHING_POINTS.len()],
-            power: 1.0,
-        }];
+        let mut cut = vec![Candidate::new(
+            tree.root(),
+            [1.0; WEIGHING_POINTS.len()],
+            1.0,
+        )];
         // Σ_e max_k P_tree(e | x_k): the bound on how much fixing the cut's decisions can
         // raise the variance at the weighing points (module docs).
         let mut spread = 1.0;
@@ -339,30 +346,32 @@ impl TileCuts {
             .iter()
             .enumerate()
             .filter(|(_, c)| matches!(c.at.get(), Child::Node(_)))
-            .max_by(|a, b| a.1.reach().total_cmp(&b.1.reach()))
+            .max_by(|a, b| a.1.peak.total_cmp(&b.1.peak))
             .map(|(k, _)| k)
         {
             children.clear();
             split_into(tree, cut[k].at, cut[k].reach, tile, &mut children);
-            let grown =
-                spread - cut[k].reach() + children.iter().map(Candidate::reach).sum::<f64>();
+            let grown = spread - cut[k].peak + children.iter().map(|c| c.peak).sum::<f64>();
             if cut.len() - 1 + children.len() > self.max_entries || grown > self.max_spread {
                 // The largest entry that can still be split cannot: the cut is done (trying
                 // the smaller ones costs more than it gains, measured).
                 break;
             }
             spread = grown;
-            cut.splice(k..=k, children.drain(..));
+            cut.swap_remove(k);
+            cut.append(&mut children);
         }
+        // In leaf order (the subtrees' ranges are disjoint).
+        cut.sort_unstable_by_key(|c| tree.first_of(c.at));
         let (reach, power) = cut
             .iter()
-            .fold((0.0, 0.0), |(r, p), c| (r + c.reach(), p + c.power));
+            .fold((0.0, 0.0), |(r, p), c| (r + c.peak, p + c.power));
         let weights: Vec<f64> = cut
             .iter()
             .map(|c| {
                 let by_power = if power > 0.0 { c.power / power } else { 0.0 };
                 if reach > 0.0 && reach.is_finite() {
-                    (1.0 - POWER_SHARE) * c.reach() / reach + POWER_SHARE * by_power
+                    (1.0 - POWER_SHARE) * c.peak / reach + POWER_SHARE * by_power
                 } else {
                     by_power
                 }
@@ -415,10 +424,10 @@ fn split_into(
         if child.get() == Child::Empty || !meets(footprint, rect) {
             continue;
         }
-        out.push(Candidate {
-            at: child,
-            reach: std::array::from_fn(|k| reach[k] * f64::from(masses[k][lane]) * GRID_CELL),
-            power: node.power(lane),
-        });
+        out.push(Candidate::new(
+            child,
+            std::array::from_fn(|k| reach[k] * f64::from(masses[k][lane]) * GRID_CELL),
+            node.power(lane),
+        ));
     }
 }
