@@ -341,17 +341,15 @@ fn all_pdfs_at_once_equal_the_pdf_of_each_light() {
     }
 }
 
-/// `sample_many` (the descents interleaved) is `sample` for each point, draw for draw, and
-/// the renderer's batches of pixels (an 11-pixel row: one batch of 8 and 3 single pixels)
-/// add exactly the sequential estimates.
-#[test]
-fn interleaved_descents_equal_single_ones_bit_for_bit() {
-    let (positions, powers) = random_lights(3000, 37, 3.0);
-    let SpatialSampler::Tree(tree) = SpatialSampler::build(&positions, &powers) else {
-        panic!("3000 lights take the tree");
-    };
-    for s in 0..200u64 {
-        let points: [DVec2; 8] = std::array::from_fn(|b| POINTS[(s as usize + b) % POINTS.len()]);
+/// `tree.sample_many` over `sets` sets of 8 points (`point(set, b)`) equals 8 single
+/// `sample`s, draw for draw.
+fn assert_interleaved_equal_single(
+    tree: &LightTree,
+    sets: u64,
+    point: impl Fn(u64, usize) -> DVec2,
+) {
+    for s in 0..sets {
+        let points: [DVec2; 8] = std::array::from_fn(|b| point(s, b));
         let mut rngs: [Rng; 8] = std::array::from_fn(|b| Rng::new(s, b as u64));
         let many = tree.sample_many(&points, &mut rngs);
         for b in 0..8 {
@@ -364,6 +362,18 @@ fn interleaved_descents_equal_single_ones_bit_for_bit() {
             assert_eq!(rngs[b], rng, "the same draws");
         }
     }
+}
+
+/// `sample_many` (the descents interleaved) is `sample` for each point, draw for draw, and
+/// the renderer's batches of pixels (an 11-pixel row: one batch of 8 and 3 single pixels)
+/// add exactly the sequential estimates.
+#[test]
+fn interleaved_descents_equal_single_ones_bit_for_bit() {
+    let (positions, powers) = random_lights(3000, 37, 3.0);
+    let SpatialSampler::Tree(tree) = SpatialSampler::build(&positions, &powers) else {
+        panic!("3000 lights take the tree");
+    };
+    assert_interleaved_equal_single(&tree, 200, |s, b| POINTS[(s as usize + b) % POINTS.len()]);
     let scene = Scene::new(
         "row",
         ReceiverPlane {
@@ -385,22 +395,9 @@ fn interleaved_descents_equal_single_ones_bit_for_bit() {
         panic!("3000 lights take the tree");
     };
     assert_eq!(cut.clone().with_cuts(None), tree, "the same tree, cut");
-    for s in 0..50u64 {
-        let points: [DVec2; 8] = std::array::from_fn(|b| {
-            pixel_center(&scene.plane, (s as u32 + b as u32) % 11, (s as u32 / 3) % 5)
-        });
-        let mut rngs: [Rng; 8] = std::array::from_fn(|b| Rng::new(s, b as u64));
-        let many = cut.sample_many(&points, &mut rngs);
-        for b in 0..8 {
-            let mut rng = Rng::new(s, b as u64);
-            assert_eq!(
-                many[b],
-                cut.sample(points[b], &mut rng),
-                "cut: s = {s}, b = {b}"
-            );
-            assert_eq!(rngs[b], rng, "the same draws");
-        }
-    }
+    assert_interleaved_equal_single(cut, 50, |s, b| {
+        pixel_center(&scene.plane, (s as u32 + b as u32) % 11, (s as u32 / 3) % 5)
+    });
     let to_unit = lightpick_core::Scaled::pow2(-scene.irradiance_shift()).to_f64();
     for py in 0..5 {
         for px in 0..11 {
