@@ -186,19 +186,36 @@ impl TileCuts {
             ends: Vec::new(),
             entries: Vec::new(),
         };
-        let per_tile: Vec<(Vec<u32>, Vec<ChildRef>)> = (0..tiles_x * tiles_y)
-            .into_par_iter()
-            .map(|t| cuts.cut_tile(tree, t))
+        // Each tile cut in parallel into its own slot of `max_entries` (no allocation per
+        // tile), then the slots closed up in place, tile after tile.
+        let (tiles, slot) = ((tiles_x * tiles_y) as usize, cuts.max_entries);
+        let mut ends = vec![0u32; tiles * slot];
+        let mut entries = vec![ChildRef::EMPTY; tiles * slot];
+        let counts: Vec<usize> = ends
+            .par_chunks_mut(slot)
+            .zip(entries.par_chunks_mut(slot))
+            .enumerate()
+            .map_init(Scratch::default, |scratch, (t, (ends, entries))| {
+                cuts.cut_tile(tree, t as u32, scratch);
+                let n = scratch.ends.len();
+                ends[..n].copy_from_slice(&scratch.ends);
+                entries[..n].copy_from_slice(&scratch.entries);
+                n
+            })
             .collect();
-        let total: usize = per_tile.iter().map(|(e, _)| e.len()).sum();
-        cuts.tile_first.reserve_exact(per_tile.len() + 1);
-        cuts.ends.reserve_exact(total);
-        cuts.entries.reserve_exact(total);
-        for (ends, entries) in per_tile {
-            cuts.tile_first.push(cuts.ends.len() as u32);
-            cuts.ends.extend(ends);
-            cuts.entries.extend(entries);
+        cuts.tile_first.reserve_exact(tiles + 1);
+        let mut end = 0;
+        for (t, n) in counts.into_iter().enumerate() {
+            cuts.tile_first.push(end as u32);
+            ends.copy_within(t * slot..t * slot + n, end);
+            entries.copy_within(t * slot..t * slot + n, end);
+            end += n;
         }
+        ends.truncate(end);
+        entries.truncate(end);
+        ends.shrink_to_fit();
+        entries.shrink_to_fit();
+        (cuts.ends, cuts.entries) = (ends, entries);
         cuts.tile_first.push(cuts.ends.len() as u32);
         Some(cuts)
     }
@@ -330,18 +347,26 @@ impl TileCuts {
         (points, rect)
     }
 
-    /// One tile's cut: its entries' cumulative grid masses and subtrees, in leaf order.
-    fn cut_tile(&self, tree: &LightTree, tile: u32) -> (Vec<u32>, Vec<ChildRef>) {
+    /// One tile's cut, written over `scratch`: its entries' cumulative grid masses and
+    /// subtrees, in leaf order, in `scratch.ends` and `scratch.entries`.
+    fn cut_tile(&self, tree: &LightTree, tile: u32, scratch: &mut Scratch) {
         let tile = self.tile_geometry(tile);
-        let mut cut = vec![Candidate::new(
+        let Scratch {
+            cut,
+            children,
+            weights,
+            masses,
+            ..
+        } = scratch;
+        cut.clear();
+        cut.push(Candidate::new(
             tree.root(),
             [1.0; WEIGHING_POINTS.len()],
             1.0,
-        )];
+        ));
         // Σ_e max_k P_tree(e | x_k): the bound on how much fixing the cut's decisions can
         // raise the variance at the weighing points (module docs).
         let mut spread = 1.0;
-        let mut children = Vec::with_capacity(self.max_entries);
         while let Some(k) = cut
             .iter()
             .enumerate()
@@ -350,7 +375,7 @@ impl TileCuts {
             .map(|(k, _)| k)
         {
             children.clear();
-            split_into(tree, cut[k].at, cut[k].reach, tile, &mut children);
+            split_into(tree, cut[k].at, cut[k].reach, tile, children);
             let grown = spread - cut[k].peak + children.iter().map(|c| c.peak).sum::<f64>();
             if cut.len() - 1 + children.len() > self.max_entries || grown > self.max_spread {
                 // The largest entry that can still be split cannot: the cut is done (trying
@@ -359,39 +384,49 @@ impl TileCuts {
             }
             spread = grown;
             cut.swap_remove(k);
-            cut.append(&mut children);
+            cut.append(children);
         }
         // In leaf order (the subtrees' ranges are disjoint).
         cut.sort_unstable_by_key(|c| tree.first_of(c.at));
         let (reach, power) = cut
             .iter()
             .fold((0.0, 0.0), |(r, p), c| (r + c.peak, p + c.power));
-        let weights: Vec<f64> = cut
-            .iter()
-            .map(|c| {
-                let by_power = if power > 0.0 { c.power / power } else { 0.0 };
-                if reach > 0.0 && reach.is_finite() {
-                    (1.0 - POWER_SHARE) * c.peak / reach + POWER_SHARE * by_power
-                } else {
-                    by_power
-                }
-            })
-            .collect();
-        let mut masses = vec![0u32; cut.len()];
-        grid_masses_into(&weights, &mut masses);
-        let ends = masses
-            .iter()
-            .scan(0u32, |end, &m| {
-                *end += m;
-                Some(*end)
-            })
-            .collect();
+        weights.clear();
+        weights.extend(cut.iter().map(|c| {
+            let by_power = if power > 0.0 { c.power / power } else { 0.0 };
+            if reach > 0.0 && reach.is_finite() {
+                (1.0 - POWER_SHARE) * c.peak / reach + POWER_SHARE * by_power
+            } else {
+                by_power
+            }
+        }));
+        masses.clear();
+        masses.resize(cut.len(), 0);
+        grid_masses_into(weights, masses);
         debug_assert!(matches!(
             masses.iter().map(|&m| u64::from(m)).sum::<u64>(),
             0 | 0x100_0000
         ));
-        (ends, cut.iter().map(|c| c.at).collect())
+        scratch.ends.clear();
+        scratch.ends.extend(masses.iter().scan(0u32, |end, &m| {
+            *end += m;
+            Some(*end)
+        }));
+        scratch.entries.clear();
+        scratch.entries.extend(cut.iter().map(|c| c.at));
     }
+}
+
+/// What cutting one tile works in, kept from tile to tile on a thread (no allocation per
+/// tile once warm).
+#[derive(Default)]
+struct Scratch {
+    cut: Vec<Candidate>,
+    children: Vec<Candidate>,
+    weights: Vec<f64>,
+    masses: Vec<u32>,
+    ends: Vec<u32>,
+    entries: Vec<ChildRef>,
 }
 
 /// Whether the footprint box `footprint` (`None`: unbounded) meets the box `rect`.
