@@ -477,13 +477,10 @@ fn draw_cross(pixmap: &mut Pixmap, (x, y): (f32, f32)) {
 /// A tile's cut: the tile outlined, each entry's box thin in its lane colour's order, the
 /// entry drawn thick.
 fn draw_cut(pixmap: &mut Pixmap, view: &TreeView, cut: &CutStep, map: &PlaneToPixels, ink: Rgba8) {
-    let plane = &view.scene.plane;
-    let size = plane.max - plane.min;
     let at = |[px, py]: [u32; 2]| {
-        DVec2::new(
-            plane.min.x + f64::from(px) / f64::from(plane.width) * size.x,
-            plane.max.y - f64::from(py) / f64::from(plane.height) * size.y,
-        )
+        view.scene
+            .plane
+            .point_at(DVec2::new(f64::from(px), f64::from(py)))
     };
     let [first, end] = cut.pixels;
     let (a, b) = (at(first), at(end));

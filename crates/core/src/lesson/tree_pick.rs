@@ -299,7 +299,7 @@ enum Start {
 
 /// The tile's cut at `x` recorded (its draw taken from `rng`), with the entry it takes.
 fn record_cut(tree: &LightTree, x: DVec2, rng: &mut Rng) -> Start {
-    let Some((cuts, tile)) = tree.tile_cuts().and_then(|c| Some((c, c.tile_at(x)?))) else {
+    let Some((cuts, tile)) = tree.cut_tile_at(x) else {
         return Start::Root;
     };
     let u = rng.next_u32() >> 8;
@@ -320,7 +320,7 @@ fn record_cut(tree: &LightTree, x: DVec2, rng: &mut Rng) -> Start {
             }
         })
         .collect();
-    let Some(index) = cuts.entries(tile).position(|(e, _)| e == entry) else {
+    let Some(index) = entries.iter().position(|e| e.child == entry.get()) else {
         return Start::Nothing;
     };
     let step = CutStep {

@@ -47,12 +47,7 @@ pub fn light_term(
 /// The centre of pixel `(px, py)` of `plane` on `z = 0` (row 0 at the top, `y = max.y`).
 #[inline]
 pub fn pixel_center(plane: &super::ReceiverPlane, px: u32, py: u32) -> DVec2 {
-    let fx = (f64::from(px) + 0.5) / f64::from(plane.width);
-    let fy = (f64::from(py) + 0.5) / f64::from(plane.height);
-    DVec2::new(
-        plane.min.x + fx * (plane.max.x - plane.min.x),
-        plane.max.y - fy * (plane.max.y - plane.min.y),
-    )
+    plane.point_at(DVec2::new(f64::from(px) + 0.5, f64::from(py) + 0.5))
 }
 
 #[cfg(test)]

@@ -63,6 +63,18 @@ impl ReceiverPlane {
         self.width as usize * self.height as usize
     }
 
+    /// The point of the plane at pixel coordinates `pixels` (`x` from the left edge, `y`
+    /// down from the top row, in pixels; `(px + 0.5, py + 0.5)` is the centre of pixel
+    /// `(px, py)`, [`pixel_center`]).
+    #[inline]
+    pub fn point_at(&self, pixels: DVec2) -> DVec2 {
+        let f = pixels / DVec2::new(f64::from(self.width), f64::from(self.height));
+        DVec2::new(
+            self.min.x + f.x * (self.max.x - self.min.x),
+            self.max.y - f.y * (self.max.y - self.min.y),
+        )
+    }
+
     /// The pixel `[px, py]` whose cell holds `point_on_plane`, or the nearest edge pixel when
     /// it lies outside (the pixels form a regular grid, so the nearest one is nearest along
     /// each axis).

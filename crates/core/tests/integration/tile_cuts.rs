@@ -72,13 +72,9 @@ fn cut_tree(scene: &Scene) -> LightTree {
 /// edges among them), and points just inside the plane's edges.
 fn probe_points(plane: &ReceiverPlane) -> Vec<DVec2> {
     let mut points = Vec::new();
-    let size = plane.max - plane.min;
     for py in 0..=plane.height {
         for px in 0..=plane.width {
-            let corner = dvec2(
-                plane.min.x + f64::from(px) / f64::from(plane.width) * size.x,
-                plane.max.y - f64::from(py) / f64::from(plane.height) * size.y,
-            );
+            let corner = plane.point_at(dvec2(f64::from(px), f64::from(py)));
             points.push(corner.clamp(plane.min, plane.max));
             if px < plane.width && py < plane.height {
                 points.push(pixel_center(plane, px, py));

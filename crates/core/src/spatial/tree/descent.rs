@@ -50,7 +50,7 @@ impl LightTree {
     /// the root with probability 1.
     #[inline]
     fn start(&self, x: DVec2, rng: &mut Rng) -> Option<(ChildRef, f64)> {
-        match self.cuts.as_ref().and_then(|c| Some((c, c.tile_at(x)?))) {
+        match self.cut_tile_at(x) {
             Some((cuts, tile)) => {
                 let (entry, mass) = cuts.pick(tile, rng.next_u32() >> 8)?;
                 Some((entry, f64::from(mass) * GRID_CELL))
@@ -62,7 +62,7 @@ impl LightTree {
     /// The entries a pick at `x` may start from with their probabilities: the tile's cut,
     /// or the root alone off the cuts.
     fn starts(&self, x: DVec2) -> Vec<(ChildRef, f64)> {
-        match self.cuts.as_ref().and_then(|c| Some((c, c.tile_at(x)?))) {
+        match self.cut_tile_at(x) {
             Some((cuts, tile)) => cuts
                 .entries(tile)
                 .filter(|&(_, m)| m > 0)
@@ -214,15 +214,10 @@ impl LightTree {
         loop {
             match at.get() {
                 Child::Node(k) => {
-                    let node = &self.nodes[k];
                     let masses = self.node_masses(k, x);
-                    // The last lane whose range starts at or before j holds it.
-                    let lane = (0..TREE_WIDTH)
-                        .rev()
-                        .find(|&lane| self.first_of(node.child[lane]).is_some_and(|f| f <= j))
-                        .unwrap_or(0);
+                    let lane = self.lane_holding(k, j);
                     pdf *= f64::from(masses[lane]) * GRID_CELL;
-                    at = node.child[lane];
+                    at = self.nodes[k].child[lane];
                 }
                 Child::Leaf { first, count } => {
                     let (masses, _) = self.leaf_masses(first, count, x);

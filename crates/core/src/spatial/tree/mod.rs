@@ -152,6 +152,16 @@ impl LightTree {
         self.node_first[k] as usize
     }
 
+    /// The lane of node `k` whose subtree holds the light of leaf-order index `j` (of the
+    /// node's range): the last lane whose range starts at or before `j`.
+    fn lane_holding(&self, k: usize, j: usize) -> usize {
+        let node = &self.nodes[k];
+        (0..TREE_WIDTH)
+            .rev()
+            .find(|&lane| self.first_of(node.child[lane]).is_some_and(|f| f <= j))
+            .unwrap_or(0)
+    }
+
     /// The depth of subtree `at` in the tree (the root's is 0): the lanes followed from the
     /// root down to it, by its first light. `None` for an empty lane.
     pub fn depth_of(&self, at: ChildRef) -> Option<usize> {
@@ -161,11 +171,7 @@ impl LightTree {
             let Child::Node(k) = here.get() else {
                 return None;
             };
-            here = *self.nodes[k]
-                .child
-                .iter()
-                .rev()
-                .find(|&&c| self.first_of(c).is_some_and(|f| f <= first))?;
+            here = self.nodes[k].child[self.lane_holding(k, first)];
             depth += 1;
         }
         Some(depth)
@@ -239,6 +245,14 @@ impl LightTree {
     /// The per-tile cuts picks start from, if any.
     pub fn tile_cuts(&self) -> Option<&TileCuts> {
         self.cuts.as_deref()
+    }
+
+    /// The cuts and the tile a pick at `point_on_plane` starts from; `None` when the tree
+    /// has no cuts or the point lies off them (the pick starts at the root).
+    #[inline]
+    pub fn cut_tile_at(&self, point_on_plane: DVec2) -> Option<(&TileCuts, usize)> {
+        let cuts = self.cuts.as_deref()?;
+        Some((cuts, cuts.tile_at(point_on_plane)?))
     }
 
     /// The internal nodes, depth first.

@@ -329,21 +329,17 @@ impl TileCuts {
     /// of the tile with half a pixel to spare (for the tile's cull, whatever the rounding of
     /// [`ReceiverPlane::pixel_at`] at its edges).
     fn tile_geometry(&self, tile: u32) -> ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]) {
-        let p = &self.plane;
-        let (tx, ty) = (tile % self.tiles_x, tile / self.tiles_x);
-        let x0 = f64::from(tx * self.tile_side);
-        let x1 = f64::from(((tx + 1) * self.tile_side).min(p.width));
-        let y0 = f64::from(ty * self.tile_side);
-        let y1 = f64::from(((ty + 1) * self.tile_side).min(p.height));
-        let size = p.max - p.min;
-        let x = |pixels: f64| p.min.x + pixels / f64::from(p.width) * size.x;
-        let y = |pixels: f64| p.max.y - pixels / f64::from(p.height) * size.y;
-        let points = WEIGHING_POINTS
-            .map(|[fx, fy]| DVec2::new(x(x0 + fx * (x1 - x0)), y(y0 + fy * (y1 - y0))));
-        let rect = [
-            DVec2::new(x(x0 - 0.5), y(y1 + 0.5)),
-            DVec2::new(x(x1 + 0.5), y(y0 - 0.5)),
-        ];
+        let [first, end] = self
+            .tile_pixels(tile as usize)
+            .map(|[px, py]| DVec2::new(f64::from(px), f64::from(py)));
+        let points =
+            WEIGHING_POINTS.map(|f| self.plane.point_at(first + DVec2::from(f) * (end - first)));
+        // Pixel rows run down from the top: the first pixel's corner is the box's top left.
+        let (top_left, bottom_right) = (
+            self.plane.point_at(first - 0.5),
+            self.plane.point_at(end + 0.5),
+        );
+        let rect = [top_left.min(bottom_right), top_left.max(bottom_right)];
         (points, rect)
     }
 
