@@ -227,9 +227,9 @@ fn cut_words(sampler: &SpatialSampler, plane: &crate::scene::ReceiverPlane) -> V
         (plane.width, plane.height)
     );
     let [tiles_x, tiles_y] = cuts.tiles();
-    let (first, ends, entries) = cuts.gpu_words();
+    let (first, ends, entries) = cuts.gpu_words(tree);
     let mut words = vec![cuts.tile_side(), tiles_x, tiles_x * tiles_y];
-    words.extend_from_slice(first);
+    words.extend_from_slice(&first);
     words.extend(ends.iter().zip(&entries).flat_map(|(&e, &c)| [e, c]));
     words
 }

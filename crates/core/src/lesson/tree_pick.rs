@@ -303,11 +303,11 @@ fn record_cut(tree: &LightTree, x: DVec2, rng: &mut Rng) -> Start {
         return Start::Root;
     };
     let u = rng.next_u32() >> 8;
-    let Some((entry, mass)) = cuts.pick(tile, u) else {
+    let Some((entry, mass)) = cuts.pick(tree, tile, u) else {
         return Start::Nothing;
     };
     let entries: Vec<CutEntry> = cuts
-        .entries(tile)
+        .entries(tree, tile)
         .map(|(e, m)| {
             let lights = tree.span(e).unwrap_or(0..0);
             CutEntry {

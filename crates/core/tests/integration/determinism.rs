@@ -1,6 +1,7 @@
-//! The same bits whatever the thread count: tables, light trees, CPU renders, references
-//! and sampled estimates built on rayon pools of 1, 2, 3 and 16 threads; and a refitted
-//! light tree (new powers, same lights) equals a fresh build bit for bit.
+//! The same bits whatever the thread count: tables, light trees and their tiles' cuts, CPU
+//! renders, references and sampled estimates built on rayon pools of 1, 2, 3 and 16
+//! threads; and a refitted light tree (new powers, same lights) equals a fresh build bit for
+//! bit, its cuts too.
 
 use std::sync::Arc;
 
@@ -119,5 +120,29 @@ fn repowered_samplers_equal_a_fresh_build() {
             refitted.spatial_if_built().expect("refitted with the tree") == fresh.spatial(),
             "{name}: refit differs from a fresh build"
         );
+        // The tiles' cuts, made when first needed, too: cut after the refit on two threads
+        // and fresh on one, the same words.
+        if let (SpatialSampler::Tree(a), SpatialSampler::Tree(b)) = (
+            &**refitted.spatial_if_built().expect("built"),
+            &**fresh.spatial(),
+        ) {
+            let (cuts_a, cuts_b) = (a.tile_cuts().expect("cut"), b.tile_cuts().expect("cut"));
+            let words_a = on_pool(2, || cuts_a.gpu_words(a));
+            let words_b = on_pool(1, || cuts_b.gpu_words(b));
+            assert!(words_a == words_b, "{name}: the refit's cuts differ");
+        }
+    }
+}
+
+#[test]
+fn tile_cuts_are_the_same_on_every_pool() {
+    for name in ["heavy-tail", "stage"] {
+        let scene = preset_at(name, 40, 24);
+        same_on_every_pool(&format!("{name} tile cuts"), || {
+            let SpatialSampler::Tree(tree) = SpatialSampler::for_scene(&scene) else {
+                panic!("a tree");
+            };
+            tree.tile_cuts().expect("cut").gpu_words(&tree)
+        });
     }
 }

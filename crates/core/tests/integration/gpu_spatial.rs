@@ -174,7 +174,7 @@ fn scheme_switches_and_new_powers_rebuild_the_tree() {
     assert!(tree_bytes.div_ceil(500) <= 24);
     let cuts = tree.tile_cuts().expect("cut per tile");
     let [tx, ty] = cuts.tiles();
-    let (first, ends, _) = cuts.gpu_words();
+    let (first, ends, _) = cuts.gpu_words(&tree);
     assert_eq!(first.len() as u32, tx * ty + 1);
     let cut_bytes = 12 + 4 * first.len() as u64 + 8 * ends.len() as u64;
     assert_eq!(

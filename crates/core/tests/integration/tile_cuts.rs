@@ -98,7 +98,7 @@ fn reference_pdf(tree: &LightTree, x: DVec2, j: usize) -> f64 {
             .pdf(x, tree.order()[j] as usize);
     };
     let Some((entry, mass)) = cuts
-        .entries(tile)
+        .entries(tree, tile)
         .find(|&(e, _)| tree.span(e).is_some_and(|s| s.contains(&j)))
     else {
         return 0.0;
@@ -132,7 +132,7 @@ fn each_tile_partitions_the_lights_that_can_light_it_with_masses_summing_to_the_
         let cuts = tree.tile_cuts().expect("cuts");
         let [tx, ty] = cuts.tiles();
         for tile in 0..(tx * ty) as usize {
-            let entries: Vec<_> = cuts.entries(tile).collect();
+            let entries: Vec<_> = cuts.entries(&tree, tile).collect();
             assert!(entries.len() <= cuts.max_entries());
             let total: u64 = entries.iter().map(|&(_, m)| u64::from(m)).sum();
             assert!(
@@ -220,7 +220,7 @@ fn presets_are_cut_with_fewer_draws_than_the_tree_needs_from_its_root() {
         let [tx, ty] = cuts.tiles();
         let mut deeper = 0usize;
         for tile in 0..(tx * ty) as usize {
-            deeper += usize::from(cuts.entries(tile).any(|(e, _)| e != tree.root()));
+            deeper += usize::from(cuts.entries(&tree, tile).any(|(e, _)| e != tree.root()));
         }
         assert!(
             deeper * 2 > (tx * ty) as usize,

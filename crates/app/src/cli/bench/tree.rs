@@ -78,7 +78,8 @@ pub(super) fn time_tree(
 
 /// `tree-refit-cuts`: the refit of the tree cut per tile of a 512 × 512 pixel receiver
 /// over the unit square (as a scene's spatial sampler is), in `build_ns`: the lanes bottom
-/// up, then every tile's cut again ([`lightpick_core::spatial::TileCuts`]).
+/// up, then every tile's cut again ([`lightpick_core::spatial::TileCuts::cut_all`], which
+/// a first render pass does tile by tile as it needs them).
 fn time_refit_with_cuts(
     positions: &[DVec3],
     powers: &LightPowers,
@@ -94,6 +95,10 @@ fn time_refit_with_cuts(
     let mut tree = LightTree::build(positions, powers).with_tile_cuts(&plane);
     median_ns(reps.min(5), 1, |rep| {
         tree.refit(if rep % 2 == 0 { other } else { powers });
+        // The tiles are cut when first needed: here all of them, as a first pass does.
+        if let Some(cuts) = tree.tile_cuts() {
+            cuts.cut_all(&tree);
+        }
     })
 }
 

@@ -179,8 +179,9 @@ impl LightTree {
     /// its lights as a build does: each light is integrated into the maps of the lanes above
     /// it, `O(N · depth)` footprint integrations, and one array of lane ranges (a word pair
     /// per node lane) is allocated. `lightpick bench` times it as `tree-refit-spots`. A tree
-    /// with per-tile cuts ([`super::TileCuts`]) cuts every tile again (`O(tiles · K · depth)`, in
-    /// parallel, its arrays allocated anew), as [`LightTree::with_tile_cuts`] does.
+    /// with per-tile cuts ([`super::TileCuts`]) drops its tiles' cuts (one empty cell per
+    /// tile is allocated): each tile is cut again when a pick next needs it
+    /// (`O(K · depth)` a tile; `tree-refit-cuts` times the refit with every tile cut).
     ///
     /// # Panics
     /// If `powers` holds a different number of lights.

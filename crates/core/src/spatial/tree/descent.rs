@@ -52,7 +52,7 @@ impl LightTree {
     fn start(&self, x: DVec2, rng: &mut Rng) -> Option<(ChildRef, f64)> {
         match self.cut_tile_at(x) {
             Some((cuts, tile)) => {
-                let (entry, mass) = cuts.pick(tile, rng.next_u32() >> 8)?;
+                let (entry, mass) = cuts.pick(self, tile, rng.next_u32() >> 8)?;
                 Some((entry, f64::from(mass) * GRID_CELL))
             }
             None => Some((self.root, 1.0)),
@@ -64,7 +64,7 @@ impl LightTree {
     fn starts(&self, x: DVec2) -> Vec<(ChildRef, f64)> {
         match self.cut_tile_at(x) {
             Some((cuts, tile)) => cuts
-                .entries(tile)
+                .entries(self, tile)
                 .filter(|&(_, m)| m > 0)
                 .map(|(e, m)| (e, f64::from(m) * GRID_CELL))
                 .collect(),

@@ -41,6 +41,12 @@
 //!
 //! Points off the plane's rectangle (the inspector or a test may ask there) descend from
 //! the root as before: the pdf at a point is defined by the rule that point falls under.
+//!
+//! A tile is cut the first time a pick, a pdf or the GPU's upload needs it, on that
+//! thread: new powers ([`super::LightTree::refit`]) only drop the cuts, and a drag of a
+//! slider does not wait for 4096 tiles it may not draw before the next frame.
+
+use std::sync::OnceLock;
 
 use glam::DVec2;
 
@@ -101,8 +107,12 @@ impl Candidate {
     }
 }
 
-/// The cuts of every tile of one receiver's pixel grid; see the module docs.
-#[derive(Clone, Debug, PartialEq)]
+/// The cuts of every tile of one receiver's pixel grid; see the module docs. A tile is cut
+/// the first time something needs it (a pick, a pdf, the GPU's upload: [`TileCuts::cut_all`]),
+/// on whichever thread asks, so that new powers cost no more than clearing them; a tile's
+/// cut is a function of the tree and the tile alone, so which thread cuts it, and when,
+/// changes nothing.
+#[derive(Clone, Debug)]
 pub struct TileCuts {
     /// The receiver (its rectangle and pixel grid) the tiles split.
     plane: ReceiverPlane,
@@ -116,19 +126,29 @@ pub struct TileCuts {
     tiles_x: u32,
     /// Tiles along `y` (rows, from the plane's top row of pixels).
     tiles_y: u32,
-    /// Where each tile's entries start in `ends` and `entries`, plus the end of the last.
-    tile_first: Vec<u32>,
-    /// Each entry's end in its tile's cumulative masses (the last is `2^24`, or 0 when no
-    /// entry of the tile has power).
-    ends: Vec<u32>,
-    /// Each entry's subtree: a node, a leaf cluster, or one light (a cluster of one).
-    entries: Vec<ChildRef>,
+    /// Each tile's cut once made: per entry, its end in the tile's cumulative masses (the
+    /// last is `2^24`, or 0 when no entry of the tile has power) and its subtree, in leaf
+    /// order.
+    cuts: Vec<OnceLock<TileCut>>,
+}
+
+/// One tile's cut: per entry its cumulative end on the `2^24` grid and its subtree.
+type TileCut = Box<[(u32, ChildRef)]>;
+
+/// Two cuts are equal when they cut the same grid with the same limits: over equal trees
+/// their tiles' cuts are then equal, made or not.
+impl PartialEq for TileCuts {
+    fn eq(&self, other: &Self) -> bool {
+        self.plane == other.plane
+            && self.tile_side == other.tile_side
+            && self.max_entries == other.max_entries
+            && self.max_spread == other.max_spread
+    }
 }
 
 impl TileCuts {
     /// The cuts of `tree` over `plane`'s pixel grid (`None` when the tree's root is not an
-    /// internal node, or the plane has no pixels): the tiles are cut independently, in
-    /// parallel, and the result does not depend on the thread count.
+    /// internal node, or the plane has no pixels), each tile cut when first needed.
     pub fn build(tree: &LightTree, plane: &ReceiverPlane) -> Option<Self> {
         Self::build_sized(
             tree,
@@ -156,14 +176,13 @@ impl TileCuts {
         Self::build_with_side(tree, plane, tile_side, (max_entries, max_spread))
     }
 
-    /// The cuts of tiles of `tile_side` pixels (at least 1).
+    /// The cuts of tiles of `tile_side` pixels (at least 1), none made yet.
     fn build_with_side(
         tree: &LightTree,
         plane: &ReceiverPlane,
         tile_side: u32,
         (max_entries, max_spread): (usize, f64),
     ) -> Option<Self> {
-        use rayon::prelude::*;
         let Child::Node(_) = tree.root().get() else {
             return None;
         };
@@ -175,49 +194,15 @@ impl TileCuts {
             plane.width.div_ceil(tile_side),
             plane.height.div_ceil(tile_side),
         );
-        let mut cuts = Self {
+        Some(Self {
             plane: plane.clone(),
             tile_side,
             max_entries: max_entries.max(TREE_WIDTH),
             max_spread: max_spread.max(1.0),
             tiles_x,
             tiles_y,
-            tile_first: Vec::new(),
-            ends: Vec::new(),
-            entries: Vec::new(),
-        };
-        // Each tile cut in parallel into its own slot of `max_entries` (no allocation per
-        // tile), then the slots closed up in place, tile after tile.
-        let (tiles, slot) = ((tiles_x * tiles_y) as usize, cuts.max_entries);
-        let mut ends = vec![0u32; tiles * slot];
-        let mut entries = vec![ChildRef::EMPTY; tiles * slot];
-        let counts: Vec<usize> = ends
-            .par_chunks_mut(slot)
-            .zip(entries.par_chunks_mut(slot))
-            .enumerate()
-            .map_init(Scratch::default, |scratch, (t, (ends, entries))| {
-                cuts.cut_tile(tree, t as u32, scratch);
-                let n = scratch.ends.len();
-                ends[..n].copy_from_slice(&scratch.ends);
-                entries[..n].copy_from_slice(&scratch.entries);
-                n
-            })
-            .collect();
-        cuts.tile_first.reserve_exact(tiles + 1);
-        let mut end = 0;
-        for (t, n) in counts.into_iter().enumerate() {
-            cuts.tile_first.push(end as u32);
-            ends.copy_within(t * slot..t * slot + n, end);
-            entries.copy_within(t * slot..t * slot + n, end);
-            end += n;
-        }
-        ends.truncate(end);
-        entries.truncate(end);
-        ends.shrink_to_fit();
-        entries.shrink_to_fit();
-        (cuts.ends, cuts.entries) = (ends, entries);
-        cuts.tile_first.push(cuts.ends.len() as u32);
-        Some(cuts)
+            cuts: (0..tiles_x * tiles_y).map(|_| OnceLock::new()).collect(),
+        })
     }
 
     /// The receiver whose pixel grid the tiles split.
@@ -235,7 +220,7 @@ impl TileCuts {
         self.max_entries
     }
 
-    /// The same cuts over `tree` (new powers, same layout): every tile cut again.
+    /// The same cuts over `tree` (new powers, same layout): every tile to be cut again.
     pub(super) fn recut(&self, tree: &LightTree) -> Option<Self> {
         let limits = (self.max_entries, self.max_spread);
         Self::build_with_side(tree, &self.plane, self.tile_side, limits)
@@ -277,52 +262,83 @@ impl TileCuts {
         })
     }
 
-    /// Tile `tile`'s entries and their grid masses `m_e` (of `2^24`).
-    pub fn entries(&self, tile: usize) -> impl Iterator<Item = (ChildRef, u32)> + '_ {
-        let range = self.range(tile);
-        let ends = &self.ends[range.clone()];
-        self.entries[range]
+    /// Tile `tile`'s cut of `tree` (the tree these cuts were made for), cut now if it was
+    /// not yet.
+    #[inline]
+    fn cut(&self, tree: &LightTree, tile: usize) -> &[(u32, ChildRef)] {
+        self.cuts[tile].get_or_init(|| {
+            SCRATCH.with_borrow_mut(|scratch| {
+                self.cut_tile(tree, tile as u32, scratch);
+                let pairs = scratch.ends.iter().zip(&scratch.entries);
+                pairs.map(|(&end, &entry)| (end, entry)).collect()
+            })
+        })
+    }
+
+    /// Every tile's cut of `tree`, made now where it was not yet, in parallel (what the
+    /// GPU's upload needs, and what a first pass over every pixel costs).
+    pub fn cut_all(&self, tree: &LightTree) {
+        use rayon::prelude::*;
+        (0..self.cuts.len()).into_par_iter().for_each(|tile| {
+            self.cut(tree, tile);
+        });
+    }
+
+    /// Tile `tile`'s entries in `tree` and their grid masses `m_e` (of `2^24`).
+    pub fn entries<'a>(
+        &'a self,
+        tree: &LightTree,
+        tile: usize,
+    ) -> impl Iterator<Item = (ChildRef, u32)> + 'a {
+        self.cut(tree, tile)
             .iter()
-            .zip(ends)
-            .scan(0u32, |start, (&entry, &end)| {
+            .scan(0u32, |start, &(end, entry)| {
                 let mass = end - *start;
                 *start = end;
                 Some((entry, mass))
             })
     }
 
-    /// The entry of tile `tile` whose interval of the cumulative masses holds the 24-bit
-    /// draw `u`, with its mass (`m_e / 2^24` is the probability of taking it); `None` when
-    /// no entry of the tile has power.
+    /// The entry of tile `tile` in `tree` whose interval of the cumulative masses holds the
+    /// 24-bit draw `u`, with its mass (`m_e / 2^24` is the probability of taking it);
+    /// `None` when no entry of the tile has power.
     #[inline]
-    pub fn pick(&self, tile: usize, u: u32) -> Option<(ChildRef, u32)> {
-        let range = self.range(tile);
-        let ends = &self.ends[range.clone()];
-        if ends.last().is_none_or(|&end| end == 0) {
+    pub fn pick(&self, tree: &LightTree, tile: usize, u: u32) -> Option<(ChildRef, u32)> {
+        let cut = self.cut(tree, tile);
+        if cut.last().is_none_or(|&(end, _)| end == 0) {
             return None;
         }
-        let k = ends.partition_point(|&end| end <= u);
-        let start = if k == 0 { 0 } else { ends[k - 1] };
-        Some((self.entries[range.start + k], ends[k] - start))
+        let k = cut.partition_point(|&(end, _)| end <= u);
+        let start = if k == 0 { 0 } else { cut[k - 1].0 };
+        Some((cut[k].1, cut[k].0 - start))
     }
 
-    /// The arrays the GPU reads: per tile its first entry (and one past the last), then
-    /// per entry its cumulative end and its subtree's child word.
-    pub fn gpu_words(&self) -> (&[u32], &[u32], Vec<u32>) {
-        (
-            &self.tile_first,
-            &self.ends,
-            self.entries.iter().map(|e| e.bits()).collect(),
-        )
+    /// The words the GPU reads, every tile of `tree` cut: per tile its first entry (and one
+    /// past the last), then per entry its cumulative end and its subtree's child word.
+    pub fn gpu_words(&self, tree: &LightTree) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+        self.cut_all(tree);
+        let mut first = Vec::with_capacity(self.cuts.len() + 1);
+        let (mut ends, mut entries) = (Vec::new(), Vec::new());
+        for tile in 0..self.cuts.len() {
+            first.push(ends.len() as u32);
+            for &(end, entry) in self.cut(tree, tile) {
+                ends.push(end);
+                entries.push(entry.bits());
+            }
+        }
+        first.push(ends.len() as u32);
+        (first, ends, entries)
     }
 
-    /// Heap bytes held, by capacity (8 per entry, 4 per tile).
+    /// Heap bytes held, by capacity: a cell per tile, 8 bytes per entry of the tiles cut.
     pub fn heap_bytes(&self) -> usize {
-        self.tile_first.capacity() * 4 + self.ends.capacity() * 4 + self.entries.capacity() * 4
-    }
-
-    fn range(&self, tile: usize) -> std::ops::Range<usize> {
-        self.tile_first[tile] as usize..self.tile_first[tile + 1] as usize
+        self.cuts.capacity() * std::mem::size_of::<OnceLock<TileCut>>()
+            + self
+                .cuts
+                .iter()
+                .filter_map(OnceLock::get)
+                .map(|c| std::mem::size_of_val::<[(u32, ChildRef)]>(c))
+                .sum::<usize>()
     }
 
     /// The weighing points of tile `tile` on the plane, and the box that holds every point
@@ -413,8 +429,13 @@ impl TileCuts {
     }
 }
 
-/// What cutting one tile works in, kept from tile to tile on a thread (no allocation per
-/// tile once warm).
+thread_local! {
+    /// What cutting a tile works in, kept from tile to tile on each thread.
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
+}
+
+/// What cutting one tile works in, kept from tile to tile on a thread (no allocation but
+/// the cut's own once warm).
 #[derive(Default)]
 struct Scratch {
     cut: Vec<Candidate>,
