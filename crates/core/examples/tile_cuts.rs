@@ -1,12 +1,15 @@
 //! Measures the light tree's per-tile cuts ([`lightpick_core::spatial::TileCuts`]) against the
 //! tree descended from its root: the exact variance of one sample and the time per pixel
-//! sample, for a few tile counts and cut sizes.
+//! sample, for a few tile counts, cut sizes and spreads, with leaf clusters kept whole or
+//! point lights' clusters split into single lights.
 //!
 //! Printed per scene (rendered at 128 × 128 pixels): the exact variance of one sample
 //! (`Σ c_i²/q_i − E²`, mean over a grid of points off the pixel centres) of power picking, of the tree
 //! without cuts and with each cut, as "× below power" (and over the tree's own); and the
 //! time per pixel sample (pick and estimate, one thread, in pixel order, `ns`) of the alias
-//! table and of each, as a multiple of the alias table's.
+//! table and of each, as a multiple of the alias table's, with every tile cut beforehand;
+//! how long cutting every tile took, the mean entries a tile and how much of a tile's mass
+//! lies on single lights.
 //!
 //! ```text
 //! cargo run --release -p lightpick-core --example tile_cuts -- equal heavy-tail grid stage
@@ -16,7 +19,8 @@ use std::time::Instant;
 
 use glam::DVec2;
 use lightpick_core::scene::{Scene, pixel_center};
-use lightpick_core::spatial::{SpatialSampler, TileCuts};
+use lightpick_core::spatial::importance::GRID_CELL;
+use lightpick_core::spatial::{Child, SpatialSampler, TileCuts};
 use lightpick_core::{AliasTable, Rng};
 
 /// `Σ c²/q − E²` at one point for the pmf `q`.
@@ -31,16 +35,43 @@ fn variance(c: &[f64], q: &[f64]) -> f64 {
     second - e * e
 }
 
+/// Cuts every tile of `sampler`'s tree (so that the times after are the picks' alone): the
+/// milliseconds it took, the mean entries a tile and the mean mass of single lights.
+fn cut_every_tile(sampler: &SpatialSampler) -> (f64, f64, f64) {
+    let SpatialSampler::Tree(tree) = sampler else {
+        return (0.0, 0.0, 0.0);
+    };
+    let Some(cuts) = tree.tile_cuts() else {
+        return (0.0, 0.0, 0.0);
+    };
+    let start = Instant::now();
+    cuts.cut_all(tree);
+    let ms = start.elapsed().as_secs_f64() * 1e3;
+    let [tx, ty] = cuts.tiles();
+    let tiles = (tx * ty) as usize;
+    let (mut entries, mut singles) = (0usize, 0.0);
+    for tile in 0..tiles {
+        for (entry, mass) in cuts.entries(tree, tile) {
+            entries += 1;
+            if let Child::Leaf { count: 1, .. } = entry.get() {
+                singles += f64::from(mass) * GRID_CELL;
+            }
+        }
+    }
+    (ms, entries as f64 / tiles as f64, singles / tiles as f64)
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let names: Vec<String> = std::env::args().skip(1).collect();
-    // (tiles along a side, most entries a cut, most spread); `None`: the tree without cuts.
-    let configs: [Option<(u32, usize, f64)>; 6] = [
+    // (tiles along a side, most entries a cut, most spread, leaf clusters split); `None`:
+    // the tree without cuts.
+    let configs: [Option<(u32, usize, f64, bool)>; 6] = [
         None,
-        Some((32, 64, 1.25)),
-        Some((64, 64, 1.25)),
-        Some((64, 64, 1.4)),
-        Some((64, 32, 1.25)),
-        Some((128, 64, 1.25)),
+        Some((64, 64, 1.25, false)),
+        Some((64, 64, 1.25, true)),
+        Some((64, 128, 1.25, true)),
+        Some((64, 64, 1.4, true)),
+        Some((128, 64, 1.25, true)),
     ];
     for name in &names {
         let mut scene = Scene::preset(name).or_else(|_| Scene::load(name))?;
@@ -56,8 +87,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let samplers: Vec<SpatialSampler> = configs
             .iter()
             .map(|config| {
-                let cuts = config.and_then(|(tiles, k, spread)| {
-                    TileCuts::build_sized(&tree, &scene.plane, tiles, k, spread)
+                let cuts = config.and_then(|(tiles, k, spread, split)| {
+                    let cuts = TileCuts::build_sized(&tree, &scene.plane, tiles, k, spread)?;
+                    Some(if split {
+                        cuts
+                    } else {
+                        cuts.keeping_leaf_clusters()
+                    })
                 });
                 SpatialSampler::Tree(tree.clone().with_cuts(cuts))
             })
@@ -105,15 +141,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!("{name} ({n} lights): alias {t_alias:.1} ns per pixel sample");
         let v_tree = v[0];
         for ((config, s), v) in configs.iter().zip(&samplers).zip(&v) {
+            let (cut_ms, entries, singles) = cut_every_tile(s);
             let t = time(&mut |x, rng| s.estimate(x, rng));
             let label = match config {
                 None => "tree from the root".to_string(),
-                Some((tiles, k, spread)) => {
-                    format!("{tiles}×{tiles} tiles, cut ≤ {k}, spread ≤ {spread}")
+                Some((tiles, k, spread, split)) => {
+                    let leaves = if split {
+                        "point clusters split"
+                    } else {
+                        "clusters whole"
+                    };
+                    format!("{tiles}×{tiles} tiles, cut ≤ {k}, spread ≤ {spread}, {leaves}")
                 }
             };
             println!(
-                "  {label}: {:.0}× below power ({:.2}× the tree's variance); {t:.1} ns ({:.1}× alias)",
+                "  {label}: {:.0}× below power ({:.2}× the tree's variance); {t:.1} ns ({:.1}× \
+                 alias); every tile cut in {cut_ms:.1} ms, {entries:.1} entries a tile, \
+                 {singles:.2} of their mass on single lights",
                 v_power / v,
                 v / v_tree,
                 t / t_alias

@@ -235,6 +235,7 @@ fn pick_json(pick: &TreePick) -> serde_json::Value {
                 json!({
                     "depth": e.depth,
                     "light_count": e.lights.len(),
+                    "light": e.light,
                     "mass": e.mass,
                     "probability": e.probability,
                 })
@@ -282,14 +283,17 @@ fn print_pick([px, py]: [u32; 2], x: DVec2, seed: u64, pick: &TreePick) {
         let e = &c.entries[c.entry];
         println!(
             "tile {} (pixels {x0}..{x1} × {y0}..{y1}): cut of {} entries; u = {} (24-bit {}) → \
-             entry {} (depth {}, {} lights), P = {}",
+             entry {} (depth {}, {}), P = {}",
             c.tile,
             c.entries.len(),
             n(f64::from(c.random24) / f64::from(1u32 << 24)),
             c.random24,
             c.entry,
             e.depth,
-            e.lights.len(),
+            match e.light {
+                Some(light) => format!("light {light}"),
+                None => format!("{} lights", e.lights.len()),
+            },
             n(c.pdf_after)
         );
     }
@@ -315,8 +319,11 @@ fn print_pick([px, py]: [u32; 2], x: DVec2, seed: u64, pick: &TreePick) {
         }
     }
     println!(
-        "leaf: {} lights, u = {} (24-bit {})",
-        pick.leaf.lights.len(),
+        "leaf: {}, u = {} (24-bit {})",
+        match pick.leaf.lights.len() {
+            1 => "1 light".to_string(),
+            count => format!("{count} lights"),
+        },
         n(f64::from(pick.leaf.random24) / f64::from(1u32 << 24)),
         pick.leaf.random24
     );

@@ -95,21 +95,37 @@ fn steps_to_the_renderers_pdf(preset: &str, pixel: [u32; 2]) {
     assert_eq!(product.to_bits(), record.pdf.to_bits(), "{preset}");
     let stages = pick_stages(&record);
     assert!(shows_containing(&harness, &format!("stage 1 of {stages}")));
-    // The first stage is the tile's cut: the groups fixed for the whole tile.
+    // The first stage is the tile's cut: the groups and single lights fixed for the whole
+    // tile, counted, and the one the draw takes, named as the panels name it.
     let cut = record.cut.as_ref().expect("the pixel's tile has a cut");
-    assert!(
-        shows_containing(
-            &harness,
-            &format!("keeps a cut of the tree: {}", cut.entries.len())
+    let singles = cut.entries.iter().filter(|e| e.light.is_some()).count();
+    let groups = cut.entries.len() - singles;
+    let plural = |n: usize, word: &str| match n {
+        1 => format!("1 {word}"),
+        _ => format!("{n} {word}s"),
+    };
+    let held = match (groups, singles) {
+        (_, 0) => plural(groups, "group"),
+        (0, _) => plural(singles, "single light"),
+        _ => format!(
+            "{} and {}",
+            plural(groups, "group"),
+            plural(singles, "single light")
         ),
+    };
+    assert!(
+        shows_containing(&harness, &format!("keeps a cut of the tree: {held} that")),
         "{preset}: {}",
         painted(&harness)
     );
+    let taken = match cut.entries[cut.entry].light {
+        Some(light) => format!("light {}", light + 1),
+        None => format!("group {}", cut.entry + 1),
+    };
     assert!(shows_containing(
         &harness,
         &format!(
-            "→ group {}. P so far: {}",
-            cut.entry + 1,
+            "→ {taken}. P so far: {}",
             three_significant(cut.pdf_after)
         )
     ));
@@ -265,4 +281,33 @@ fn show_stage(
     state.light_tree.number = number;
     state.light_tree.stage = stage;
     harness.run();
+}
+
+#[test]
+fn a_cut_that_takes_a_single_light_names_it_and_picks_it_alone() {
+    // Far from its lights a tile of the grid takes some of them one by one: the cut stage
+    // names the light the draw takes, and the leaf holds that light alone.
+    let mut harness = tree_panel("grid", [10, 10]);
+    let pixels: Vec<[u32; 2]> = (0..8).map(|k| [10 + 29 * k, 240 - 27 * k]).collect();
+    let (pixel, number, _, record) = find_pick(&mut harness, &pixels, |record| {
+        let cut = record.cut.as_ref()?;
+        cut.entries[cut.entry].light.map(|_| 0)
+    })
+    .expect("a pick that takes a single light");
+    let cut = record.cut.as_ref().expect("a cut");
+    let light = cut.entries[cut.entry].light.expect("a single light");
+    assert_eq!(record.light, light);
+    assert_eq!(record.leaf.lights.len(), 1);
+    assert!(record.steps.is_empty(), "no node below a single light");
+    show_stage(&mut harness, pixel, number, 0);
+    assert!(shows_containing(
+        &harness,
+        &format!(
+            "→ light {}. P so far: {}. The pick is that light",
+            light + 1,
+            three_significant(cut.pdf_after)
+        )
+    ));
+    show_stage(&mut harness, pixel, number, 1);
+    assert!(shows_containing(&harness, "the one light the cut took"));
 }

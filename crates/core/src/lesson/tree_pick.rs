@@ -102,13 +102,16 @@ impl LaneStep {
 /// One entry of a tile's cut ([`crate::spatial::TileCuts`]).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct CutEntry {
-    /// Its subtree (a node or a leaf cluster).
+    /// Its subtree (a node, a leaf cluster, or one light of a cluster).
     #[serde(skip)]
     pub child: Child,
     /// Its depth in the tree (the root is 0).
     pub depth: usize,
     /// The leaf-order range of its lights ([`LightTree::span`]).
     pub lights: Range<usize>,
+    /// The light's scene index when the entry is a single light (a leaf cluster the cut
+    /// split), `None` for a group.
+    pub light: Option<u32>,
     /// The box of its lights' positions on the plane (`x, y`).
     pub box_on_plane: Option<[DVec2; 2]>,
     /// Its grid mass `m_e` (of `2^24`).
@@ -314,6 +317,8 @@ fn record_cut(tree: &LightTree, x: DVec2, rng: &mut Rng) -> Start {
                 child: e.get(),
                 depth: tree.depth_of(e).unwrap_or(0),
                 box_on_plane: plane_box(tree.lights(), lights.clone()),
+                light: (lights.len() == 1 && !matches!(e.get(), Child::Node(_)))
+                    .then(|| tree.order()[lights.start]),
                 lights,
                 mass: m,
                 probability: f64::from(m) * GRID_CELL,

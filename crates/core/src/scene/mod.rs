@@ -80,8 +80,10 @@ impl ReceiverPlane {
     /// each axis).
     pub fn pixel_at(&self, point_on_plane: DVec2) -> [u32; 2] {
         let cell = |offset: f64, extent: f64, count: u32| {
-            // `as u32` saturates (and maps NaN to 0): the clamp to the last pixel remains.
-            ((offset / extent * f64::from(count)).floor() as u32).min(count.saturating_sub(1))
+            // `as u32` truncates toward 0 and saturates (NaN to 0): for `v ≥ 0` that is the
+            // floor, and a `v < 0` (a point before the first pixel) gives 0 as the floor's
+            // saturation would; the clamp to the last pixel remains.
+            ((offset / extent * f64::from(count)) as u32).min(count.saturating_sub(1))
         };
         [
             cell(

@@ -229,3 +229,56 @@ fn presets_are_cut_with_fewer_draws_than_the_tree_needs_from_its_root() {
         );
     }
 }
+
+/// Every leaf cluster of `tree`, as its nodes' lanes hold it (the root too when it is one).
+fn leaf_clusters(tree: &LightTree) -> std::collections::HashSet<ChildRef> {
+    let lanes = tree.nodes().iter().flat_map(|n| (0..4).map(|l| n.child(l)));
+    std::iter::once(tree.root())
+        .chain(lanes)
+        .filter(|c| matches!(c.get(), Child::Leaf { .. }))
+        .collect()
+}
+
+#[test]
+fn point_trees_cut_down_to_single_lights_and_spot_trees_keep_their_leaf_clusters() {
+    // Point lights: a tile far from its lights takes them one by one (a pick then
+    // evaluates only the light it takes); each such light sits one below its cluster.
+    let scene = preset_at("equal", 64, 64);
+    let tree = cut_tree(&scene);
+    let (cuts, clusters) = (tree.tile_cuts().expect("cuts"), leaf_clusters(&tree));
+    let [tx, ty] = cuts.tiles();
+    let mut singles = 0usize;
+    for tile in 0..(tx * ty) as usize {
+        for (entry, _) in cuts.entries(&tree, tile) {
+            if let Child::Leaf { first, count: 1 } = entry.get()
+                && !clusters.contains(&entry)
+            {
+                singles += 1;
+                let cluster = clusters
+                    .iter()
+                    .find(|c| tree.span(**c).is_some_and(|s| s.contains(&first)))
+                    .expect("a cluster holds the light");
+                assert_eq!(tree.depth_of(entry), tree.depth_of(*cluster).map(|d| d + 1));
+            }
+        }
+    }
+    assert!(
+        singles > (tx * ty) as usize,
+        "equal: {singles} single lights over {} tiles",
+        tx * ty
+    );
+    // Spots: a cone's edge can cross a tile between its weighing points, so a cluster
+    // stays whole and its light is picked at `x`.
+    let scene = spots_scene(400, 2);
+    let tree = cut_tree(&scene);
+    let (cuts, clusters) = (tree.tile_cuts().expect("cuts"), leaf_clusters(&tree));
+    let [tx, ty] = cuts.tiles();
+    for tile in 0..(tx * ty) as usize {
+        for (entry, _) in cuts.entries(&tree, tile) {
+            assert!(
+                matches!(entry.get(), Child::Node(_)) || clusters.contains(&entry),
+                "tile {tile}: entry {entry:?} splits a cluster of spots"
+            );
+        }
+    }
+}

@@ -134,6 +134,17 @@ impl LightTree {
         let Child::Leaf { first, count } = at.get() else {
             return None;
         };
+        if count == 1 {
+            // One light (an entry of a tile's cut): its mass is the whole grid, 0 where it
+            // gives nothing; the draw is still taken, as the GPU and the record take it.
+            rng.next_u32();
+            let c = self.lights[first].contribution_with(self.emission.get(first), x);
+            return (c > 0.0 && pdf > 0.0).then(|| SpatialPick {
+                light: self.order[first],
+                pdf,
+                estimate: c / pdf,
+            });
+        }
         let (masses, c) = self.leaf_masses(first, count, x);
         let j = pick_on_grid(&masses[..count], rng.next_u32() >> 8);
         let pdf = pdf * (f64::from(masses[j]) * GRID_CELL);

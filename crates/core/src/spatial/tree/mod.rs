@@ -168,10 +168,14 @@ impl LightTree {
         let first = self.first_of(at)?;
         let (mut here, mut depth) = (self.root, 0);
         while here != at {
-            let Child::Node(k) = here.get() else {
-                return None;
-            };
-            here = self.nodes[k].child[self.lane_holding(k, first)];
+            match here.get() {
+                Child::Node(k) => here = self.nodes[k].child[self.lane_holding(k, first)],
+                // A single light of a leaf cluster (an entry of a tile's cut): one below it.
+                Child::Leaf { first: f, count } if count > 1 && at == ChildRef::leaf(first, 1) => {
+                    return (f..f + count).contains(&first).then_some(depth + 1);
+                }
+                _ => return None,
+            }
             depth += 1;
         }
         Some(depth)

@@ -19,7 +19,7 @@ pub const LEAF_SIZE: usize = 8;
 /// node's index (bit 31 clear), or a leaf cluster `1 << 31 | count << 27 | first` (its
 /// `count ≤ 8` lights from leaf-order index `first < 2^27`); an empty lane is the leaf
 /// cluster of no lights.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ChildRef(u32);
 
 /// A [`ChildRef`] decoded.

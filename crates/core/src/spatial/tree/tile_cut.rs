@@ -5,7 +5,8 @@
 //! The receiver is one plane with a known pixel grid ([`ReceiverPlane`]). It is split into
 //! square tiles of [`TileCuts::tile_side`] pixels (about [`CUT_TILES_PER_SIDE`] along the
 //! longer side). Each tile keeps a **cut** of the tree: at most [`CUT_MAX_ENTRIES`] subtrees
-//! (internal nodes or leaf clusters) whose leaf-order ranges hold, between them, every light
+//! (internal nodes, leaf clusters, or single lights of a leaf cluster: a cluster of one)
+//! whose leaf-order ranges hold, between them, every light
 //! that can light the tile, each with a mass `m_e` on the `2^24` grid (`Σ_e m_e = 2^24`). A
 //! pick at `x` in the tile takes entry `e` by one draw (`u = r >> 8` against the cumulative
 //! masses, a binary search), then descends below `e` at `x` exactly as the tree does from
@@ -20,9 +21,17 @@
 //! Let `x_1 … x_9` be the centres of the tile's ninths and `P_tree(e | x_k)` the tree's own
 //! probability of descending into subtree `e` at `x_k` (the product of its branch masses
 //! there, lanes weighed by their representative lights or, for spots, their maps). A cut
-//! starts as the root alone and splits, while it can, its node of largest
-//! `q̄_e = max_k P_tree(e | x_k)` into its lanes, leaving out a lane whose footprint box
-//! misses the tile (none of its lights gives the tile anything). Its entries are weighed
+//! starts as the root alone and splits, while it can, its entry of largest
+//! `q̄_e = max_k P_tree(e | x_k)`: a node into its lanes, leaving out a lane whose footprint
+//! box misses the tile (none of its lights gives the tile anything); in a tree of point
+//! lights, a leaf cluster into its lights, each reached with the cluster's probability
+//! times its share `c_j(x_k)/Σ c` there, when every light's share at every weighing point
+//! is at least half its largest (else the cluster stays whole and the cut
+//! goes on with the others). A pick that takes a single light evaluates that light alone: on
+//! a tile far from its lights (a point light's share changes slowly across a tile) the
+//! pick costs about what an alias pick costs plus the cut's draw. A spot's share can jump
+//! at its cone's edge between two weighing points, so clusters of spots stay whole
+//! (splitting them cost `gallery` 1.25× its variance, measured). Its entries are weighed
 //!
 //! `w_e = (1 − ε)·q̄_e / Σ q̄ + ε·Φ_e / Σ Φ`,  `ε =` [`POWER_SHARE`],
 //!
@@ -65,6 +74,11 @@ pub const CUT_MAX_ENTRIES: usize = 64;
 /// the tile's weighing points `x_k` (module docs), at most this.
 pub const CUT_MAX_SPREAD: f64 = 1.25;
 
+/// A cut splits a leaf cluster of point lights into its lights only where each light's
+/// share `c_j(x_k)/Σ c` at every weighing point is at least this fraction of its largest
+/// there (module docs).
+const LEAF_FLATNESS: f64 = 0.5;
+
 /// Weighing points along a tile's side.
 const WEIGHING_SIDE: usize = 3;
 
@@ -93,6 +107,9 @@ struct Candidate {
     /// The largest of `reach`: `q̄_e = max_k P_tree(e | x_k)`.
     peak: f64,
     power: f64,
+    /// Whether the cut keeps this entry whole (a leaf cluster whose lights' shares change
+    /// too much across the tile).
+    whole: bool,
 }
 
 impl Candidate {
@@ -103,6 +120,7 @@ impl Candidate {
             reach,
             peak,
             power,
+            whole: false,
         }
     }
 }
@@ -122,6 +140,8 @@ pub struct TileCuts {
     max_entries: usize,
     /// The most `Σ_e max_k P_tree(e | x_k)` of a tile's cut.
     max_spread: f64,
+    /// Whether leaf clusters of point lights may split into their lights (module docs).
+    split_leaves: bool,
     /// Tiles along `x` (columns).
     tiles_x: u32,
     /// Tiles along `y` (rows, from the plane's top row of pixels).
@@ -143,6 +163,7 @@ impl PartialEq for TileCuts {
             && self.tile_side == other.tile_side
             && self.max_entries == other.max_entries
             && self.max_spread == other.max_spread
+            && self.split_leaves == other.split_leaves
     }
 }
 
@@ -199,6 +220,7 @@ impl TileCuts {
             tile_side,
             max_entries: max_entries.max(TREE_WIDTH),
             max_spread: max_spread.max(1.0),
+            split_leaves: true,
             tiles_x,
             tiles_y,
             cuts: (0..tiles_x * tiles_y).map(|_| OnceLock::new()).collect(),
@@ -223,7 +245,22 @@ impl TileCuts {
     /// The same cuts over `tree` (new powers, same layout): every tile to be cut again.
     pub(super) fn recut(&self, tree: &LightTree) -> Option<Self> {
         let limits = (self.max_entries, self.max_spread);
-        Self::build_with_side(tree, &self.plane, self.tile_side, limits)
+        let cuts = Self::build_with_side(tree, &self.plane, self.tile_side, limits)?;
+        Some(Self {
+            split_leaves: self.split_leaves,
+            ..cuts
+        })
+    }
+
+    /// The same cuts with every leaf cluster kept whole, as spots' are: for measuring what
+    /// splitting point lights' clusters gains (the `tile_cuts` example).
+    #[must_use]
+    pub fn keeping_leaf_clusters(self) -> Self {
+        Self {
+            split_leaves: false,
+            cuts: self.cuts.iter().map(|_| OnceLock::new()).collect(),
+            ..self
+        }
     }
 
     /// Tiles along `x` and along `y`.
@@ -382,12 +419,20 @@ impl TileCuts {
         while let Some(k) = cut
             .iter()
             .enumerate()
-            .filter(|(_, c)| matches!(c.at.get(), Child::Node(_)))
+            .filter(|(_, c)| !c.whole && splits(tree, c.at, self.split_leaves))
             .max_by(|a, b| a.1.peak.total_cmp(&b.1.peak))
             .map(|(k, _)| k)
         {
             children.clear();
             split_into(tree, cut[k].at, cut[k].reach, tile, children);
+            if matches!(cut[k].at.get(), Child::Leaf { .. })
+                && children
+                    .iter()
+                    .any(|c| c.reach.iter().any(|&r| r < LEAF_FLATNESS * c.peak))
+            {
+                cut[k].whole = true;
+                continue;
+            }
             let grown = spread - cut[k].peak + children.iter().map(|c| c.peak).sum::<f64>();
             if cut.len() - 1 + children.len() > self.max_entries || grown > self.max_spread {
                 // The largest entry that can still be split cannot: the cut is done (trying
@@ -446,6 +491,17 @@ struct Scratch {
     entries: Vec<ChildRef>,
 }
 
+/// Whether a cut of `tree` can split `at`: an internal node into its lanes; a leaf cluster
+/// of more than one point light into its lights, where `split_leaves` (a spot's share can change at its cone's
+/// edge between two weighing points, a point light's cannot).
+fn splits(tree: &LightTree, at: ChildRef, split_leaves: bool) -> bool {
+    match at.get() {
+        Child::Node(_) => true,
+        Child::Leaf { count, .. } => split_leaves && count > 1 && tree.emission.is_empty(),
+        Child::Empty => false,
+    }
+}
+
 /// Whether the footprint box `footprint` (`None`: unbounded) meets the box `rect`.
 fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
     footprint.is_none_or(|[a, b]| a.cmple(hi).all() && b.cmpge(lo).all())
@@ -453,8 +509,8 @@ fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
 
 /// The lanes of node `at` (reached with probability `reach[k]` at weighing point `k`) that
 /// can light the tile (`tile`: its weighing points and box), appended to `out` in leaf
-/// order, each reached with the node's grid probability at each point (nothing for a leaf
-/// cluster: it stays whole, its light picked at `x` by contribution). A lane whose
+/// order, each reached with the node's grid probability at each point; or the lights of
+/// leaf cluster `at`, each reached with the cluster's grid masses by contribution. A lane whose
 /// footprint misses the tile's box is left out: none of its lights gives the tile anything,
 /// and a pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
 fn split_into(
@@ -464,8 +520,20 @@ fn split_into(
     (points, rect): ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]),
     out: &mut Vec<Candidate>,
 ) {
-    let Child::Node(n) = at.get() else {
-        return;
+    let n = match at.get() {
+        Child::Node(n) => n,
+        Child::Leaf { first, count } => {
+            let masses = points.map(|x| tree.leaf_masses_at(first, count, x).0);
+            for j in 0..count {
+                out.push(Candidate::new(
+                    ChildRef::leaf(first + j, 1),
+                    std::array::from_fn(|k| reach[k] * f64::from(masses[k][j]) * GRID_CELL),
+                    tree.lights[first + j].power,
+                ));
+            }
+            return;
+        }
+        Child::Empty => return,
     };
     let node = &tree.nodes()[n];
     let masses = points.map(|x| tree.node_masses_at(n, x));
