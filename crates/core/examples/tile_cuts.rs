@@ -146,7 +146,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let label = match config {
                 None => "tree from the root".to_string(),
                 Some((tiles, k, spread, split)) => {
-                    let leaves = if split {
+                    let leaves = if *split {
                         "point clusters split"
                     } else {
                         "clusters whole"

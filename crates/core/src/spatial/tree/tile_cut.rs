@@ -524,13 +524,14 @@ fn split_into(
         Child::Node(n) => n,
         Child::Leaf { first, count } => {
             let masses = points.map(|x| tree.leaf_masses_at(first, count, x).0);
-            for j in 0..count {
-                out.push(Candidate::new(
+            let lights = tree.lights[first..first + count].iter().enumerate();
+            out.extend(lights.map(|(j, light)| {
+                Candidate::new(
                     ChildRef::leaf(first + j, 1),
                     std::array::from_fn(|k| reach[k] * f64::from(masses[k][j]) * GRID_CELL),
-                    tree.lights[first + j].power,
-                ));
-            }
+                    light.power,
+                )
+            }));
             return;
         }
         Child::Empty => return,
