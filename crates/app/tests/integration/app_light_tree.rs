@@ -124,10 +124,7 @@ fn steps_to_the_renderers_pdf(preset: &str, pixel: [u32; 2]) {
     };
     assert!(shows_containing(
         &harness,
-        &format!(
-            "→ {taken}. P so far: {}",
-            three_significant(cut.pdf_after)
-        )
+        &format!("→ {taken}. P so far: {}", three_significant(cut.pdf_after))
     ));
     for stage in 1..stages {
         if stage % 2 == 1 {

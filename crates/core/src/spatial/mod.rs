@@ -43,38 +43,43 @@
 //! every light of a leaf. The receiver is one plane with a known pixel grid, so
 //! [`SpatialSampler::for_scene`] cuts the tree once per tile of pixels (lightcuts and
 //! stochastic lightcuts cut a tree once per region): [`TileCuts`] keeps, per tile, up to 64
-//! subtrees weighed once for the whole tile, a pick draws one of them and descends below it
-//! at `x` as before. The pdf stays exact (the entry's grid probability times the descent's)
-//! and positive wherever a light contributes; a cut splits a node only while the tree's own
-//! probabilities agree across the tile (the spread bound of [`TileCuts`]), so the variance
-//! stays close to the tree's. Exact variances over 24 × 24 points off the pixel centres (×
-//! below power sampling; in brackets, over the tree without cuts) and time per pixel sample
-//! (ns, one thread, over the alias table's) at 128 × 128 pixels, from `cargo run --release -p
-//! lightpick-core --example tile_cuts -- equal heavy-tail grid stage gallery random.json
-//! arena.json million` (one run; `million` over 6 × 6 points, its times dominated by cache
-//! misses that the renderers' interleaved descents hide):
+//! entries weighed once for the whole tile (subtrees, and in trees of point lights single
+//! lights taken out of their leaf clusters), a pick draws one of them and descends below it
+//! at `x` as before; a single light costs no descent at all. The pdf stays exact (the
+//! entry's grid probability times the descent's) and positive wherever a light contributes;
+//! a cut splits an entry only while the tree's own probabilities agree across the tile (the
+//! spread bound of [`TileCuts`]), so the variance stays close to the tree's. Exact variances
+//! over 24 × 24 points off the pixel centres (× below power sampling; in brackets, over the
+//! tree without cuts) and time per pixel sample (ns, one thread, every tile cut beforehand,
+//! over the alias table's) at 128 × 128 pixels, from `cargo run --release -p lightpick-core
+//! --example tile_cuts -- equal heavy-tail grid stage gallery random.json arena.json million`
+//! (one run; `million` over 6 × 6 points, its times dominated by cache misses that the
+//! renderers' interleaved descents hide):
 //!
 //! | pick | `equal` | `heavy-tail` | `grid` | `stage` | `gallery` | `random` | `arena` |
 //! | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |
-//! | the tree from its root | 60×, 11.5× | 177×, 21.3× | 251×, 18.1× | 151×, 14.3× | 4366×, 9.8× | 156×, 19.8× | 195×, 20.0× |
-//! | 32 × 32 tiles, cut ≤ 64, spread ≤ 1.25 | 62× (0.96), 7.0× | 150× (1.18), 12.0× | 220× (1.14), 12.4× | 129× (1.17), 6.2× | 2665× (1.64), 7.0× | 151× (1.03), 8.1× | 171× (1.14), 9.6× |
-//! | **64 × 64 tiles, cut ≤ 64, spread ≤ 1.25 (built)** | **63× (0.95), 7.0×** | **175× (1.01), 12.3×** | **250× (1.00), 8.3×** | **145× (1.04), 5.8×** | **2780× (1.57), 5.5×** | **150× (1.04), 8.2×** | **191× (1.02), 8.3×** |
-//! | 64 × 64 tiles, cut ≤ 64, spread ≤ 1.4 | 63× (0.95), 6.9× | 175× (1.01), 12.3× | 250× (1.00), 8.0× | 146× (1.04), 5.8× | 2352× (1.86), 5.0× | 150× (1.04), 8.1× | 201× (0.97), 7.5× |
-//! | 64 × 64 tiles, cut ≤ 32, spread ≤ 1.25 | 63× (0.95), 6.8× | 176× (1.00), 13.9× | 251× (1.00), 8.6× | 145× (1.04), 5.9× | 2780× (1.57), 5.6× | 151× (1.03), 9.7× | 184× (1.06), 9.0× |
-//! | 128 × 128 tiles (one pixel each here), cut ≤ 64, spread ≤ 1.25 | 62× (0.97), 6.9× | 183× (0.97), 12.6× | 251× (1.00), 8.3× | 151× (1.00), 6.0× | 3131× (1.39), 4.8× | 151× (1.03), 8.4× | 204× (0.96), 7.7× |
+//! | the tree from its root | 60×, 11.1× | 177×, 20.1× | 251×, 18.8× | 151×, 13.8× | 4366×, 9.9× | 156×, 20.0× | 195×, 20.1× |
+//! | 64 × 64 tiles, cut ≤ 64, spread ≤ 1.25, leaf clusters whole | 63× (0.95), 6.6× | 175× (1.01), 11.5× | 250× (1.00), 8.4× | 145× (1.04), 5.6× | 2780× (1.57), 5.8× | 150× (1.04), 8.2× | 191× (1.02), 8.4× |
+//! | **the same, point lights' clusters split (built)** | **60× (0.99), 2.4×** | **176× (1.01), 11.7×** | **250× (1.01), 8.3×** | **145× (1.04), 5.6×** | **2780× (1.57), 5.8×** | **150× (1.04), 8.4×** | **191× (1.02), 8.2×** |
+//! | the same, cut ≤ 128 | 60× (0.99), 2.3× | 173× (1.02), 10.5× | 249× (1.01), 8.1× | 145× (1.04), 5.6× | 2780× (1.57), 5.7× | 150× (1.03), 7.1× | 191× (1.02), 7.9× |
+//! | the same, spread ≤ 1.4 | 60× (0.99), 2.3× | 176× (1.01), 11.4× | 250× (1.01), 8.0× | 146× (1.04), 5.4× | 2352× (1.86), 5.0× | 150× (1.04), 8.4× | 201× (0.97), 7.2× |
+//! | the same, 128 × 128 tiles (one pixel each here) | 60× (1.00), 2.6× | 184× (0.96), 12.0× | 252× (1.00), 6.2× | 151× (1.00), 5.4× | 3131× (1.39), 4.8× | 151× (1.03), 8.5× | 204× (0.96), 7.9× |
 //!
-//! On `million` the built cuts give 186× (0.87 of the tree's variance) at 872 ns against the
-//! tree's 932. Measured on the way, at 32 × 32 tiles: weighing a cut's entries by their
-//! mean over the tile instead of their largest, without the spread bound (1.0–1.3× the
-//! tree's variance on the point presets and `stage`, 9.2× on `gallery`, whose spots light
-//! patches smaller than a tile); taking a leaf cluster's lights into the cut as single
-//! entries, so that a pick evaluates only the light it takes (4.1× alias on `equal` at 1.10×
-//! the tree's variance, 2.9× on `stage` at 2.0×, 2.4× on `gallery` at 22×: a light's share
-//! changes within a tile); weighing the entries by their maps' largest cell over the tile
-//! (`stage` at 1.74×); and, in a prototype, picking below the cut by power alone
-//! (`heavy-tail` at 2.8× with 64 entries). With the cuts a pick costs 5–12 alias picks (the
-//! work below the cut: a node's four importances, a leaf's eight contributions), not the 3
-//! hoped for.
+//! Splitting leaf clusters puts all of `equal`'s mass on single lights (64 a tile), 14 % of
+//! `heavy-tail`'s and 20 % of `grid`'s (59 % at one pixel a tile); the rest stays in
+//! subtrees, where a pick still costs a descent. On `million` the built cuts give 186× (0.87
+//! of the tree's variance) at 882 ns against the tree's 999; no cut reaches its single
+//! lights. Measured on the way: splitting spots' clusters too (with the same rule, each
+//! light's share at every weighing point at least half its largest), `stage` 4.6× alias at
+//! 1.00× the tree's variance but `gallery` 1.97× (its spots light patches about a tile wide:
+//! a cone's edge crosses a tile between weighing points); without that rule, `stage` 3.7× at
+//! 1.24× and `gallery` 1.91×; at 32 × 32 tiles, weighing a cut's entries by their mean over
+//! the tile instead of their largest, without the spread bound (1.0–1.3× the tree's variance
+//! on the point presets and `stage`, 9.2× on `gallery`); weighing the entries by their maps'
+//! largest cell over the tile (`stage` at 1.74×); and, in a prototype, picking below the cut
+//! by power alone (`heavy-tail` at 2.8× with 64 entries). A pick below a subtree entry still
+//! costs what the descent costs (a node's four importances, a leaf's eight contributions):
+//! beyond `equal`, 5–12 alias picks, not the 3 hoped for.
 
 mod bounds;
 mod exact;
