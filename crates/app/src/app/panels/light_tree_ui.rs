@@ -7,21 +7,20 @@
 //! word is the panel's own text, at body size). A click on it, or on a pixel of the images,
 //! moves the pick there.
 
-use egui::{Color32, ColorImage, Key, Modifiers, RichText, Sense, TextureHandle, Ui, vec2};
+use egui::{ColorImage, Key, Modifiers, RichText, Sense, TextureHandle, Ui, vec2};
 use lightpick_core::draw::{
     LANE_COLORS, PlaneToPixels, Style, Theme, TreeView, pick_stages, tree_view_caption,
     tree_view_plane,
 };
-use lightpick_core::lesson::tree_pick::{Culled, CutStep, TreePick};
+use lightpick_core::lesson::tree_pick::{Culled, TreePick};
 use lightpick_core::spatial::SpatialSampler;
 
 use crate::app::colors;
+use crate::app::panels::probability_bar_ui::bar_ui;
+use crate::app::panels::tree_cut_ui::cut_stage_ui;
 use crate::app::state::AppState;
 use crate::app::state::light_tree::{SteppedPick, TreeColoring};
 use crate::numbers::{self, three_significant};
-
-/// The widest a probability bar is drawn (points).
-const BAR_WIDTH: f32 = 140.0;
 
 /// The picture's cached texture and what it was drawn for.
 #[derive(Clone)]
@@ -323,101 +322,6 @@ fn stepped_pick_ui(ui: &mut Ui, state: &mut AppState, pick: &SteppedPick) {
     }
 }
 
-/// Entries of a tile's cut listed by name (the picked one always among them).
-const CUT_ROWS: usize = 6;
-
-/// The tile's cut: the groups and single lights fixed for the whole tile, the largest few as
-/// bars (the picked one among them), the random number and the entry it takes.
-fn cut_stage_ui(ui: &mut Ui, cut: &CutStep, dark: bool) {
-    let [[x0, y0], [x1, y1]] = cut.pixels;
-    let singles = cut.entries.iter().filter(|e| e.light.is_some()).count();
-    let groups = cut.entries.len() - singles;
-    let held = match (groups, singles) {
-        (_, 0) => count_words(groups, "group", "groups"),
-        (0, _) => count_words(singles, "single light", "single lights"),
-        _ => format!(
-            "{} and {}",
-            count_words(groups, "group", "groups"),
-            count_words(singles, "single light", "single lights")
-        ),
-    };
-    ui.label(format!(
-        "This pixel's tile (pixels {x0}–{} across, {y0}–{} down) keeps a cut of the tree: \
-         {held} that hold every light able to reach it, weighed once for the whole tile by \
-         the tree's own choices at nine points of it. The pick starts by drawing one of \
-         them, with no work at x.",
-        x1 - 1,
-        y1 - 1,
-    ));
-    let mut order: Vec<usize> = (0..cut.entries.len()).collect();
-    order.sort_by(|&a, &b| cut.entries[b].mass.cmp(&cut.entries[a].mass));
-    let mut shown: Vec<usize> = order.iter().copied().take(CUT_ROWS).collect();
-    if !shown.contains(&cut.entry) {
-        shown.pop();
-        shown.push(cut.entry);
-    }
-    let ink = colors::foreground(dark);
-    egui::Grid::new("lightpick_cut_groups")
-        .num_columns(3)
-        .show(ui, |ui| {
-            for &k in &shown {
-                let entry = &cut.entries[k];
-                let name = format!("{} (depth {})", entry_name(cut, k), entry.depth);
-                if k == cut.entry {
-                    ui.label(RichText::new(format!("{name} ← picked")).strong());
-                } else {
-                    ui.label(name);
-                }
-                bar_ui(ui, entry.probability, ink);
-                let p = three_significant(entry.probability);
-                ui.label(match entry.light {
-                    Some(_) => format!("P = {p}"),
-                    None => format!("P = {p} · {} lights", entry.lights.len()),
-                });
-                ui.end_row();
-            }
-        });
-    if cut.entries.len() > shown.len() {
-        let more = cut.entries.len() - shown.len();
-        ui.colored_label(
-            colors::muted(dark),
-            format!(
-                "… and {more} smaller {}",
-                if more == 1 { "one" } else { "ones" }
-            ),
-        );
-    }
-    let u = f64::from(cut.random24) / 16_777_216.0;
-    let then = if cut.entries[cut.entry].light.is_some() {
-        "The pick is that light: at x only its own contribution is evaluated."
-    } else {
-        "Below it the descent weighs each node at x itself."
-    };
-    ui.label(format!(
-        "Random number u = {u:.4} → {}. P so far: {}. {then}",
-        entry_name(cut, cut.entry),
-        three_significant(cut.pdf_after)
-    ));
-}
-
-/// Entry `k` of a tile's cut as the panel names it: "light 7" (numbered from 1, as the
-/// Lights panel does) or "group 3" (its place in the cut).
-fn entry_name(cut: &CutStep, k: usize) -> String {
-    match cut.entries[k].light {
-        Some(light) => format!("light {}", light + 1),
-        None => format!("group {}", k + 1),
-    }
-}
-
-/// "1 group", "3 groups".
-fn count_words(count: usize, one: &str, many: &str) -> String {
-    if count == 1 {
-        format!("1 {one}")
-    } else {
-        format!("{count} {many}")
-    }
-}
-
 /// A node: its four groups' probabilities as bars, culled ones greyed with the reason, the
 /// random number and the group it takes.
 /// `power_shares`: each group's share of the node's power, where power picking would go.
@@ -602,20 +506,4 @@ fn end_stage_ui(ui: &mut Ui, record: &TreePick, pick: &SteppedPick) {
         three_significant(record.power_pmf),
         numbers::short(f / record.power_pmf)
     ));
-}
-
-/// A bar of length `p` of [`BAR_WIDTH`] in `color`, one text line high, in a faint frame.
-fn bar_ui(ui: &mut Ui, p: f64, color: Color32) {
-    let height = ui.text_style_height(&egui::TextStyle::Body);
-    let (rect, _) = ui.allocate_exact_size(vec2(BAR_WIDTH, height), Sense::hover());
-    let painter = ui.painter();
-    painter.rect_stroke(
-        rect,
-        0.0,
-        egui::Stroke::new(1.0, ui.visuals().widgets.noninteractive.bg_stroke.color),
-        egui::StrokeKind::Inside,
-    );
-    let mut filled = rect;
-    filled.set_width(BAR_WIDTH * p.clamp(0.0, 1.0) as f32);
-    painter.rect_filled(filled, 0.0, color);
 }

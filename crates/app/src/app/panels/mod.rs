@@ -25,12 +25,14 @@ pub mod log_axes;
 pub mod panel_kind;
 pub mod pick_overlay_ui;
 pub mod precision_ui;
+pub mod probability_bar_ui;
 pub mod sampling_ui;
 pub mod shortcuts_ui;
 pub mod stepper_ui;
 pub mod table_ui;
 pub mod table_words;
 pub mod trade_ui;
+pub mod tree_cut_ui;
 pub mod tree_guide_ui;
 pub mod walkthrough_ui;
 
