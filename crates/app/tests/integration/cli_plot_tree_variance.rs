@@ -86,7 +86,8 @@ fn the_picks_pdf_is_the_product_of_its_steps_and_the_samplers_pdf() {
         let cut = &pick["cut"];
         let mut product = 1.0;
         if preset == "grid" {
-            // The tile's cut first: its entry's mass is where the draw falls.
+            // The tile's cut first: the entry the scene's cuts give the draw, its
+            // probability its mass on the 2^24 grid.
             let entries = cut["entries"].as_array().expect("a tile's cut");
             let entry = cut["entry"].as_u64().unwrap() as usize;
             let masses: Vec<u64> = entries
@@ -94,10 +95,20 @@ fn the_picks_pdf_is_the_product_of_its_steps_and_the_samplers_pdf() {
                 .map(|e| e["mass"].as_u64().unwrap())
                 .collect();
             assert_eq!(masses.iter().sum::<u64>(), 1 << 24, "{what}");
-            let start: u64 = masses[..entry].iter().sum();
-            let u = cut["random24"].as_u64().unwrap();
-            assert!(start <= u && u < start + masses[entry], "{what}");
+            let SpatialSampler::Tree(tree) = SpatialSampler::for_scene(&scene) else {
+                panic!("{what}: a tree");
+            };
+            let cuts = tree.tile_cuts().expect("cuts");
+            let tile = cut["tile"].as_u64().unwrap() as usize;
+            let u = cut["random24"].as_u64().unwrap() as u32;
+            let (_, mass) = cuts.pick(&tree, tile, u).expect("power");
+            assert_eq!(u64::from(mass), masses[entry], "{what}");
             product = num(&entries[entry]["probability"]);
+            assert_eq!(
+                product,
+                masses[entry] as f64 / f64::from(1u32 << 24),
+                "{what}"
+            );
             assert_eq!(num(&cut["pdf_after"]), product, "{what}");
         } else {
             assert!(

@@ -211,8 +211,10 @@ pub(crate) const CUTS_LAYOUT: ArrayLayout = ArrayLayout {
 
 /// The tree's per-tile cuts ([`crate::spatial::TileCuts`]) as `spatial.wgsl` reads them, one
 /// `u32` array: the tile side in pixels (0: no cuts, every pick from the root), the tiles
-/// along `x`, the tile count `T`; each tile's first entry (and one past the last, `T + 1`
-/// words); then per entry its cumulative end on the `2^24` grid and its child word.
+/// along `x`, the tile count `T`; each tile's offset into the words after these `T + 4`
+/// (and one past the last tile's); then each tile's words: its column count `K` (0: no
+/// entry has power), its `K` alias columns (threshold in bits 0–24, alias above), and per
+/// entry its mass on the `2^24` grid and its child word.
 fn cut_words(sampler: &SpatialSampler, plane: &crate::scene::ReceiverPlane) -> Vec<u32> {
     let SpatialSampler::Tree(tree) = sampler else {
         return vec![0];
@@ -227,10 +229,10 @@ fn cut_words(sampler: &SpatialSampler, plane: &crate::scene::ReceiverPlane) -> V
         (plane.width, plane.height)
     );
     let [tiles_x, tiles_y] = cuts.tiles();
-    let (first, ends, entries) = cuts.gpu_words(tree);
+    let (offsets, tiles) = cuts.gpu_words(tree);
     let mut words = vec![cuts.tile_side(), tiles_x, tiles_x * tiles_y];
-    words.extend_from_slice(&first);
-    words.extend(ends.iter().zip(&entries).flat_map(|(&e, &c)| [e, c]));
+    words.extend_from_slice(&offsets);
+    words.extend_from_slice(&tiles);
     words
 }
 

@@ -10,7 +10,8 @@
 // spatial.rs.
 // Same streams as the CPU: sample k of pixel p draws from rng_new(seed, p, k); the exact
 // pick takes one draw (u = (r >> 8)·2^-24, exact in f32), the descent one draw per node and
-// one in the leaf cluster, r >> 8 against the cumulative grid masses.
+// one in the leaf cluster, r >> 8 against the cumulative grid masses (a tile's cut: r >> 8
+// through its alias columns).
 
 // A tree node, 80 bytes: per lane, the child's power-weighted centroid (xyz) and power (w),
 // and the child word: a node index, or 1 << 31 | count << 27 | first (count 0: no child).
@@ -122,34 +123,29 @@ fn scale_pow2(v: f32, e: i32) -> f32 {
     return (v * pow2(half)) * pow2(c - half);
 }
 
-// TileCuts::pick for pixel (px, py): its tile's entry whose interval of the cumulative
-// masses holds the draw's top 24 bits (a binary search), as (child word, mass); mass 0 when
-// no entry of the tile has power (the pick ends with ê = 0). The cuts' words (spatial.rs,
-// cut_words): tile side (0: no cuts), tiles along x, tile count T, T + 1 first entries,
-// then per entry (cumulative end, child word).
+// TileCuts::pick for pixel (px, py): the entry its tile's alias columns give the draw's
+// top 24 bits u, as (child word, mass); mass 0 when no entry of the tile has power (the
+// pick ends with ê = 0). The cuts' words (spatial.rs, cut_words): tile side (0: no cuts),
+// tiles along x, tile count T, T + 1 offsets of the tiles' words (after these), then per
+// tile: its column count K (a power of two; 0: no power), K columns (threshold t in bits
+// 0-24, alias above), per entry (mass, child word). Column u / C of C = 2^24 / K cells
+// takes its own entry below t and its alias from there on.
 fn spatial_cut_entry(px: u32, py: u32, state: ptr<function, u32>) -> vec2<u32> {
     let side = spatial_cuts_at(0u);
     let tile = (py / side) * spatial_cuts_at(1u) + px / side;
-    let base = 4u + spatial_cuts_at(2u);
-    let first = spatial_cuts_at(3u + tile);
-    let last = spatial_cuts_at(4u + tile);
+    let at = 4u + spatial_cuts_at(2u) + spatial_cuts_at(3u + tile);
+    let k = spatial_cuts_at(at);
     let u = rng_next(state) >> 8u;
-    if first == last || spatial_cuts_at(base + 2u * (last - 1u)) == 0u {
+    if k == 0u {
         return vec2<u32>(0u, 0u);
     }
-    // The first entry whose end exceeds u (the last one's end, 2^24, does).
-    var lo = first;
-    var hi = last - 1u;
-    while lo < hi {
-        let mid = (lo + hi) / 2u;
-        if spatial_cuts_at(base + 2u * mid) <= u {
-            lo = mid + 1u;
-        } else {
-            hi = mid;
-        }
-    }
-    let start = select(0u, spatial_cuts_at(base + 2u * (lo - 1u)), lo > first);
-    return vec2<u32>(spatial_cuts_at(base + 2u * lo + 1u), spatial_cuts_at(base + 2u * lo) - start);
+    let shift = 24u - countTrailingZeros(k);
+    let column = u >> shift;
+    let word = spatial_cuts_at(at + 1u + column);
+    let cell = u & ((1u << shift) - 1u);
+    let entry = select(word >> 25u, column, cell < (word & 0x1ffffffu));
+    let pair = at + 1u + k + 2u * entry;
+    return vec2<u32>(spatial_cuts_at(pair + 1u), spatial_cuts_at(pair));
 }
 
 // LightTree::sample: with per-tile cuts one draw for the tile's entry, then one draw per node,

@@ -132,8 +132,8 @@ pub struct CutStep {
     pub entries: Vec<CutEntry>,
     /// The draw's top 24 bits `u = r >> 8`.
     pub random24: u32,
-    /// The index in [`CutStep::entries`] of the entry whose interval of the cumulative
-    /// masses holds `u`.
+    /// The index in [`CutStep::entries`] of the entry the tile's alias columns give `u`
+    /// ([`crate::spatial::TileCuts::pick`]).
     pub entry: usize,
     /// The pick's probability so far, `m_e / 2^24`.
     pub pdf_after: f64,

@@ -156,8 +156,8 @@ fn one_light_and_lights_below_the_plane() {
 
 /// Switching to spatial and back, and new powers, give the images of fresh renderers; the
 /// tree costs its lights in leaf order (16 bytes each) and its 80-byte nodes (one per ~22
-/// lights): under 24 more GPU bytes per light; its per-tile cuts 8 bytes an entry and 4 a
-/// tile, and 12 more.
+/// lights): under 24 more GPU bytes per light; its per-tile cuts 8 bytes an entry, 4 a
+/// column (fewer than two an entry) and 8 a tile, and 12 more.
 #[test]
 fn scheme_switches_and_new_powers_rebuild_the_tree() {
     let Some(ctx) = common::context() else {
@@ -174,9 +174,14 @@ fn scheme_switches_and_new_powers_rebuild_the_tree() {
     assert!(tree_bytes.div_ceil(500) <= 24);
     let cuts = tree.tile_cuts().expect("cut per tile");
     let [tx, ty] = cuts.tiles();
-    let (first, ends, _) = cuts.gpu_words(&tree);
-    assert_eq!(first.len() as u32, tx * ty + 1);
-    let cut_bytes = 12 + 4 * first.len() as u64 + 8 * ends.len() as u64;
+    let (offsets, words) = cuts.gpu_words(&tree);
+    assert_eq!(offsets.len() as u32, tx * ty + 1);
+    // Per tile its column count, columns (K ≤ 2n) and entries (mass, child).
+    let entries: usize = (0..(tx * ty) as usize)
+        .map(|t| cuts.entries(&tree, t).count())
+        .sum();
+    assert!(words.len() <= (tx * ty) as usize + 4 * entries);
+    let cut_bytes = 12 + 4 * offsets.len() as u64 + 4 * words.len() as u64;
     assert_eq!(
         r.gpu_bytes_per_light(),
         24 + (tree_bytes + cut_bytes).div_ceil(500)

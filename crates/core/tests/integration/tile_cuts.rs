@@ -282,3 +282,40 @@ fn point_trees_cut_down_to_single_lights_and_spot_trees_keep_their_leaf_clusters
         }
     }
 }
+
+#[test]
+fn the_alias_columns_give_each_entry_exactly_its_mass_over_every_draw() {
+    // Every 24-bit draw counted (brute force): each entry is taken for exactly `m_e` of the
+    // `2^24` draws, on cuts of a power-of-two count and of counts with empty columns.
+    for scene in [
+        preset_at("equal", 64, 64),
+        points_scene(500, 1),
+        spots_scene(400, 2),
+    ] {
+        let tree = cut_tree(&scene);
+        let cuts = tree.tile_cuts().expect("cuts");
+        let [tx, ty] = cuts.tiles();
+        let sizes: Vec<usize> = (0..(tx * ty) as usize)
+            .map(|tile| cuts.entries(&tree, tile).count())
+            .collect();
+        let largest = (0..sizes.len()).max_by_key(|&t| sizes[t]).expect("tiles");
+        let uneven = (0..sizes.len()).find(|&t| sizes[t] > 2 && !sizes[t].is_power_of_two());
+        for tile in std::iter::once(largest).chain(uneven) {
+            let entries: Vec<(ChildRef, u32)> = cuts.entries(&tree, tile).collect();
+            let index: std::collections::HashMap<ChildRef, usize> = entries
+                .iter()
+                .enumerate()
+                .map(|(k, &(e, _))| (e, k))
+                .collect();
+            let mut counts = vec![0u32; entries.len()];
+            for u in 0..GRID {
+                let (entry, mass) = cuts.pick(&tree, tile, u).expect("power");
+                let k = index[&entry];
+                assert_eq!(mass, entries[k].1);
+                counts[k] += 1;
+            }
+            let masses: Vec<u32> = entries.iter().map(|&(_, m)| m).collect();
+            assert_eq!(counts, masses, "tile {tile} of {} entries", entries.len());
+        }
+    }
+}

@@ -130,15 +130,19 @@ fn check_steps(
     let mut first_depth = 0;
     if let Some(cut) = &record.cut {
         // The cut's entries: masses summing to 2^24 over disjoint leaf-order ranges, the
-        // draw taking the entry whose interval holds it.
+        // draw taking the entry the tile's alias columns give it (each entry is taken for
+        // exactly its mass of the 2^24 draws: tile_cuts.rs counts them all).
         let total: u64 = cut.entries.iter().map(|e| u64::from(e.mass)).sum();
         assert_eq!(total, 1 << 24, "tile {}", cut.tile);
-        let start: u64 = cut.entries[..cut.entry]
-            .iter()
-            .map(|e| u64::from(e.mass))
-            .sum();
-        let u = u64::from(cut.random24);
-        assert!(start <= u && u < start + u64::from(cut.entries[cut.entry].mass));
+        let SpatialSampler::Tree(tree) = sampler else {
+            panic!("a cut belongs to a tree");
+        };
+        let cuts = tree.tile_cuts().expect("cuts");
+        let (taken, mass) = cuts
+            .pick(tree, cut.tile, cut.random24)
+            .expect("the tile has power");
+        let entry = &cut.entries[cut.entry];
+        assert_eq!((taken.get(), mass), (entry.child, entry.mass));
         for pair in cut.entries.windows(2) {
             assert!(pair[0].lights.end <= pair[1].lights.start);
         }

@@ -79,6 +79,11 @@ impl ChildRef {
     pub fn bits(self) -> u32 {
         self.0
     }
+
+    /// The lane whose word is `bits` ([`ChildRef::bits`] undone).
+    pub(super) fn from_bits(bits: u32) -> Self {
+        ChildRef(bits)
+    }
 }
 
 /// An internal node: per child lane, the representative light (power-weighted centroid and
