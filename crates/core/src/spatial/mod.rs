@@ -44,42 +44,46 @@
 //! [`SpatialSampler::for_scene`] cuts the tree once per tile of pixels (lightcuts and
 //! stochastic lightcuts cut a tree once per region): [`TileCuts`] keeps, per tile, up to 64
 //! entries weighed once for the whole tile (subtrees, and in trees of point lights single
-//! lights taken out of their leaf clusters), a pick draws one of them and descends below it
-//! at `x` as before; a single light costs no descent at all. The pdf stays exact (the
-//! entry's grid probability times the descent's) and positive wherever a light contributes;
-//! a cut splits an entry only while the tree's own probabilities agree across the tile (the
-//! spread bound of [`TileCuts`]), so the variance stays close to the tree's. Exact variances
-//! over 24 × 24 points off the pixel centres (× below power sampling; in brackets, over the
-//! tree without cuts) and time per pixel sample (ns, one thread, every tile cut beforehand,
-//! over the alias table's) at 128 × 128 pixels, from `cargo run --release -p lightpick-core
-//! --example tile_cuts -- equal heavy-tail grid stage gallery random.json arena.json million`
-//! (one run; `million` over 6 × 6 points, its times dominated by cache misses that the
-//! renderers' interleaved descents hide):
+//! lights taken out of their leaf clusters), a pick draws one of them by the tile's alias
+//! columns (one word and one entry read) and descends below it at `x` as before; a single
+//! light costs no descent at all. The pdf stays exact (the entry's grid probability times
+//! the descent's) and positive wherever a light contributes; a cut splits an entry only
+//! while the tree's own probabilities agree across the tile (the spread bound of
+//! [`TileCuts`]), so the variance stays close to the tree's. Exact variances over 24 × 24
+//! points off the pixel centres (× below power sampling; in brackets, over the tree without
+//! cuts) and time per pixel sample (ns, one thread, every tile cut beforehand, over the
+//! alias table's) at 128 × 128 pixels, from `cargo run --release -p lightpick-core
+//! --example tile_cuts -- equal heavy-tail grid stage gallery random.json arena.json
+//! million` (one run; `million` over 6 × 6 points, its times dominated by cache misses that
+//! the renderers' interleaved descents hide):
 //!
 //! | pick | `equal` | `heavy-tail` | `grid` | `stage` | `gallery` | `random` | `arena` |
 //! | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |
-//! | the tree from its root | 60×, 11.1× | 177×, 20.1× | 251×, 18.8× | 151×, 13.8× | 4366×, 9.9× | 156×, 20.0× | 195×, 20.1× |
-//! | 64 × 64 tiles, cut ≤ 64, spread ≤ 1.25, leaf clusters whole | 63× (0.95), 6.6× | 175× (1.01), 11.5× | 250× (1.00), 8.4× | 145× (1.04), 5.6× | 2780× (1.57), 5.8× | 150× (1.04), 8.2× | 191× (1.02), 8.4× |
-//! | **the same, point lights' clusters split (built)** | **60× (0.99), 2.4×** | **176× (1.01), 11.7×** | **250× (1.01), 8.3×** | **145× (1.04), 5.6×** | **2780× (1.57), 5.8×** | **150× (1.04), 8.4×** | **191× (1.02), 8.2×** |
-//! | the same, cut ≤ 128 | 60× (0.99), 2.3× | 173× (1.02), 10.5× | 249× (1.01), 8.1× | 145× (1.04), 5.6× | 2780× (1.57), 5.7× | 150× (1.03), 7.1× | 191× (1.02), 7.9× |
-//! | the same, spread ≤ 1.4 | 60× (0.99), 2.3× | 176× (1.01), 11.4× | 250× (1.01), 8.0× | 146× (1.04), 5.4× | 2352× (1.86), 5.0× | 150× (1.04), 8.4× | 201× (0.97), 7.2× |
-//! | the same, 128 × 128 tiles (one pixel each here) | 60× (1.00), 2.6× | 184× (0.96), 12.0× | 252× (1.00), 6.2× | 151× (1.00), 5.4× | 3131× (1.39), 4.8× | 151× (1.03), 8.5× | 204× (0.96), 7.9× |
+//! | the tree from its root | 60×, 11.7× | 177×, 21.0× | 251×, 18.3× | 151×, 13.5× | 4366×, 10.0× | 156×, 19.5× | 195×, 20.6× |
+//! | 64 × 64 tiles, cut ≤ 64, spread ≤ 1.25, leaf clusters whole | 63× (0.95), 6.7× | 175× (1.01), 11.3× | 250× (1.00), 7.7× | 145× (1.04), 5.4× | 2780× (1.57), 5.8× | 150× (1.04), 8.0× | 191× (1.02), 8.3× |
+//! | **the same, point lights' clusters split (built)** | **60× (0.99), 2.1×** | **176× (1.01), 11.2×** | **250× (1.01), 7.5×** | **145× (1.04), 5.5×** | **2780× (1.57), 5.8×** | **150× (1.04), 7.7×** | **191× (1.02), 8.4×** |
+//! | the same, cut ≤ 128 | 60× (0.99), 2.0× | 173× (1.02), 9.9× | 249× (1.01), 7.6× | 145× (1.04), 5.5× | 2780× (1.57), 5.8× | 150× (1.03), 6.8× | 191× (1.02), 8.3× |
+//! | the same, spread ≤ 1.4 | 60× (0.99), 2.1× | 176× (1.01), 10.8× | 250× (1.01), 7.2× | 146× (1.04), 5.5× | 2352× (1.86), 5.1× | 150× (1.04), 7.7× | 201× (0.97), 7.5× |
+//! | the same, 128 × 128 tiles (one pixel each here) | 60× (1.00), 2.7× | 184× (0.96), 12.3× | 252× (1.00), 5.9× | 151× (1.00), 5.3× | 3131× (1.39), 4.9× | 151× (1.03), 8.2× | 204× (0.96), 8.0× |
 //!
 //! Splitting leaf clusters puts all of `equal`'s mass on single lights (64 a tile), 14 % of
 //! `heavy-tail`'s and 20 % of `grid`'s (59 % at one pixel a tile); the rest stays in
 //! subtrees, where a pick still costs a descent. On `million` the built cuts give 186× (0.87
-//! of the tree's variance) at 882 ns against the tree's 999; no cut reaches its single
-//! lights. Measured on the way: splitting spots' clusters too (with the same rule, each
-//! light's share at every weighing point at least half its largest), `stage` 4.6× alias at
-//! 1.00× the tree's variance but `gallery` 1.97× (its spots light patches about a tile wide:
-//! a cone's edge crosses a tile between weighing points); without that rule, `stage` 3.7× at
-//! 1.24× and `gallery` 1.91×; at 32 × 32 tiles, weighing a cut's entries by their mean over
-//! the tile instead of their largest, without the spread bound (1.0–1.3× the tree's variance
-//! on the point presets and `stage`, 9.2× on `gallery`); weighing the entries by their maps'
-//! largest cell over the tile (`stage` at 1.74×); and, in a prototype, picking below the cut
-//! by power alone (`heavy-tail` at 2.8× with 64 entries). A pick below a subtree entry still
-//! costs what the descent costs (a node's four importances, a leaf's eight contributions):
-//! beyond `equal`, 5–12 alias picks, not the 3 hoped for.
+//! of the tree's variance) at 775 ns against the tree's 935; no cut reaches its single
+//! lights. A binary search over a tile's cumulative masses, the draw before the alias
+//! columns, cost 10–20 ns a pick (against a lookup of no cost, on one pixel's samples:
+//! `equal` 28 → 18 ns, `grid` 110 → 91, `stage` 130 → 111). Measured on
+//! the way: splitting spots' clusters too (with the same rule, each light's share at every
+//! weighing point at least half its largest), `stage` 4.6× alias at 1.00× the tree's
+//! variance but `gallery` 1.97× (its spots light patches about a tile wide: a cone's edge
+//! crosses a tile between weighing points); without that rule, `stage` 3.7× at 1.24× and
+//! `gallery` 1.91×; at 32 × 32 tiles, weighing a cut's entries by their mean over the tile
+//! instead of their largest, without the spread bound (1.0–1.3× the tree's variance on the
+//! point presets and `stage`, 9.2× on `gallery`); weighing the entries by their maps'
+//! largest cell over the tile (`stage` at 1.74×); and, in a prototype, picking below the
+//! cut by power alone (`heavy-tail` at 2.8× with 64 entries). A pick below a subtree entry
+//! still costs what the descent costs (a node's four importances, a leaf's eight
+//! contributions): beyond `equal`, 5–11 alias picks, not the 3 hoped for.
 
 mod bounds;
 mod exact;
