@@ -80,10 +80,16 @@
 //! `gallery` 1.91×; at 32 × 32 tiles, weighing a cut's entries by their mean over the tile
 //! instead of their largest, without the spread bound (1.0–1.3× the tree's variance on the
 //! point presets and `stage`, 9.2× on `gallery`); weighing the entries by their maps'
-//! largest cell over the tile (`stage` at 1.74×); and, in a prototype, picking below the
-//! cut by power alone (`heavy-tail` at 2.8× with 64 entries). A pick below a subtree entry
-//! still costs what the descent costs (a node's four importances, a leaf's eight
-//! contributions): beyond `equal`, 5–11 alias picks, not the 3 hoped for.
+//! largest cell over the tile (`stage` at 1.74×); and, in a prototype, descending below
+//! an entry by power alone where the entry's lights are far from the tile. With a bound
+//! that guarantees the loss (`G`'s largest over its smallest across the entry's box and the
+//! tile at most 1.5, 2 or 3) almost no entry of `heavy-tail` or `grid` qualifies and
+//! nothing changes; with every entry descended by power, no importance evaluated below the
+//! cut, a pick still costs 8.5 (`heavy-tail`) and 5.9 (`grid`) alias picks, at 3.96× and
+//! 5.62× the tree's variance. So the levels themselves cost (a node's loads, a draw and a
+//! grid pick per level, a branch that cannot be predicted), not the importances: a pick
+//! below a subtree entry costs 5–11 alias picks beyond `equal`, not the 3 hoped for, and
+//! only entries that are single lights reach it.
 
 mod bounds;
 mod exact;
