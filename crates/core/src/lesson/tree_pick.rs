@@ -4,8 +4,9 @@
 //!
 //! # What a step holds
 //! On a tile of the tree's per-tile cuts ([`crate::spatial::TileCuts`]) the pick starts with
-//! the tile's cut: its entries (subtrees) with grid masses `m_e` fixed for the tile, and one
-//! draw that takes entry `e` with probability `m_e / 2^24`; the descent goes on from there.
+//! the tile's cut: its entries (subtrees or single lights) with grid masses `m_e` fixed for
+//! the tile, and one draw that takes entry `e` with probability `m_e / 2^24`; the descent
+//! goes on from there.
 //! At internal node `k` the four lanes get importances `I_l(x)` (a representative light's
 //! `Φ_l·c_z/|c − x|³` for point lights, a lane map's value for spots and ranges), the
 //! defensive mixture with their power shares

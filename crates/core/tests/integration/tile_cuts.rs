@@ -12,7 +12,9 @@ use lightpick_core::spatial::{Child, ChildRef, LightTree, SpatialSampler};
 
 use crate::common::SplitMix;
 use crate::common::fit::assert_picks_fit;
-use crate::common::scenes::{preset_at, random_powers, scattered_positions, tilted_spot};
+use crate::common::scenes::{
+    preset_at, random_powers, scattered_positions, square_plane, tilted_spot,
+};
 
 /// Point lights over `[-1, 1]²` (a fifth of power 0, some below the plane) on a 40 × 24
 /// pixel plane.
@@ -47,13 +49,7 @@ fn spots_scene(n: usize, seed: u64) -> Scene {
         let range = (i % 3 == 1).then(|| d.range(0.4, 3.0));
         emission.push(Emission::new(spot, range).expect("valid"));
     }
-    let plane = ReceiverPlane {
-        min: dvec2(-2.0, -2.0),
-        max: dvec2(2.0, 2.0),
-        width: 30,
-        height: 30,
-    };
-    Scene::from_parts("spots", plane, positions, powers)
+    Scene::from_parts("spots", square_plane(2.0, 30), positions, powers)
         .expect("valid")
         .with_emission(emission)
 }

@@ -179,8 +179,8 @@ impl LightTree {
     /// its lights as a build does: each light is integrated into the maps of the lanes above
     /// it, `O(N · depth)` footprint integrations, and one array of lane ranges (a word pair
     /// per node lane) is allocated. `lightpick bench` times it as `tree-refit-spots`. A tree
-    /// with per-tile cuts ([`super::TileCuts`]) drops its tiles' cuts (one empty cell per
-    /// tile is allocated): each tile is cut again when a pick next needs it
+    /// with per-tile cuts ([`super::TileCuts`]) drops its tiles' cuts (nothing allocated):
+    /// each tile is cut again when a pick next needs it
     /// (`O(K · depth)` a tile; `tree-refit-cuts` times the refit with every tile cut).
     ///
     /// # Panics
@@ -197,8 +197,8 @@ impl LightTree {
             .with_min_len(1 << 14)
             .for_each(|(l, &i)| l.power = pmf.of(raw[i as usize]));
         self.fill_lanes();
-        if let Some(cuts) = self.cuts.take() {
-            self.cuts = cuts.recut(self).map(Box::new);
+        if let Some(cuts) = &mut self.cuts {
+            cuts.clear();
         }
     }
 }

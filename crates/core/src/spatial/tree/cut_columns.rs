@@ -5,7 +5,7 @@
 use crate::spatial::importance::GRID;
 
 /// Bits of a column word below its alias: the threshold `t_c ≤ 2^24`.
-pub(super) const THRESHOLD_BITS: u32 = 25;
+const THRESHOLD_BITS: u32 = 25;
 
 /// The most entries a cut may have: an alias fits the 7 bits above the threshold.
 pub(super) const MOST_ENTRIES: usize = 1 << (32 - THRESHOLD_BITS);

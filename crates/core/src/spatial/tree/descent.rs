@@ -7,7 +7,7 @@ use super::LightTree;
 use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
 use crate::rng::Rng;
 use crate::spatial::SpatialPick;
-use crate::spatial::importance::{GRID_CELL, grid_masses, pick_on_grid};
+use crate::spatial::importance::{GRID, GRID_CELL, grid_masses, pick_on_grid};
 
 impl LightTree {
     /// The grid masses of node `k`'s lanes at `x` (with its lane bounds when the lights
@@ -34,6 +34,18 @@ impl LightTree {
         for (j, cj) in c.iter_mut().enumerate().take(count) {
             *cj = self.lights[first + j].contribution_with(self.emission.get(first + j), x);
             total += *cj;
+        }
+        if count == 1 {
+            // One light (a single light of a tile's cut): the whole grid where it gives a
+            // finite positive contribution, none elsewhere, as the rule below gives it
+            // (`c·(1/c)` rounds to the grid's `2^24` after its correction; `∞·0` is NaN).
+            let mut masses = [0; LEAF_SIZE];
+            masses[0] = if total > 0.0 && total.is_finite() {
+                GRID
+            } else {
+                0
+            };
+            return (masses, c);
         }
         let mut p = [0.0; LEAF_SIZE];
         if total > 0.0 {
@@ -134,17 +146,6 @@ impl LightTree {
         let Child::Leaf { first, count } = at.get() else {
             return None;
         };
-        if count == 1 {
-            // One light (an entry of a tile's cut): its mass is the whole grid, 0 where it
-            // gives nothing; the draw is still taken, as the GPU and the record take it.
-            rng.next_u32();
-            let c = self.lights[first].contribution_with(self.emission.get(first), x);
-            return (c > 0.0 && pdf > 0.0).then(|| SpatialPick {
-                light: self.order[first],
-                pdf,
-                estimate: c / pdf,
-            });
-        }
         let (masses, c) = self.leaf_masses(first, count, x);
         let j = pick_on_grid(&masses[..count], rng.next_u32() >> 8);
         let pdf = pdf * (f64::from(masses[j]) * GRID_CELL);

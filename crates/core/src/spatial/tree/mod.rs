@@ -312,6 +312,56 @@ mod tests {
     }
 
     #[test]
+    fn a_single_lights_leaf_takes_the_grid_as_the_rule_for_many_does() {
+        // The leaf of one light shortcuts the grid rule (module `descent`): the whole grid
+        // for a finite positive contribution, none for 0, ∞ or NaN. The rule itself, on
+        // the normalized share `c·(1/c)`, at the extremes of f64.
+        use crate::spatial::importance::{GRID, grid_masses};
+        let share = |c: f64| {
+            let mut p = [0.0; LEAF_SIZE];
+            if c > 0.0 {
+                p[0] = c * (1.0 / c);
+            }
+            grid_masses(p)[0]
+        };
+        for c in [
+            f64::from_bits(1),
+            1e-310,
+            f64::MIN_POSITIVE,
+            1e-200,
+            0.3,
+            1.0,
+            1e300,
+            f64::MAX,
+        ] {
+            assert_eq!(share(c), GRID, "c = {c:e}");
+        }
+        for c in [0.0, f64::INFINITY, f64::NAN] {
+            assert_eq!(share(c), 0, "c = {c}");
+        }
+        // The shortcut itself on a tree's lights, one of them so near the point that its
+        // contribution overflows to ∞, one so far that it is tiny.
+        let positions = [
+            glam::dvec3(0.0, 0.0, 1e-160),
+            glam::dvec3(1e100, 0.0, 1.0),
+            glam::dvec3(0.5, 0.5, 1.0),
+        ];
+        let mut all = positions.to_vec();
+        all.extend((0..20).map(|i| glam::dvec3(f64::from(i), 1.0, 2.0)));
+        let powers = crate::powers::LightPowers::new(vec![1.0; all.len()]).expect("powers");
+        let tree = LightTree::build(&all, &powers);
+        for j in 0..all.len() {
+            let (masses, c) = tree.leaf_masses_at(j, 1, DVec2::ZERO);
+            assert_eq!(masses[0], share(c[0]), "light {j}: c = {:e}", c[0]);
+        }
+        let contributions: Vec<f64> = (0..all.len())
+            .map(|j| tree.leaf_masses_at(j, 1, DVec2::ZERO).1[0])
+            .collect();
+        assert!(contributions.iter().any(|c| c.is_infinite()));
+        assert!(contributions.iter().any(|&c| c > 0.0 && c < 1e-200));
+    }
+
+    #[test]
     fn parts_cover_the_range_and_node_counts_match_the_layout() {
         for m in [9, 10, 16, 17, 33, 100, 1000, 12345] {
             let p = parts(m);

@@ -254,25 +254,19 @@ impl TileCuts {
         self.max_entries
     }
 
-    /// The same cuts over `tree` (new powers, same layout): every tile to be cut again.
-    pub(super) fn recut(&self, tree: &LightTree) -> Option<Self> {
-        let limits = (self.max_entries, self.max_spread);
-        let cuts = Self::build_with_side(tree, &self.plane, self.tile_side, limits)?;
-        Some(Self {
-            split_leaves: self.split_leaves,
-            ..cuts
-        })
+    /// Every tile's cut dropped, to be cut again when next needed (the tree's new powers,
+    /// same layout): no allocation.
+    pub(super) fn clear(&mut self) {
+        self.cuts.iter_mut().for_each(|cut| drop(cut.take()));
     }
 
     /// The same cuts with every leaf cluster kept whole, as spots' are: for measuring what
     /// splitting point lights' clusters gains (the `tile_cuts` example).
     #[must_use]
-    pub fn keeping_leaf_clusters(self) -> Self {
-        Self {
-            split_leaves: false,
-            cuts: self.cuts.iter().map(|_| OnceLock::new()).collect(),
-            ..self
-        }
+    pub fn keeping_leaf_clusters(mut self) -> Self {
+        self.split_leaves = false;
+        self.clear();
+        self
     }
 
     /// Tiles along `x` and along `y`.
@@ -407,8 +401,7 @@ impl TileCuts {
     }
 
     /// One tile's cut, written over `scratch`: its entries' grid masses and subtrees in leaf
-    /// order with their alias columns, as [`TileCut`]'s words in
-    /// `scratch.words`.
+    /// order with their alias columns, as [`TileCut`]'s words in `scratch.words`.
     fn cut_tile(&self, tree: &LightTree, tile: u32, scratch: &mut Scratch) {
         let tile = self.tile_geometry(tile);
         let Scratch {
@@ -505,9 +498,9 @@ struct Scratch {
     words: Vec<u32>,
 }
 
-/// Whether a cut of `tree` can split `at`: an internal node into its lanes; a leaf cluster
-/// of more than one point light into its lights, where `split_leaves` (a spot's share can change at its cone's
-/// edge between two weighing points, a point light's cannot).
+/// Whether a cut of `tree` can split `at`: an internal node into its lanes; when
+/// `split_leaves`, a leaf cluster of more than one point light into its lights (a spot's
+/// share can change at its cone's edge between two weighing points, a point light's cannot).
 fn splits(tree: &LightTree, at: ChildRef, split_leaves: bool) -> bool {
     match at.get() {
         Child::Node(_) => true,
@@ -524,9 +517,9 @@ fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
 /// The lanes of node `at` (reached with probability `reach[k]` at weighing point `k`) that
 /// can light the tile (`tile`: its weighing points and box), appended to `out` in leaf
 /// order, each reached with the node's grid probability at each point; or the lights of
-/// leaf cluster `at`, each reached with the cluster's grid masses by contribution. A lane whose
-/// footprint misses the tile's box is left out: none of its lights gives the tile anything,
-/// and a pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
+/// leaf cluster `at`, each reached with the cluster's grid masses by contribution. A lane
+/// whose footprint misses the tile's box is left out: none of its lights gives the tile
+/// anything, and a pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
 fn split_into(
     tree: &LightTree,
     at: ChildRef,
