@@ -35,6 +35,15 @@ pub fn three_significant(value: f64) -> String {
     }
 }
 
+/// `count` things in words: "1 group", "3 groups" (`one` and `many`, the two forms).
+pub fn count(count: usize, one: &str, many: &str) -> String {
+    if count == 1 {
+        format!("1 {one}")
+    } else {
+        format!("{count} {many}")
+    }
+}
+
 /// How `value` compares with `baseline`, in the words a student reads: "6.91× higher" when
 /// `value` is larger, "24.6× lower" when it is smaller (the factor is always `≥ 1`, never
 /// "0.145× lower"), "the same" when the two agree to three significant digits. `more` and

@@ -282,17 +282,17 @@ fn print_pick([px, py]: [u32; 2], x: DVec2, seed: u64, pick: &TreePick) {
         let [[x0, y0], [x1, y1]] = c.pixels;
         let e = &c.entries[c.entry];
         println!(
-            "tile {} (pixels {x0}..{x1} × {y0}..{y1}): cut of {} entries; u = {} (24-bit {}) → \
+            "tile {} (pixels {x0}..{x1} × {y0}..{y1}): cut of {}; u = {} (24-bit {}) → \
              entry {} (depth {}, {}), P = {}",
             c.tile,
-            c.entries.len(),
+            numbers::count(c.entries.len(), "entry", "entries"),
             n(f64::from(c.random24) / f64::from(1u32 << 24)),
             c.random24,
             c.entry,
             e.depth,
             match e.light {
                 Some(light) => format!("light {light}"),
-                None => format!("{} lights", e.lights.len()),
+                None => numbers::count(e.lights.len(), "light", "lights"),
             },
             n(c.pdf_after)
         );
@@ -320,10 +320,7 @@ fn print_pick([px, py]: [u32; 2], x: DVec2, seed: u64, pick: &TreePick) {
     }
     println!(
         "leaf: {}, u = {} (24-bit {})",
-        match pick.leaf.lights.len() {
-            1 => "1 light".to_string(),
-            count => format!("{count} lights"),
-        },
+        numbers::count(pick.leaf.lights.len(), "light", "lights"),
         n(f64::from(pick.leaf.random24) / f64::from(1u32 << 24)),
         pick.leaf.random24
     );

@@ -7,7 +7,7 @@ use lightpick_core::lesson::tree_pick::CutStep;
 
 use crate::app::colors;
 use crate::app::panels::probability_bar_ui::bar_ui;
-use crate::numbers::three_significant;
+use crate::numbers::{self, three_significant};
 
 /// Entries of a tile's cut listed by name (the picked one always among them).
 const CUT_ROWS: usize = 6;
@@ -19,12 +19,12 @@ pub fn cut_stage_ui(ui: &mut Ui, cut: &CutStep, dark: bool) {
     let singles = cut.entries.iter().filter(|e| e.light.is_some()).count();
     let groups = cut.entries.len() - singles;
     let held = match (groups, singles) {
-        (_, 0) => count_words(groups, "group", "groups"),
-        (0, _) => count_words(singles, "single light", "single lights"),
+        (_, 0) => numbers::count(groups, "group", "groups"),
+        (0, _) => numbers::count(singles, "single light", "single lights"),
         _ => format!(
             "{} and {}",
-            count_words(groups, "group", "groups"),
-            count_words(singles, "single light", "single lights")
+            numbers::count(groups, "group", "groups"),
+            numbers::count(singles, "single light", "single lights")
         ),
     };
     ui.label(format!(
@@ -92,14 +92,5 @@ fn entry_name(cut: &CutStep, k: usize) -> String {
     match cut.entries[k].light {
         Some(light) => format!("light {}", light + 1),
         None => format!("group {}", k + 1),
-    }
-}
-
-/// "1 group", "3 groups".
-fn count_words(count: usize, one: &str, many: &str) -> String {
-    if count == 1 {
-        format!("1 {one}")
-    } else {
-        format!("{count} {many}")
     }
 }
