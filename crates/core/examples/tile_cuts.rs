@@ -1,7 +1,7 @@
 //! Measures the light tree's per-tile cuts ([`lightpick_core::spatial::TileCuts`]) against the
 //! tree descended from its root: the exact variance of one sample and the time per pixel
 //! sample, for a few tile counts, cut sizes and spreads, with leaf clusters kept whole or
-//! point lights' clusters split into single lights.
+//! split into single lights (spots' only where their cones stay on the tile).
 //!
 //! Printed per scene (rendered at 128 × 128 pixels): the exact variance of one sample
 //! (`Σ c_i²/q_i − E²`, mean over a grid of points off the pixel centres) of power picking, of the tree
@@ -147,7 +147,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 None => "tree from the root".to_string(),
                 Some((tiles, k, spread, split)) => {
                     let leaves = if *split {
-                        "point clusters split"
+                        "clusters split"
                     } else {
                         "clusters whole"
                     };

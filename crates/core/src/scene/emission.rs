@@ -226,6 +226,37 @@ impl Emission {
         })
     }
 
+    /// A lower bound of `S(x)/g = t(α)²·w(d)` over the rectangle `[lo, hi]` of the plane for
+    /// the light at `light_in_world` (`z > 0`): `t(min_c cos α_c)² · w(max_c d_c)` over the
+    /// rectangle's four corners `c`. It holds because both factors take their least at a
+    /// corner: `w` falls with `d`, a convex function of `x`, so `d` is largest at a corner;
+    /// and `t` rises with `cos α`, whose superlevel sets `{x : cos α(x) ≥ k}` are, for
+    /// `k ≥ 0`, a convex cone cut by the plane, hence convex, so `cos α` is least at a corner
+    /// wherever that least is `≥ 0` (below 0 the bound is `t = 0` anyway, `θo ≤ π/2`).
+    /// Since `S ≤ g`, a bound near 1 says the factor hardly changes over the rectangle (a
+    /// cone's edge does not cross it). 1 for a bare point light.
+    pub fn factor_floor_over(&self, light_in_world: DVec3, [lo, hi]: [DVec2; 2]) -> f64 {
+        if self.is_point() {
+            return 1.0;
+        }
+        let corners = [lo, DVec2::new(hi.x, lo.y), DVec2::new(lo.x, hi.y), hi];
+        let (mut least_cos, mut farthest) = (f64::INFINITY, 0.0f64);
+        for corner in corners {
+            let to_corner = corner.extend(0.0) - light_in_world;
+            let distance = to_corner.length();
+            farthest = farthest.max(distance);
+            least_cos = least_cos.min(self.axis.dot(to_corner) / distance);
+        }
+        let mut floor = 1.0;
+        if self.spot.is_some() {
+            floor *= self.falloff(least_cos);
+        }
+        if self.range.is_some() {
+            floor *= self.window(farthest);
+        }
+        floor
+    }
+
     /// Whether the light at `light_in_world` can light some point of the plane `z = 0`
     /// (strictly: `S > 0` somewhere below it): above the plane, a cone that reaches below
     /// the horizontal (`axis_z < sin θo`, the cone's open angle being `< θo` where `t > 0`),
@@ -460,6 +491,62 @@ mod tests {
         let width = hi.x - lo.x;
         assert!((3.0..3.0 + 1e-8).contains(&width), "width {width}");
         assert!(Emission::POINT.footprint(light).is_none());
+    }
+
+    #[test]
+    fn the_factor_floor_bounds_the_factor_over_the_whole_rectangle_and_is_tight() {
+        let light = DVec3::new(0.5, -1.0, 2.0);
+        let profiles = [
+            spot(DVec3::new(0.3, -0.2, -1.0), 0.2, 0.5),
+            spot(DVec3::new(1.0, 0.4, -0.8), 0.1, 0.3),
+            // Reaching past the horizon: the lit region is unbounded, still convex.
+            spot(DVec3::new(1.0, 0.0, -0.5), 0.9, 1.5),
+            Emission::new(None, Some(4.0)).expect("valid"),
+            Emission::new(
+                Some(Spot {
+                    direction: DVec3::new(-0.5, 0.7, -2.0),
+                    inner_cone: 0.6,
+                    outer_cone: 0.9,
+                }),
+                Some(5.0),
+            )
+            .expect("valid"),
+        ];
+        // Rectangles inside, across and beyond the cones' edges, small and large.
+        let rects = (0..12).flat_map(|i| {
+            (0..12).flat_map(move |j| {
+                [0.05, 0.7, 3.0].map(|side| {
+                    let lo = DVec2::new(-6.0 + f64::from(i), -7.0 + f64::from(j));
+                    [lo, lo + DVec2::new(side, 0.6 * side)]
+                })
+            })
+        });
+        let mut tight = 0;
+        for rect in rects {
+            for e in &profiles {
+                let floor = e.factor_floor_over(light, rect);
+                // The least of S/g over a 41 × 41 raster of the rectangle, edges included.
+                let mut least = f64::INFINITY;
+                for a in 0..=40 {
+                    for b in 0..=40 {
+                        let f = DVec2::new(f64::from(a), f64::from(b)) / 40.0;
+                        let x = rect[0] + f * (rect[1] - rect[0]);
+                        least = least.min(e.factor(light, x) / e.gain());
+                    }
+                }
+                assert!(
+                    floor <= least * (1.0 + 1e-12),
+                    "{rect:?}: {floor} > {least}"
+                );
+                // At a corner the raster meets the bound: it is attained, not loose.
+                tight += usize::from(floor > 0.0 && floor >= least * (1.0 - 1e-12));
+            }
+        }
+        assert!(tight > 100, "only {tight} bounds attained");
+        assert_eq!(
+            Emission::POINT.factor_floor_over(light, [DVec2::ZERO; 2]),
+            1.0
+        );
     }
 
     #[test]

@@ -235,47 +235,71 @@ fn leaf_clusters(tree: &LightTree) -> std::collections::HashSet<ChildRef> {
         .collect()
 }
 
-#[test]
-fn point_trees_cut_down_to_single_lights_and_spot_trees_keep_their_leaf_clusters() {
-    // Point lights: a tile far from its lights takes them one by one (a pick then
-    // evaluates only the light it takes); each such light sits one below its cluster.
-    let scene = preset_at("equal", 64, 64);
-    let tree = cut_tree(&scene);
-    let (cuts, clusters) = (tree.tile_cuts().expect("cuts"), leaf_clusters(&tree));
+/// The single lights that `tree`'s cuts took out of their leaf clusters, with their tiles:
+/// each one sits one level below its cluster.
+fn single_lights(tree: &LightTree) -> Vec<(usize, usize)> {
+    let (cuts, clusters) = (tree.tile_cuts().expect("cuts"), leaf_clusters(tree));
     let [tx, ty] = cuts.tiles();
-    let mut singles = 0usize;
+    let mut singles = Vec::new();
     for tile in 0..(tx * ty) as usize {
-        for (entry, _) in cuts.entries(&tree, tile) {
+        for (entry, _) in cuts.entries(tree, tile) {
             if let Child::Leaf { first, count: 1 } = entry.get()
                 && !clusters.contains(&entry)
             {
-                singles += 1;
                 let cluster = clusters
                     .iter()
                     .find(|c| tree.span(**c).is_some_and(|s| s.contains(&first)))
                     .expect("a cluster holds the light");
                 assert_eq!(tree.depth_of(entry), tree.depth_of(*cluster).map(|d| d + 1));
+                singles.push((tile, first));
             }
         }
     }
+    singles
+}
+
+#[test]
+fn cuts_take_single_lights_and_single_spots_only_where_their_cone_stays_on_the_tile() {
+    // Point lights: a tile far from its lights takes them one by one (a pick then
+    // evaluates only the light it takes).
+    let scene = preset_at("equal", 64, 64);
+    let tree = cut_tree(&scene);
+    let [tx, ty] = tree.tile_cuts().expect("cuts").tiles();
+    let singles = single_lights(&tree).len();
     assert!(
         singles > (tx * ty) as usize,
         "equal: {singles} single lights over {} tiles",
         tx * ty
     );
-    // Spots: a cone's edge can cross a tile between its weighing points, so a cluster
-    // stays whole and its light is picked at `x`.
+    // Spots: a cluster is split only where no light's cone or range edge crosses the
+    // tile, so each spot taken alone keeps its emission factor within half of its largest
+    // over the whole tile: checked by brute force over a raster of the tile, pixel
+    // corners included.
     let scene = spots_scene(400, 2);
     let tree = cut_tree(&scene);
-    let (cuts, clusters) = (tree.tile_cuts().expect("cuts"), leaf_clusters(&tree));
-    let [tx, ty] = cuts.tiles();
-    for tile in 0..(tx * ty) as usize {
-        for (entry, _) in cuts.entries(&tree, tile) {
-            assert!(
-                matches!(entry.get(), Child::Node(_)) || clusters.contains(&entry),
-                "tile {tile}: entry {entry:?} splits a cluster of spots"
-            );
+    let cuts = tree.tile_cuts().expect("cuts");
+    let singles = single_lights(&tree);
+    assert!(singles.len() > 50, "{} single spots", singles.len());
+    for (tile, first) in singles {
+        let light = tree.order()[first] as usize;
+        let emission = scene.emission_of(light).expect("spots");
+        let at = scene.positions[light];
+        let [[x0, y0], [x1, y1]] = cuts.tile_pixels(tile);
+        let (mut least, mut most) = (f64::INFINITY, 0.0f64);
+        for a in 0..=8 {
+            for b in 0..=8 {
+                let pixel = dvec2(
+                    f64::from(x0) + f64::from(a) / 8.0 * f64::from(x1 - x0),
+                    f64::from(y0) + f64::from(b) / 8.0 * f64::from(y1 - y0),
+                );
+                let factor = emission.factor(at, scene.plane.point_at(pixel));
+                (least, most) = (least.min(factor), most.max(factor));
+            }
         }
+        assert!(
+            least >= 0.5 * most && most > 0.0,
+            "tile {tile}: spot {light} taken alone varies {least}..{most} over it"
+        );
     }
 }
 

@@ -23,15 +23,19 @@
 //! there, lanes weighed by their representative lights or, for spots, their maps). A cut
 //! starts as the root alone and splits, while it can, its entry of largest
 //! `q̄_e = max_k P_tree(e | x_k)`: a node into its lanes, leaving out a lane whose footprint
-//! box misses the tile (none of its lights gives the tile anything); in a tree of point
-//! lights, a leaf cluster into its lights, each reached with the cluster's probability
-//! times its share `c_j(x_k)/Σ c` there, when every light's share at every weighing point
-//! is at least half its largest (else the cluster stays whole and the cut
-//! goes on with the others). A pick that takes a single light evaluates that light alone: on
-//! a tile far from its lights (a point light's share changes slowly across a tile) the
-//! pick costs about what an alias pick costs plus the cut's draw. A spot's share can jump
-//! at its cone's edge between two weighing points, so clusters of spots stay whole
-//! (splitting them cost `gallery` 1.25× its variance, measured). Its entries are weighed
+//! box misses the tile (none of its lights gives the tile anything); a leaf cluster into
+//! its lights, each reached with the cluster's probability times its share `c_j(x_k)/Σ c`
+//! there, when every light's share at every weighing point is at least half its largest
+//! (else the cluster stays whole and the cut goes on with the others). A pick that takes a
+//! single light evaluates that light alone: on a tile far from its lights (a point light's
+//! share changes slowly across a tile) the pick costs about what an alias pick costs plus
+//! the cut's draw. A spot's share can jump at its cone's edge between two weighing points,
+//! so a cluster of spots (or of lights with a range) splits only where each light either
+//! misses the tile (its footprint box does not meet it: it is left out) or keeps its factor
+//! above half its peak over the whole tile, a bound taken at the tile's corners
+//! ([`Emission::factor_floor_over`]): no cone's or range's edge then crosses the tile.
+//! (Splitting spots' clusters on the weighing points alone cost `gallery` 1.25× its
+//! variance, measured; with the bound it costs nothing.) Its entries are weighed
 //!
 //! `w_e = (1 − ε)·q̄_e / Σ q̄ + ε·Φ_e / Σ Φ`,  `ε =` [`POWER_SHARE`],
 //!
@@ -64,6 +68,8 @@
 //! A tile is cut the first time a pick, a pdf or the GPU's upload needs it, on that
 //! thread: new powers ([`super::LightTree::refit`]) only drop the cuts, and a drag of a
 //! slider does not wait for 4096 tiles it may not draw before the next frame.
+//!
+//! [`Emission::factor_floor_over`]: crate::scene::Emission::factor_floor_over
 
 use std::sync::OnceLock;
 
@@ -85,9 +91,10 @@ pub const CUT_MAX_ENTRIES: usize = 64;
 /// the tile's weighing points `x_k` (module docs), at most this.
 pub const CUT_MAX_SPREAD: f64 = 1.25;
 
-/// A cut splits a leaf cluster of point lights into its lights only where each light's
-/// share `c_j(x_k)/Σ c` at every weighing point is at least this fraction of its largest
-/// there (module docs).
+/// A cut splits a leaf cluster into its lights only where each light's share
+/// `c_j(x_k)/Σ c` at every weighing point is at least this fraction of its largest there,
+/// and each spot's emission factor over the whole tile at least this fraction of its peak
+/// (module docs).
 const LEAF_FLATNESS: f64 = 0.5;
 
 /// Weighing points along a tile's side.
@@ -151,7 +158,7 @@ pub struct TileCuts {
     max_entries: usize,
     /// The most `Σ_e max_k P_tree(e | x_k)` of a tile's cut.
     max_spread: f64,
-    /// Whether leaf clusters of point lights may split into their lights (module docs).
+    /// Whether leaf clusters may split into their lights (module docs).
     split_leaves: bool,
     /// Tiles along `x` (columns).
     tiles_x: u32,
@@ -260,8 +267,8 @@ impl TileCuts {
         self.cuts.iter_mut().for_each(|cut| drop(cut.take()));
     }
 
-    /// The same cuts with every leaf cluster kept whole, as spots' are: for measuring what
-    /// splitting point lights' clusters gains (the `tile_cuts` example).
+    /// The same cuts with every leaf cluster kept whole: for measuring what splitting
+    /// clusters gains (the `tile_cuts` example).
     #[must_use]
     pub fn keeping_leaf_clusters(mut self) -> Self {
         self.split_leaves = false;
@@ -423,16 +430,14 @@ impl TileCuts {
         while let Some(k) = cut
             .iter()
             .enumerate()
-            .filter(|(_, c)| !c.whole && splits(tree, c.at, self.split_leaves))
+            .filter(|(_, c)| !c.whole && splits(c.at, self.split_leaves))
             .max_by(|a, b| a.1.peak.total_cmp(&b.1.peak))
             .map(|(k, _)| k)
         {
             children.clear();
-            split_into(tree, cut[k].at, cut[k].reach, tile, children);
+            let factors_flat = split_into(tree, cut[k].at, cut[k].reach, tile, children);
             if matches!(cut[k].at.get(), Child::Leaf { .. })
-                && children
-                    .iter()
-                    .any(|c| c.reach.iter().any(|&r| r < LEAF_FLATNESS * c.peak))
+                && !(factors_flat && flat_on_tile(children))
             {
                 cut[k].whole = true;
                 continue;
@@ -499,14 +504,25 @@ struct Scratch {
 }
 
 /// Whether a cut of `tree` can split `at`: an internal node into its lanes; when
-/// `split_leaves`, a leaf cluster of more than one point light into its lights (a spot's
-/// share can change at its cone's edge between two weighing points, a point light's cannot).
-fn splits(tree: &LightTree, at: ChildRef, split_leaves: bool) -> bool {
+/// `split_leaves`, a leaf cluster of more than one light into its lights (whether it does
+/// on a tile is [`flat_on_tile`]'s call).
+fn splits(at: ChildRef, split_leaves: bool) -> bool {
     match at.get() {
         Child::Node(_) => true,
-        Child::Leaf { count, .. } => split_leaves && count > 1 && tree.emission.is_empty(),
+        Child::Leaf { count, .. } => split_leaves && count > 1,
         Child::Empty => false,
     }
+}
+
+/// Whether a leaf cluster's lights, as [`split_into`] gave them (`lights`: those that can
+/// light the tile), may enter the cut one by one: each light's share at every weighing
+/// point is at least [`LEAF_FLATNESS`] of its largest (module docs). A spot's own factor
+/// was bounded over the whole tile before (see [`split_into`]), so no cone's edge hides
+/// between the points.
+fn flat_on_tile(lights: &[Candidate]) -> bool {
+    lights
+        .iter()
+        .all(|c| c.reach.iter().all(|&r| r >= LEAF_FLATNESS * c.peak))
 }
 
 /// Whether the footprint box `footprint` (`None`: unbounded) meets the box `rect`.
@@ -518,30 +534,44 @@ fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
 /// can light the tile (`tile`: its weighing points and box), appended to `out` in leaf
 /// order, each reached with the node's grid probability at each point; or the lights of
 /// leaf cluster `at`, each reached with the cluster's grid masses by contribution. A lane
-/// whose footprint misses the tile's box is left out: none of its lights gives the tile
-/// anything, and a pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
+/// or a light whose footprint misses the tile's box is left out: none of its lights gives
+/// the tile anything, and a pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
+/// Returns whether every light appended keeps its emission factor within
+/// [`LEAF_FLATNESS`] of its peak over the whole tile ([`Emission::factor_floor_over`]:
+/// always for point lights and for a node's lanes).
+///
+/// [`Emission::factor_floor_over`]: crate::scene::Emission::factor_floor_over
 fn split_into(
     tree: &LightTree,
     at: ChildRef,
     reach: [f64; WEIGHING_POINTS.len()],
     (points, rect): ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]),
     out: &mut Vec<Candidate>,
-) {
+) -> bool {
     let n = match at.get() {
         Child::Node(n) => n,
         Child::Leaf { first, count } => {
             let masses = points.map(|x| tree.leaf_masses_at(first, count, x).0);
-            let lights = tree.lights[first..first + count].iter().enumerate();
-            out.extend(lights.map(|(j, light)| {
-                Candidate::new(
+            let mut flat = true;
+            for (j, light) in tree.lights[first..first + count].iter().enumerate() {
+                if let Some(e) = tree.emission.get(first + j) {
+                    let at = light.position_in_world;
+                    if !meets(e.footprint(at), rect) {
+                        // It gives the tile nothing: left out.
+                        continue;
+                    }
+                    // Its cone's or range's edge may cross the tile.
+                    flat &= e.factor_floor_over(at, rect) >= LEAF_FLATNESS;
+                }
+                out.push(Candidate::new(
                     ChildRef::leaf(first + j, 1),
                     std::array::from_fn(|k| reach[k] * f64::from(masses[k][j]) * GRID_CELL),
                     light.power,
-                )
-            }));
-            return;
+                ));
+            }
+            return flat;
         }
-        Child::Empty => return,
+        Child::Empty => return true,
     };
     let node = &tree.nodes()[n];
     let masses = points.map(|x| tree.node_masses_at(n, x));
@@ -558,4 +588,5 @@ fn split_into(
             node.power(lane),
         ));
     }
+    true
 }
