@@ -43,8 +43,9 @@
 //! every light of a leaf. The receiver is one plane with a known pixel grid, so
 //! [`SpatialSampler::for_scene`] cuts the tree once per tile of pixels (lightcuts and
 //! stochastic lightcuts cut a tree once per region): [`TileCuts`] keeps, per tile, up to 64
-//! entries weighed once for the whole tile (subtrees, and in trees of point lights single
-//! lights taken out of their leaf clusters), a pick draws one of them by the tile's alias
+//! entries weighed once for the whole tile (subtrees, and single lights taken out of their
+//! leaf clusters: a spot only where its cone's edge does not cross the tile), a pick draws
+//! one of them by the tile's alias
 //! columns (one word and one entry read) and descends below it at `x` as before; a single
 //! light costs no descent at all. The pdf stays exact (the entry's grid probability times
 //! the descent's) and positive wherever a light contributes; a cut splits an entry only

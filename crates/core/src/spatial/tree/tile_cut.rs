@@ -551,25 +551,35 @@ fn split_into(
     let n = match at.get() {
         Child::Node(n) => n,
         Child::Leaf { first, count } => {
-            let masses = points.map(|x| tree.leaf_masses_at(first, count, x).0);
-            let mut flat = true;
-            for (j, light) in tree.lights[first..first + count].iter().enumerate() {
-                if let Some(e) = tree.emission.get(first + j) {
-                    let at = light.position_in_world;
-                    if !meets(e.footprint(at), rect) {
-                        // It gives the tile nothing: left out.
-                        continue;
+            let lights = first..first + count;
+            // Where each light is mapped on the plane (within the receiver, where picks are
+            // made); none for point lights, which reach every tile.
+            let footprints = tree.footprints.get(lights.clone());
+            let lights_tile = |j: usize| footprints.is_none_or(|f| meets(f[j], rect));
+            if let Some(emission) = tree.emission.get(lights.clone()) {
+                // A cone's or range's edge that may cross the tile keeps the cluster whole,
+                // before its lights' shares are weighed.
+                let lit = tree.lights[lights.clone()].iter().zip(emission).enumerate();
+                for (j, (light, e)) in lit {
+                    if lights_tile(j)
+                        && e.factor_floor_over(light.position_in_world, rect) < LEAF_FLATNESS
+                    {
+                        return false;
                     }
-                    // Its cone's or range's edge may cross the tile.
-                    flat &= e.factor_floor_over(at, rect) >= LEAF_FLATNESS;
                 }
-                out.push(Candidate::new(
-                    ChildRef::leaf(first + j, 1),
-                    std::array::from_fn(|k| reach[k] * f64::from(masses[k][j]) * GRID_CELL),
-                    light.power,
-                ));
             }
-            return flat;
+            let masses = points.map(|x| tree.leaf_masses_at(first, count, x).0);
+            for (j, light) in tree.lights[lights].iter().enumerate() {
+                // A light that gives the tile nothing is left out.
+                if lights_tile(j) {
+                    out.push(Candidate::new(
+                        ChildRef::leaf(first + j, 1),
+                        std::array::from_fn(|k| reach[k] * f64::from(masses[k][j]) * GRID_CELL),
+                        light.power,
+                    ));
+                }
+            }
+            return true;
         }
         Child::Empty => return true,
     };
