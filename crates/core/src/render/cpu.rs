@@ -181,13 +181,13 @@ impl CpuRenderer {
             uniform: uniform_n.map(|n| (n, lights.pmf)),
             to_unit,
         };
-        accumulator
-            .sum
-            .par_chunks_mut(width)
-            .zip(accumulator.sum_sq.par_chunks_mut(width))
-            .enumerate()
-            .for_each(|(py, (sum_row, sq_row))| match picker {
-                SchemeSampler::PointFree(sampler) => {
+        let (sum, sum_sq) = (&mut accumulator.sum, &mut accumulator.sum_sq);
+        match picker {
+            SchemeSampler::PointFree(sampler) => sum
+                .par_chunks_mut(width)
+                .zip(sum_sq.par_chunks_mut(width))
+                .enumerate()
+                .for_each(|(py, (sum_row, sq_row))| {
                     render_row(
                         plane,
                         sampler,
@@ -198,19 +198,23 @@ impl CpuRenderer {
                         sum_row,
                         sq_row,
                     );
-                }
-                SchemeSampler::Spatial(spatial) => {
-                    render_row_spatial(
+                }),
+            SchemeSampler::Spatial(spatial) => sum
+                .par_chunks_mut(width * SPATIAL_BAND)
+                .zip(sum_sq.par_chunks_mut(width * SPATIAL_BAND))
+                .enumerate()
+                .for_each(|(band, (sum_band, sq_band))| {
+                    render_band_spatial(
                         plane,
                         (spatial, to_unit),
                         seed,
-                        py as u32,
+                        (band * SPATIAL_BAND) as u32,
                         (k0, spp),
-                        sum_row,
-                        sq_row,
+                        sum_band,
+                        sq_band,
                     );
-                }
-            });
+                }),
+        }
         accumulator.samples_per_pixel = k0 + spp;
     }
 
@@ -392,43 +396,80 @@ fn render_row(
 /// Pixels whose spatial samples are drawn together ([`SpatialSampler::estimate_many`]).
 const SPATIAL_BATCH: usize = 8;
 
-/// [`render_row`] for [`Scheme::Spatial`]: sample `k` of pixel `p` is
-/// `spatial.estimate(x_p, &mut Rng::new(seed, (k << 32) | p))` times `to_unit = 2^-s`, drawn for
-/// [`SPATIAL_BATCH`] neighbouring pixels at a time (their descents interleaved), each pixel
-/// still adding its samples in increasing `k`: the same sums, bit for bit.
+/// Rows of pixels one spatial task renders together, in blocks of [`SPATIAL_BATCH`] columns
+/// (a pass of one sample per pixel then reads each tile's cut and subtrees for a block of
+/// neighbouring pixels at a time, not once per row).
+const SPATIAL_BAND: usize = 8;
+
+/// [`render_row`] for [`Scheme::Spatial`] over the rows `py0 ..` of a band
+/// (`sum_band.len() / width` of them): sample `k` of pixel `p` is
+/// `spatial.estimate(x_p, &mut Rng::new(seed, (k << 32) | p))` times `to_unit = 2^-s`, drawn
+/// for [`SPATIAL_BATCH`] neighbouring pixels at a time (their descents interleaved), block
+/// by block of [`SPATIAL_BATCH`] columns and the band's rows, each pixel still adding its
+/// samples in increasing `k`: the same sums, bit for bit, whatever the order of the pixels.
 #[inline]
-fn render_row_spatial(
+fn render_band_spatial(
+    plane: &ReceiverPlane,
+    sampler: (&SpatialSampler, f64),
+    seed: u64,
+    py0: u32,
+    ks: (u32, u32),
+    sum_band: &mut [f64],
+    sq_band: &mut [f64],
+) {
+    let width = plane.width as usize;
+    let rows = sum_band.len() / width;
+    for first in (0..width).step_by(SPATIAL_BATCH) {
+        let columns = first..(first + SPATIAL_BATCH).min(width);
+        for row in 0..rows {
+            let pixels = row * width + columns.start..row * width + columns.end;
+            render_pixels_spatial(
+                plane,
+                sampler,
+                seed,
+                [columns.start as u32, py0 + row as u32],
+                ks,
+                &mut sum_band[pixels.clone()],
+                &mut sq_band[pixels],
+            );
+        }
+    }
+}
+
+/// [`render_band_spatial`]'s samples for the pixels from `(px0, py)` along its row (one sum
+/// each in `sum`, `sq`): a full batch of [`SPATIAL_BATCH`] drawn together, fewer one by one.
+#[inline]
+fn render_pixels_spatial(
     plane: &ReceiverPlane,
     (spatial, to_unit): (&SpatialSampler, f64),
     seed: u64,
-    py: u32,
+    [px0, py]: [u32; 2],
     (k0, spp): (u32, u32),
-    sum_row: &mut [f64],
-    sq_row: &mut [f64],
+    sum: &mut [f64],
+    sq: &mut [f64],
 ) {
-    let row_start = u64::from(py) * u64::from(plane.width);
-    let stream = |k: u32, px: usize| Rng::new(seed, (u64::from(k) << 32) | (row_start + px as u64));
-    let batches = sum_row.len() / SPATIAL_BATCH;
-    for batch in 0..batches {
-        let first = batch * SPATIAL_BATCH;
+    let p0 = u64::from(py) * u64::from(plane.width) + u64::from(px0);
+    let stream = |k: u32, j: usize| Rng::new(seed, (u64::from(k) << 32) | (p0 + j as u64));
+    if sum.len() == SPATIAL_BATCH {
         let points: [DVec2; SPATIAL_BATCH] =
-            std::array::from_fn(|j| pixel_center(plane, (first + j) as u32, py));
+            std::array::from_fn(|j| pixel_center(plane, px0 + j as u32, py));
         for k in k0..k0 + spp {
-            let mut rngs = std::array::from_fn(|j| stream(k, first + j));
+            let mut rngs = std::array::from_fn(|j| stream(k, j));
             let estimates = spatial.estimate_many(&points, &mut rngs);
             for (j, e) in estimates.into_iter().enumerate() {
                 let e = e * to_unit;
-                sum_row[first + j] += e;
-                sq_row[first + j] += e * e;
+                sum[j] += e;
+                sq[j] += e * e;
             }
         }
+        return;
     }
-    for px in batches * SPATIAL_BATCH..sum_row.len() {
-        let x = pixel_center(plane, px as u32, py);
+    for (j, (s, q)) in sum.iter_mut().zip(sq.iter_mut()).enumerate() {
+        let x = pixel_center(plane, px0 + j as u32, py);
         for k in k0..k0 + spp {
-            let e = spatial.estimate(x, &mut stream(k, px)) * to_unit;
-            sum_row[px] += e;
-            sq_row[px] += e * e;
+            let e = spatial.estimate(x, &mut stream(k, j)) * to_unit;
+            *s += e;
+            *q += e * e;
         }
     }
 }
