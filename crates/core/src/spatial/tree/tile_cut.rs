@@ -514,15 +514,11 @@ fn splits(at: ChildRef, split_leaves: bool) -> bool {
     }
 }
 
-/// Whether a leaf cluster's lights, as [`split_into`] gave them (`lights`: those that can
-/// light the tile), may enter the cut one by one: each light's share at every weighing
-/// point is at least [`LEAF_FLATNESS`] of its largest (module docs). A spot's own factor
-/// was bounded over the whole tile before (see [`split_into`]), so no cone's edge hides
-/// between the points.
+/// Whether a leaf cluster's lights, as [`split_into`] gave them, may enter the cut one by
+/// one: each light's share at every weighing point at least [`LEAF_FLATNESS`] of its largest.
 fn flat_on_tile(lights: &[Candidate]) -> bool {
-    lights
-        .iter()
-        .all(|c| c.reach.iter().all(|&r| r >= LEAF_FLATNESS * c.peak))
+    let flat = |c: &Candidate| c.reach.iter().all(|&r| r >= LEAF_FLATNESS * c.peak);
+    lights.iter().all(flat)
 }
 
 /// Whether the footprint box `footprint` (`None`: unbounded) meets the box `rect`.
