@@ -6,8 +6,8 @@ use glam::DVec2;
 use super::LightTree;
 use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
 use crate::rng::Rng;
-use crate::spatial::SpatialPick;
 use crate::spatial::importance::{GRID, GRID_CELL, grid_masses, pick_on_grid};
+use crate::spatial::{SpatialLight, SpatialPick};
 
 impl LightTree {
     /// The grid masses of node `k`'s lanes at `x` (with its lane bounds when the lights
@@ -30,10 +30,18 @@ impl LightTree {
         x: DVec2,
     ) -> ([u32; LEAF_SIZE], [f64; LEAF_SIZE]) {
         let mut c = [0.0; LEAF_SIZE];
+        let lights = &self.lights[first..first + count];
+        if self.emission.is_empty() {
+            point_contributions(lights, x, &mut c);
+        } else {
+            let emission = &self.emission[first..first + count];
+            for ((cj, light), e) in c.iter_mut().zip(lights).zip(emission) {
+                *cj = light.contribution_with(Some(e), x);
+            }
+        }
         let mut total = 0.0;
-        for (j, cj) in c.iter_mut().enumerate().take(count) {
-            *cj = self.lights[first + j].contribution_with(self.emission.get(first + j), x);
-            total += *cj;
+        for &cj in &c[..count] {
+            total += cj;
         }
         if count == 1 {
             // One light (a single light of a tile's cut): the whole grid where it gives a
@@ -237,6 +245,37 @@ impl LightTree {
                 }
                 Child::Empty => return 0.0,
             }
+        }
+    }
+}
+
+/// `c_j = p_j·G_j(x)` of point lights `lights` (at most [`LEAF_SIZE`]) into `c`, bit for bit
+/// [`crate::spatial::SpatialLight::contribution`]: the same operations in the same order,
+/// laid out over all [`LEAF_SIZE`] lanes without a branch (so that they evaluate together),
+/// the rare lanes where `G`'s own rule differs (a light on or below the plane, `r³`
+/// underflowing) then taken from it.
+#[inline]
+fn point_contributions(lights: &[SpatialLight], x: DVec2, c: &mut [f64; LEAF_SIZE]) {
+    let (mut lx, mut ly, mut lz, mut power) = (
+        [0.0; LEAF_SIZE],
+        [0.0; LEAF_SIZE],
+        [1.0; LEAF_SIZE],
+        [0.0; LEAF_SIZE],
+    );
+    for (j, light) in lights.iter().enumerate() {
+        let at = light.position_in_world;
+        (lx[j], ly[j], lz[j], power[j]) = (at.x, at.y, at.z, light.power);
+    }
+    let mut denominator = [0.0; LEAF_SIZE];
+    for j in 0..LEAF_SIZE {
+        let (dx, dy) = (lx[j] - x.x, ly[j] - x.y);
+        let r2 = (dx * dx + dy * dy) + lz[j] * lz[j];
+        denominator[j] = 4.0 * std::f64::consts::PI * r2 * r2.sqrt();
+        c[j] = power[j] * (lz[j] / denominator[j]);
+    }
+    for (j, light) in lights.iter().enumerate() {
+        if !(lz[j] > 0.0 && denominator[j] >= f64::MIN_POSITIVE) {
+            c[j] = light.contribution(x);
         }
     }
 }

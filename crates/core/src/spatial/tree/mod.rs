@@ -362,6 +362,43 @@ mod tests {
     }
 
     #[test]
+    fn a_leafs_contributions_are_each_lights_own_bit_for_bit() {
+        // The leaf evaluates its point lights together over all eight lanes: each must be
+        // exactly `SpatialLight::contribution`, at ordinary points and where `r³`
+        // underflows (a light 10^-160 above the point), overflows, or the light is far.
+        let mut all = vec![
+            glam::dvec3(0.0, 0.0, 1e-160),
+            glam::dvec3(1e100, 0.0, 1.0),
+            glam::dvec3(0.5, 0.5, 1e-120),
+            glam::dvec3(-3.0, 2.0, 1e200),
+        ];
+        all.extend((0..40).map(|i| glam::dvec3(f64::from(i % 7), f64::from(i / 7), 0.3)));
+        let powers: Vec<f64> = (0..all.len()).map(|i| 1.0 + f64::from(i as u32)).collect();
+        let powers = crate::powers::LightPowers::new(powers).expect("powers");
+        let tree = LightTree::build(&all, &powers);
+        let points = [DVec2::ZERO, DVec2::new(0.5, 0.5), DVec2::new(2.3, -1.7)];
+        for x in points {
+            for first in 0..all.len() {
+                for count in 1..=LEAF_SIZE.min(all.len() - first) {
+                    let (_, c) = tree.leaf_masses_at(first, count, x);
+                    for j in 0..LEAF_SIZE {
+                        let own = if j < count {
+                            tree.lights()[first + j].contribution(x)
+                        } else {
+                            0.0
+                        };
+                        assert_eq!(
+                            c[j].to_bits(),
+                            own.to_bits(),
+                            "{first}+{j} of {count} at {x}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     fn parts_cover_the_range_and_node_counts_match_the_layout() {
         for m in [9, 10, 16, 17, 33, 100, 1000, 12345] {
             let p = parts(m);
