@@ -381,17 +381,13 @@ mod tests {
             for first in 0..all.len() {
                 for count in 1..=LEAF_SIZE.min(all.len() - first) {
                     let (_, c) = tree.leaf_masses_at(first, count, x);
-                    for j in 0..LEAF_SIZE {
+                    for (j, cj) in c.iter().enumerate() {
                         let own = if j < count {
                             tree.lights()[first + j].contribution(x)
                         } else {
                             0.0
                         };
-                        assert_eq!(
-                            c[j].to_bits(),
-                            own.to_bits(),
-                            "{first}+{j} of {count} at {x}"
-                        );
+                        assert_eq!(cj.to_bits(), own.to_bits(), "{first}+{j} of {count} at {x}");
                     }
                 }
             }
