@@ -117,8 +117,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 }
             }
         }
-        // Time per pixel sample, one thread: 128 × 128 pixels, 8 samples each.
-        let spp = 8u64;
+        // Time per pixel sample, one thread: 128 × 128 pixels, 32 samples each.
+        let spp = 32u64;
         let time = |f: &mut dyn FnMut(DVec2, &mut Rng) -> f64| {
             let start = Instant::now();
             let mut sum = 0.0;

@@ -29,7 +29,19 @@ impl LightTree {
         count: usize,
         x: DVec2,
     ) -> ([u32; LEAF_SIZE], [f64; LEAF_SIZE]) {
-        let mut c = [0.0; LEAF_SIZE];
+        let (mut masses, mut c) = ([0; LEAF_SIZE], [0.0; LEAF_SIZE]);
+        if count == 1 {
+            // One light (a single light of a tile's cut): the whole grid where it gives a
+            // finite positive contribution, none elsewhere, as the rule below gives it
+            // (`c·(1/c)` rounds to the grid's `2^24` after its correction; `∞·0` is NaN).
+            c[0] = self.lights[first].contribution_with(self.emission.get(first), x);
+            masses[0] = if c[0] > 0.0 && c[0].is_finite() {
+                GRID
+            } else {
+                0
+            };
+            return (masses, c);
+        }
         let lights = &self.lights[first..first + count];
         if self.emission.is_empty() {
             point_contributions(lights, x, &mut c);
@@ -42,18 +54,6 @@ impl LightTree {
         let mut total = 0.0;
         for &cj in &c[..count] {
             total += cj;
-        }
-        if count == 1 {
-            // One light (a single light of a tile's cut): the whole grid where it gives a
-            // finite positive contribution, none elsewhere, as the rule below gives it
-            // (`c·(1/c)` rounds to the grid's `2^24` after its correction; `∞·0` is NaN).
-            let mut masses = [0; LEAF_SIZE];
-            masses[0] = if total > 0.0 && total.is_finite() {
-                GRID
-            } else {
-                0
-            };
-            return (masses, c);
         }
         let mut p = [0.0; LEAF_SIZE];
         if total > 0.0 {
