@@ -60,25 +60,31 @@
 //!
 //! | pick | `equal` | `heavy-tail` | `grid` | `stage` | `gallery` | `random` | `arena` |
 //! | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |
-//! | the tree from its root | 60×, 11.7× | 177×, 21.0× | 251×, 18.3× | 151×, 13.5× | 4366×, 10.0× | 156×, 19.5× | 195×, 20.6× |
-//! | 64 × 64 tiles, cut ≤ 64, spread ≤ 1.25, leaf clusters whole | 63× (0.95), 6.7× | 175× (1.01), 11.3× | 250× (1.00), 7.7× | 145× (1.04), 5.4× | 2780× (1.57), 5.8× | 150× (1.04), 8.0× | 191× (1.02), 8.3× |
-//! | **the same, point lights' clusters split (built)** | **60× (0.99), 2.1×** | **176× (1.01), 11.2×** | **250× (1.01), 7.5×** | **145× (1.04), 5.5×** | **2780× (1.57), 5.8×** | **150× (1.04), 7.7×** | **191× (1.02), 8.4×** |
-//! | the same, cut ≤ 128 | 60× (0.99), 2.0× | 173× (1.02), 9.9× | 249× (1.01), 7.6× | 145× (1.04), 5.5× | 2780× (1.57), 5.8× | 150× (1.03), 6.8× | 191× (1.02), 8.3× |
-//! | the same, spread ≤ 1.4 | 60× (0.99), 2.1× | 176× (1.01), 10.8× | 250× (1.01), 7.2× | 146× (1.04), 5.5× | 2352× (1.86), 5.1× | 150× (1.04), 7.7× | 201× (0.97), 7.5× |
-//! | the same, 128 × 128 tiles (one pixel each here) | 60× (1.00), 2.7× | 184× (0.96), 12.3× | 252× (1.00), 5.9× | 151× (1.00), 5.3× | 3131× (1.39), 4.9× | 151× (1.03), 8.2× | 204× (0.96), 8.0× |
+//! | the tree from its root | 60×, 10.9× | 177×, 21.9× | 251×, 17.9× | 151×, 13.7× | 4366×, 9.6× | 156×, 19.7× | 195×, 20.1× |
+//! | 64 × 64 tiles, cut ≤ 64, spread ≤ 1.25, leaf clusters whole | 63× (0.95), 5.9× | 175× (1.01), 11.5× | 250× (1.00), 6.8× | 145× (1.04), 5.1× | 2780× (1.57), 5.4× | 150× (1.04), 7.5× | 191× (1.02), 7.5× |
+//! | **the same, clusters split (spots' where their cones stay on the tile; built)** | **60× (0.99), 2.4×** | **176× (1.01), 11.5×** | **250× (1.01), 6.8×** | **146× (1.04), 4.7×** | **2780× (1.57), 5.3×** | **150× (1.04), 7.5×** | **191× (1.02), 7.5×** |
+//! | the same, cut ≤ 128 | 60× (0.99), 2.4× | 173× (1.02), 10.1× | 249× (1.01), 6.5× | 146× (1.04), 4.6× | 2780× (1.57), 5.3× | 150× (1.03), 6.1× | 191× (1.02), 7.2× |
+//! | the same, spread ≤ 1.4 | 60× (0.99), 2.4× | 176× (1.01), 11.5× | 250× (1.01), 6.6× | 146× (1.03), 4.5× | 2352× (1.86), 4.5× | 150× (1.04), 7.8× | 201× (0.97), 6.4× |
+//! | the same, 128 × 128 tiles (one pixel each here) | 60× (1.00), 2.5× | 184× (0.96), 11.8× | 252× (1.00), 5.6× | 152× (0.99), 4.6× | 3136× (1.39), 4.2× | 151× (1.03), 7.7× | 204× (0.95), 6.5× |
 //!
 //! Splitting leaf clusters puts all of `equal`'s mass on single lights (64 a tile), 14 % of
-//! `heavy-tail`'s and 20 % of `grid`'s (59 % at one pixel a tile); the rest stays in
-//! subtrees, where a pick still costs a descent. On `million` the built cuts give 186× (0.87
-//! of the tree's variance) at 775 ns against the tree's 935; no cut reaches its single
-//! lights. A binary search over a tile's cumulative masses, the draw before the alias
-//! columns, cost 10–20 ns a pick (against a lookup of no cost, on one pixel's samples:
-//! `equal` 28 → 18 ns, `grid` 110 → 91, `stage` 130 → 111). Measured on
-//! the way: splitting spots' clusters too (with the same rule, each light's share at every
-//! weighing point at least half its largest), `stage` 4.6× alias at 1.00× the tree's
-//! variance but `gallery` 1.97× (its spots light patches about a tile wide: a cone's edge
-//! crosses a tile between weighing points); without that rule, `stage` 3.7× at 1.24× and
-//! `gallery` 1.91×; at 32 × 32 tiles, weighing a cut's entries by their mean over the tile
+//! `heavy-tail`'s, 20 % of `grid`'s (59 % at one pixel a tile) and 17 % of `stage`'s (1–10 %
+//! on the other spot scenes); the rest stays in subtrees, where a pick still costs a
+//! descent. On `million` the built cuts give 186× (0.87 of the tree's variance) at 864 ns
+//! against the tree's 1041; no cut reaches its single lights. A binary search over a tile's
+//! cumulative masses, the draw before the alias columns, cost 10–20 ns a pick (against a
+//! lookup of no cost, on one pixel's samples: `equal` 28 → 18 ns, `grid` 110 → 91, `stage`
+//! 130 → 111). Measured on the way: splitting spots' clusters on the weighing points'
+//! shares alone (each light's share at every weighing point at least half its largest, the
+//! rule for point lights), `stage` 4.6× alias at 1.00× the tree's variance but `gallery`
+//! 1.97× (its spots light patches about a tile wide: a cone's edge crosses a tile between
+//! weighing points); without that rule, `stage` 3.7× at 1.24× and `gallery` 1.91×; 5 × 5
+//! weighing points a tile instead of 3 × 3 (`gallery` 1.62×, no pick cheaper); a leaf
+//! cluster whose split would pass the cut's limits kept whole while the cut goes on, instead
+//! of ending it (no change beyond the timing noise); the spots of a leaf evaluated over all
+//! eight lanes without a branch, as point lights' are (a leaf's masses 42 → 63 ns on
+//! `gallery`, 57 → 69 on `stage`: its clusters hold 5.4 lights on average, and the spots'
+//! branches predict well); at 32 × 32 tiles, weighing a cut's entries by their mean over the tile
 //! instead of their largest, without the spread bound (1.0–1.3× the tree's variance on the
 //! point presets and `stage`, 9.2× on `gallery`); weighing the entries by their maps'
 //! largest cell over the tile (`stage` at 1.74×); and, in a prototype, descending below

@@ -364,7 +364,7 @@ impl TileCuts {
 
     /// The words the GPU reads, every tile of `tree` cut: per tile the offset of its words
     /// (and one past the last tile's), then every tile's words (its column count, columns,
-    /// and per entry its mass and child word: [`TileCut`]).
+    /// and per entry its mass and child word).
     pub fn gpu_words(&self, tree: &LightTree) -> (Vec<u32>, Vec<u32>) {
         self.cut_all(tree);
         let mut offsets = Vec::with_capacity(self.cuts.len() + 1);
