@@ -84,7 +84,11 @@
 //! of ending it (no change beyond the timing noise); the spots of a leaf evaluated over all
 //! eight lanes without a branch, as point lights' are (a leaf's masses 42 → 63 ns on
 //! `gallery`, 57 → 69 on `stage`: its clusters hold 5.4 lights on average, and the spots'
-//! branches predict well); at 32 × 32 tiles, weighing a cut's entries by their mean over the tile
+//! branches predict well); a lower spread bound, 1.15, 1.1 or 1.05 (`gallery` at 1.42×,
+//! 1.33× and 1.23× the tree's variance, but its picks 17–21 % dearer, and `stage`'s and
+//! `arena`'s variance 1.07–1.11×: where `gallery`'s cut loses most, the tree's pdf lies
+//! within a few percent of `c_i/E`, its variance near 0, and the spread bounds the second
+//! moment, not the variance); at 32 × 32 tiles, weighing a cut's entries by their mean over the tile
 //! instead of their largest, without the spread bound (1.0–1.3× the tree's variance on the
 //! point presets and `stage`, 9.2× on `gallery`); weighing the entries by their maps'
 //! largest cell over the tile (`stage` at 1.74×); and, in a prototype, descending below
