@@ -52,6 +52,7 @@
 //! bit for bit as before.
 
 mod build;
+mod cut_candidate;
 mod cut_columns;
 mod descent;
 mod fill;

@@ -37,20 +37,28 @@
 //! (Splitting spots' clusters on the weighing points alone cost `gallery` 1.25× its
 //! variance, measured; with the bound it costs nothing.) Its entries are weighed
 //!
-//! `w_e = (1 − ε)·q̄_e / Σ q̄ + ε·Φ_e / Σ Φ`,  `ε =` [`POWER_SHARE`],
+//! `w_e = (1 − ε)·q̃_e / Σ q̃ + ε·Φ_e / Σ Φ`,  `ε =` [`POWER_SHARE`],
 //!
-//! so every entry holding power keeps `m_e ≥ 1`: a light that contributes anywhere in the
-//! tile keeps `P(i | x) > 0`, and the estimate stays unbiased.
+//! `q̃_e = √(q̄_e · q_e)` with `q_e = (Σ_k P_tree(e | x_k)²/9)^½`, the root mean square of the
+//! entry's probabilities at the weighing points: every entry holding power keeps
+//! `m_e ≥ 1`, so a light that contributes anywhere in the tile keeps `P(i | x) > 0`, and
+//! the estimate stays unbiased.
 //!
-//! **What fixing the top costs.** At a weighing point the cut pick's probability of any
-//! light is at least `(1 − ε)/S` times the tree's, where `S = Σ_e q̄_e ≥ 1` is the cut's
-//! **spread** (since `w_e ≥ (1 − ε)·P_tree(e | x_k)/S`): the second moment `Σ c_i²/P(i | x)`
-//! grows at most by `S/(1 − ε)` (up to the grid's rounding of `w_e`). A split is made only while `S` stays at most
-//! [`CUT_MAX_SPREAD`], so the cut fixes exactly the decisions that hardly change across the
-//! tile (far lights, lanes whose branch probabilities agree at all nine points) and leaves
-//! to the descent at `x` those that do. The first split that would pass either limit ends
-//! the cut (trying the smaller entries costs more build time than it saves). The variances
-//! and times measured are in the module docs of [`crate::spatial`].
+//! **What fixing the top costs.** Where the tree picks nearly by contribution (its pdf
+//! close to `c_i/E`), its second moment below entry `e` is about `P_tree(e | x)·E²`, and a
+//! cut of weights `w` has the variance `E²·(Σ_e P_tree(e | x)²/w_e − 1)`: least on average
+//! over the weighing points for `w_e ∝ q_e`, the root mean square. The largest, `q̄_e`,
+//! guards a point between them where `P_tree(e | x)` peaks; `q̃_e` takes both (measured
+//! against either alone in the module docs of [`crate::spatial`]). At a weighing point the
+//! cut pick's probability of any light is at least `(1 − ε)/(√3·S)` times the tree's, where
+//! `S = Σ_e q̄_e ≥ 1` is the cut's **spread** (`q_e ≥ q̄_e/3`, so `q̃_e ≥ q̄_e/√3 ≥
+//! P_tree(e | x_k)/√3`, and `Σ q̃ ≤ S`): the second moment `Σ c_i²/P(i | x)` grows at most
+//! by `√3·S/(1 − ε)` (up to the grid's rounding of `w_e`). A split is made only while `S`
+//! stays at most [`CUT_MAX_SPREAD`], so the cut fixes exactly the decisions that hardly
+//! change across the tile (far lights, lanes whose branch probabilities agree at all nine
+//! points) and leaves to the descent at `x` those that do. The first split that would pass
+//! either limit ends the cut (trying the smaller entries costs more build time than it
+//! saves). The variances and times measured are in the module docs of [`crate::spatial`].
 //!
 //! # The draw: Walker's alias columns on the grid, exact
 //! A tile of `n` entries keeps `K = n` rounded up to a power of two columns of `C = 2^24/K`
@@ -76,6 +84,7 @@ use std::sync::OnceLock;
 use glam::DVec2;
 
 use super::LightTree;
+use super::cut_candidate::{Candidate, WEIGHING_POINTS};
 use super::cut_columns::{AliasWork, MOST_ENTRIES, alias_columns_into, alias_pick};
 use super::node::{Child, ChildRef, TREE_WIDTH};
 use crate::scene::ReceiverPlane;
@@ -96,52 +105,6 @@ pub const CUT_MAX_SPREAD: f64 = 1.25;
 /// and each spot's emission factor over the whole tile at least this fraction of its peak
 /// (module docs).
 const LEAF_FLATNESS: f64 = 0.5;
-
-/// Weighing points along a tile's side.
-const WEIGHING_SIDE: usize = 3;
-
-/// The points of a tile (as fractions of its width and height) where the cut's weights are
-/// taken: the centres of its 3 × 3 ninths.
-const WEIGHING_POINTS: [[f64; 2]; WEIGHING_SIDE * WEIGHING_SIDE] = {
-    let mut points = [[0.0; 2]; WEIGHING_SIDE * WEIGHING_SIDE];
-    let mut k = 0;
-    while k < points.len() {
-        let (i, j) = ((k % WEIGHING_SIDE) as f64, (k / WEIGHING_SIDE) as f64);
-        points[k] = [
-            (i + 0.5) / WEIGHING_SIDE as f64,
-            (j + 0.5) / WEIGHING_SIDE as f64,
-        ];
-        k += 1;
-    }
-    points
-};
-
-/// One tile's cut as it is grown: each entry's subtree, its probability under the tree at
-/// each weighing point, and its power.
-#[derive(Clone, Copy, Debug)]
-struct Candidate {
-    at: ChildRef,
-    reach: [f64; WEIGHING_POINTS.len()],
-    /// The largest of `reach`: `q̄_e = max_k P_tree(e | x_k)`.
-    peak: f64,
-    power: f64,
-    /// Whether the cut keeps this entry whole (a leaf cluster whose lights' shares change
-    /// too much across the tile).
-    whole: bool,
-}
-
-impl Candidate {
-    fn new(at: ChildRef, reach: [f64; WEIGHING_POINTS.len()], power: f64) -> Self {
-        let peak = reach.iter().fold(0.0f64, |m, &r| m.max(r));
-        Self {
-            at,
-            reach,
-            peak,
-            power,
-            whole: false,
-        }
-    }
-}
 
 /// The cuts of every tile of one receiver's pixel grid; see the module docs. A tile is cut
 /// the first time something needs it (a pick, a pdf, the GPU's upload: [`TileCuts::cut_all`]),
@@ -456,12 +419,12 @@ impl TileCuts {
         cut.sort_unstable_by_key(|c| tree.first_of(c.at));
         let (reach, power) = cut
             .iter()
-            .fold((0.0, 0.0), |(r, p), c| (r + c.peak, p + c.power));
+            .fold((0.0, 0.0), |(r, p), c| (r + c.weight, p + c.power));
         weights.clear();
         weights.extend(cut.iter().map(|c| {
             let by_power = if power > 0.0 { c.power / power } else { 0.0 };
             if reach > 0.0 && reach.is_finite() {
-                (1.0 - POWER_SHARE) * c.peak / reach + POWER_SHARE * by_power
+                (1.0 - POWER_SHARE) * c.weight / reach + POWER_SHARE * by_power
             } else {
                 by_power
             }
