@@ -60,21 +60,26 @@
 //!
 //! | pick | `equal` | `heavy-tail` | `grid` | `stage` | `gallery` | `random` | `arena` |
 //! | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |
-//! | the tree from its root | 60×, 10.9× | 177×, 21.9× | 251×, 17.9× | 151×, 13.7× | 4366×, 9.6× | 156×, 19.7× | 195×, 20.1× |
-//! | 64 × 64 tiles, cut ≤ 64, spread ≤ 1.25, leaf clusters whole | 63× (0.95), 5.9× | 175× (1.01), 11.5× | 250× (1.00), 6.8× | 145× (1.04), 5.1× | 2780× (1.57), 5.4× | 150× (1.04), 7.5× | 191× (1.02), 7.5× |
-//! | **the same, clusters split (spots' where their cones stay on the tile; built)** | **60× (0.99), 2.4×** | **176× (1.01), 11.5×** | **250× (1.01), 6.8×** | **146× (1.04), 4.7×** | **2780× (1.57), 5.3×** | **150× (1.04), 7.5×** | **191× (1.02), 7.5×** |
-//! | the same, cut ≤ 128 | 60× (0.99), 2.4× | 173× (1.02), 10.1× | 249× (1.01), 6.5× | 146× (1.04), 4.6× | 2780× (1.57), 5.3× | 150× (1.03), 6.1× | 191× (1.02), 7.2× |
-//! | the same, spread ≤ 1.4 | 60× (0.99), 2.4× | 176× (1.01), 11.5× | 250× (1.01), 6.6× | 146× (1.03), 4.5× | 2352× (1.86), 4.5× | 150× (1.04), 7.8× | 201× (0.97), 6.4× |
-//! | the same, 128 × 128 tiles (one pixel each here) | 60× (1.00), 2.5× | 184× (0.96), 11.8× | 252× (1.00), 5.6× | 152× (0.99), 4.6× | 3136× (1.39), 4.2× | 151× (1.03), 7.7× | 204× (0.95), 6.5× |
+//! | the tree from its root | 60×, 10.9× | 177×, 21.9× | 251×, 18.0× | 151×, 13.7× | 4366×, 9.6× | 156×, 20.0× | 195×, 19.4× |
+//! | 64 × 64 tiles, cut ≤ 64, spread ≤ 1.25, leaf clusters whole | 62× (0.96), 5.8× | 172× (1.03), 11.5× | 239× (1.05), 6.9× | 152× (1.00), 5.1× | 3048× (1.43), 5.4× | 151× (1.03), 7.7× | 199× (0.98), 7.3× |
+//! | **the same, clusters split (spots' where their cones stay on the tile; built)** | **60× (1.00), 2.3×** | **173× (1.02), 11.5×** | **238× (1.05), 7.0×** | **152× (0.99), 4.7×** | **3048× (1.43), 5.4×** | **151× (1.03), 7.4×** | **199× (0.98), 7.1×** |
+//! | the same, entries weighed by their largest `q̄_e` (another run) | 60× (0.99), 2.4× | 176× (1.01), 11.5× | 250× (1.01), 6.8× | 146× (1.04), 4.7× | 2780× (1.57), 5.3× | 150× (1.04), 7.5× | 191× (1.02), 7.5× |
+//! | the same as built, cut ≤ 128 | 60× (1.00), 2.3× | 170× (1.04), 10.1× | 238× (1.05), 6.6× | 152× (0.99), 4.7× | 3048× (1.43), 5.4× | 152× (1.03), 6.4× | 199× (0.98), 7.0× |
+//! | the same as built, spread ≤ 1.4 | 60× (1.00), 2.3× | 173× (1.02), 11.6× | 238× (1.05), 7.0× | 153× (0.99), 4.6× | 2591× (1.69), 4.9× | 151× (1.03), 7.6× | 215× (0.90), 6.4× |
+//! | the same as built, 128 × 128 tiles (one pixel each here) | 60× (1.00), 2.4× | 182× (0.97), 11.8× | 243× (1.03), 5.7× | 157× (0.97), 4.5× | 3309× (1.32), 4.5× | 151× (1.03), 7.6× | 210× (0.93), 6.6× |
 //!
 //! Splitting leaf clusters puts all of `equal`'s mass on single lights (64 a tile), 14 % of
 //! `heavy-tail`'s, 20 % of `grid`'s (59 % at one pixel a tile) and 17 % of `stage`'s (1–10 %
 //! on the other spot scenes); the rest stays in subtrees, where a pick still costs a
-//! descent. On `million` the built cuts give 186× (0.87 of the tree's variance) at 864 ns
-//! against the tree's 1041; no cut reaches its single lights. A binary search over a tile's
+//! descent. On `million` the built cuts give 186× (0.87 of the tree's variance) at 901 ns
+//! against the tree's 1057; no cut reaches its single lights. Weighing the entries
+//! by the root mean square alone (the least variance on average at the weighing points where
+//! the tree picks nearly by contribution) gave `gallery` 1.34×, `stage` 0.97× and `arena`
+//! 0.96× the tree's variance but `grid` 1.11× and `heavy-tail` 1.05×: a peak between the
+//! points went unguarded. A binary search over a tile's
 //! cumulative masses, the draw before the alias columns, cost 10–20 ns a pick (against a
 //! lookup of no cost, on one pixel's samples: `equal` 28 → 18 ns, `grid` 110 → 91, `stage`
-//! 130 → 111). Measured on the way: splitting spots' clusters on the weighing points'
+//! 130 → 111). Measured on the way (with entries weighed by their largest): splitting spots' clusters on the weighing points'
 //! shares alone (each light's share at every weighing point at least half its largest, the
 //! rule for point lights), `stage` 4.6× alias at 1.00× the tree's variance but `gallery`
 //! 1.97× (its spots light patches about a tile wide: a cone's edge crosses a tile between
