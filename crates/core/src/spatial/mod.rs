@@ -79,9 +79,9 @@
 //! points went unguarded. A binary search over a tile's
 //! cumulative masses, the draw before the alias columns, cost 10–20 ns a pick (against a
 //! lookup of no cost, on one pixel's samples: `equal` 28 → 18 ns, `grid` 110 → 91, `stage`
-//! 130 → 111). Measured on the way (with entries weighed by their largest): splitting spots' clusters on the weighing points'
-//! shares alone (each light's share at every weighing point at least half its largest, the
-//! rule for point lights), `stage` 4.6× alias at 1.00× the tree's variance but `gallery`
+//! 130 → 111). Measured on the way (with entries weighed by their largest): splitting
+//! spots' clusters on the weighing points' shares alone (each light's share at every
+//! weighing point at least half its largest, the rule for point lights), `stage` 4.6× alias at 1.00× the tree's variance but `gallery`
 //! 1.97× (its spots light patches about a tile wide: a cone's edge crosses a tile between
 //! weighing points); without that rule, `stage` 3.7× at 1.24× and `gallery` 1.91×; 5 × 5
 //! weighing points a tile instead of 3 × 3 (`gallery` 1.62×, no pick cheaper); a leaf
