@@ -13,9 +13,9 @@ pub fn geometry_term(light_in_world: DVec3, point_on_plane: DVec2) -> f64 {
     if z <= 0.0 {
         return 0.0;
     }
-    // r² = |light.xy − x|² + z², summed in this order (x, then y, then z).
-    let r2 = (light_in_world.truncate() - point_on_plane).length_squared() + z * z;
-    let denominator = 4.0 * std::f64::consts::PI * r2 * r2.sqrt();
+    let to_light = light_in_world.truncate() - point_on_plane;
+    let r2 = distance_squared(to_light.x, to_light.y, z);
+    let denominator = four_pi_r_cubed(r2);
     if denominator >= f64::MIN_POSITIVE {
         z / denominator
     } else {
@@ -23,6 +23,21 @@ pub fn geometry_term(light_in_world: DVec3, point_on_plane: DVec2) -> f64 {
         // (a light 10^-150 above the point gives 8·10^298).
         (z / r2.sqrt()) / (4.0 * std::f64::consts::PI * r2)
     }
+}
+
+/// `r² = dx² + dy² + z²`, summed in this order (x, then y, then z): the squared distance
+/// from a point of the plane to a light `(dx, dy)` across and `z` above it, as [`geometry_term`]
+/// takes it (the light tree's leaves take it too, lane by lane, bit for bit).
+#[inline]
+pub(crate) fn distance_squared(dx: f64, dy: f64, z: f64) -> f64 {
+    (dx * dx + dy * dy) + z * z
+}
+
+/// `4π r³` from `r²`, the denominator of [`geometry_term`] (`G = z/(4π r³)` wherever it does
+/// not underflow).
+#[inline]
+pub(crate) fn four_pi_r_cubed(r2: f64) -> f64 {
+    4.0 * std::f64::consts::PI * r2 * r2.sqrt()
 }
 
 /// `G(x)·S(x)`: the irradiance at `point_on_plane` per unit power of the light at

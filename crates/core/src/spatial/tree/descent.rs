@@ -6,6 +6,7 @@ use glam::DVec2;
 use super::LightTree;
 use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
 use crate::rng::Rng;
+use crate::scene::{distance_squared, four_pi_r_cubed};
 use crate::spatial::importance::{GRID, GRID_CELL, grid_masses, pick_on_grid};
 use crate::spatial::{SpatialLight, SpatialPick};
 
@@ -250,8 +251,8 @@ impl LightTree {
 }
 
 /// `c_j = p_j·G_j(x)` of point lights `lights` (at most [`LEAF_SIZE`]) into `c`, bit for bit
-/// [`crate::spatial::SpatialLight::contribution`]: the same operations in the same order,
-/// laid out over all [`LEAF_SIZE`] lanes without a branch (so that they evaluate together),
+/// [`crate::spatial::SpatialLight::contribution`]: `G`'s own `r²` and `4π r³`, laid out over
+/// all [`LEAF_SIZE`] lanes without a branch (so that they evaluate together),
 /// the rare lanes where `G`'s own rule differs (a light on or below the plane, `r³`
 /// underflowing) then taken from it.
 #[inline]
@@ -268,9 +269,8 @@ fn point_contributions(lights: &[SpatialLight], x: DVec2, c: &mut [f64; LEAF_SIZ
     }
     let mut denominator = [0.0; LEAF_SIZE];
     for j in 0..LEAF_SIZE {
-        let (dx, dy) = (lx[j] - x.x, ly[j] - x.y);
-        let r2 = (dx * dx + dy * dy) + lz[j] * lz[j];
-        denominator[j] = 4.0 * std::f64::consts::PI * r2 * r2.sqrt();
+        let r2 = distance_squared(lx[j] - x.x, ly[j] - x.y, lz[j]);
+        denominator[j] = four_pi_r_cubed(r2);
         c[j] = power[j] * (lz[j] / denominator[j]);
     }
     for (j, light) in lights.iter().enumerate() {
