@@ -398,10 +398,7 @@ impl TileCuts {
             .map(|(k, _)| k)
         {
             children.clear();
-            let factors_flat = split_into(tree, cut[k].at, cut[k].reach, tile, children);
-            if matches!(cut[k].at.get(), Child::Leaf { .. })
-                && !(factors_flat && flat_on_tile(children))
-            {
+            if !split_into(tree, cut[k].at, cut[k].reach, tile, children) {
                 cut[k].whole = true;
                 continue;
             }
@@ -468,7 +465,7 @@ struct Scratch {
 
 /// Whether a cut of `tree` can split `at`: an internal node into its lanes; when
 /// `split_leaves`, a leaf cluster of more than one light into its lights (whether it does
-/// on a tile is [`flat_on_tile`]'s call).
+/// on a tile is [`split_into`]'s call).
 fn splits(at: ChildRef, split_leaves: bool) -> bool {
     match at.get() {
         Child::Node(_) => true,
@@ -495,9 +492,10 @@ fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
 /// leaf cluster `at`, each reached with the cluster's grid masses by contribution. A lane
 /// or a light whose footprint misses the tile's box is left out: none of its lights gives
 /// the tile anything, and a pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
-/// Returns whether every light appended keeps its emission factor within
-/// [`LEAF_FLATNESS`] of its peak over the whole tile ([`Emission::factor_floor_over`]:
-/// always for point lights and for a node's lanes).
+/// Returns whether the cut may take them: always a node's lanes; a leaf cluster's lights
+/// where each keeps its emission factor within [`LEAF_FLATNESS`] of its peak over the whole
+/// tile ([`Emission::factor_floor_over`]: always for point lights) and [`flat_on_tile`]
+/// holds for their shares (else the cluster stays whole).
 ///
 /// [`Emission::factor_floor_over`]: crate::scene::Emission::factor_floor_over
 fn split_into(
@@ -528,6 +526,7 @@ fn split_into(
                 }
             }
             let masses = points.map(|x| tree.leaf_masses_at(first, count, x).0);
+            let start = out.len();
             for (j, light) in tree.lights[lights].iter().enumerate() {
                 // A light that gives the tile nothing is left out.
                 if lights_tile(j) {
@@ -538,7 +537,7 @@ fn split_into(
                     ));
                 }
             }
-            return true;
+            return flat_on_tile(&out[start..]);
         }
         Child::Empty => return true,
     };
