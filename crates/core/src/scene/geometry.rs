@@ -15,13 +15,20 @@ pub fn geometry_term(light_in_world: DVec3, point_on_plane: DVec2) -> f64 {
     }
     let to_light = light_in_world.truncate() - point_on_plane;
     let r2 = distance_squared(to_light.x, to_light.y, z);
-    let denominator = four_pi_r_cubed(r2);
+    geometry_term_at(z, r2, r2.sqrt())
+}
+
+/// `G = z/(4π r³)` from the light's height `z > 0`, `r²` ([`distance_squared`]) and
+/// `r = √r²`.
+#[inline]
+fn geometry_term_at(z: f64, r2: f64, r: f64) -> f64 {
+    let denominator = four_pi_r2_times(r2, r);
     if denominator >= f64::MIN_POSITIVE {
         z / denominator
     } else {
         // r³ underflows for r < 10^-102.7: (z/r)/(4π r²) keeps G finite while it fits f64
         // (a light 10^-150 above the point gives 8·10^298).
-        (z / r2.sqrt()) / (4.0 * std::f64::consts::PI * r2)
+        (z / r) / (4.0 * std::f64::consts::PI * r2)
     }
 }
 
@@ -37,7 +44,13 @@ pub(crate) fn distance_squared(dx: f64, dy: f64, z: f64) -> f64 {
 /// not underflow).
 #[inline]
 pub(crate) fn four_pi_r_cubed(r2: f64) -> f64 {
-    4.0 * std::f64::consts::PI * r2 * r2.sqrt()
+    four_pi_r2_times(r2, r2.sqrt())
+}
+
+/// `4π r² · r` from `r²` and `r = √r²`: [`four_pi_r_cubed`] with its square root given.
+#[inline]
+fn four_pi_r2_times(r2: f64, r: f64) -> f64 {
+    4.0 * std::f64::consts::PI * r2 * r
 }
 
 /// `G(x)·S(x)`: the irradiance at `point_on_plane` per unit power of the light at
@@ -51,11 +64,24 @@ pub fn light_term(
     emission: Option<&Emission>,
     point_on_plane: DVec2,
 ) -> f64 {
-    let g = geometry_term(light_in_world, point_on_plane);
-    match emission {
-        Some(e) if g > 0.0 => g * e.factor(light_in_world, point_on_plane),
-        Some(_) => 0.0,
-        None => g,
+    let Some(e) = emission else {
+        return geometry_term(light_in_world, point_on_plane);
+    };
+    let z = light_in_world.z;
+    if z <= 0.0 {
+        return 0.0;
+    }
+    // G's distance serves S too: `to_point = −to_light` and `|to_point|² = r²` to the bit
+    // (negation is exact and the squares are summed in the same order), so this is
+    // `G · e.factor(light, x)` with one square root instead of two.
+    let to_light = light_in_world.truncate() - point_on_plane;
+    let r2 = distance_squared(to_light.x, to_light.y, z);
+    let r = r2.sqrt();
+    let g = geometry_term_at(z, r2, r);
+    if g > 0.0 {
+        g * e.factor_along(DVec3::new(-to_light.x, -to_light.y, -z), r)
+    } else {
+        0.0
     }
 }
 
@@ -105,6 +131,59 @@ mod tests {
         assert_eq!(
             geometry_term(DVec3::new(0.0, 0.0, 1e-160), DVec2::ZERO),
             f64::INFINITY
+        );
+    }
+
+    /// `light_term` takes `G`'s square root for `S` too: it must equal `G · S` computed
+    /// apart (two square roots, [`Emission::factor`]) bit for bit, for spots, ranges and
+    /// both, inside, on and beyond the cones, straight under the light, and where `r³`
+    /// underflows.
+    #[test]
+    fn a_lights_term_is_g_times_its_factor_bit_for_bit() {
+        use crate::scene::Spot;
+        let spot = |direction: DVec3, inner: f64, outer: f64| Spot {
+            direction,
+            inner_cone: inner,
+            outer_cone: outer,
+        };
+        let profiles = [
+            Emission::new(Some(spot(DVec3::NEG_Z, 0.2, 0.5)), None),
+            Emission::new(Some(spot(DVec3::new(0.3, -0.2, -1.0), 0.0, 1.2)), Some(2.5)),
+            Emission::new(None, Some(0.7)),
+            Emission::new(Some(spot(DVec3::new(1.0, 0.0, -0.1), 0.4, 1.5)), None),
+        ]
+        .map(Result::unwrap);
+        let lights = [
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(0.31, -0.77, 0.45),
+            DVec3::new(-1.3, 2.1, 3.0),
+            DVec3::new(0.25, 0.5, 1e-150),
+        ];
+        let mut checked = 0;
+        for e in &profiles {
+            for &light in &lights {
+                for j in 0..41 {
+                    for i in 0..41 {
+                        let x = DVec2::new(-2.0 + 0.1 * i as f64, -2.0 + 0.1 * j as f64);
+                        let x = if i == 20 && j == 20 {
+                            light.truncate()
+                        } else {
+                            x
+                        };
+                        let g = geometry_term(light, x);
+                        let apart = if g > 0.0 { g * e.factor(light, x) } else { 0.0 };
+                        let fused = light_term(light, Some(e), x);
+                        assert_eq!(fused.to_bits(), apart.to_bits(), "{light} {x} {e:?}");
+                        checked += usize::from(fused > 0.0 && fused < g * e.gain());
+                    }
+                }
+            }
+        }
+        // Points inside a cone's falloff or a range's window, not only on or off.
+        assert!(checked > 200, "{checked}");
+        assert_eq!(
+            light_term(DVec3::new(0.0, 0.0, -1.0), Some(&profiles[0]), DVec2::ZERO),
+            0.0
         );
     }
 }
