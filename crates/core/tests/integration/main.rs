@@ -29,6 +29,7 @@ mod inspect;
 mod near_light;
 mod point_estimate;
 mod precision_lab;
+mod refit_allocations;
 mod render_cpu;
 mod render_metrics;
 mod render_speed;

@@ -3,7 +3,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
+use super::node::{ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
 use super::{LightTree, fill, footprint_split, layout};
 use crate::powers::LightPowers;
 use crate::scene::Emission;
@@ -112,61 +112,32 @@ impl LightTree {
     }
 
     /// Recomputes every lane's map ([`crate::spatial::grid`]) from its lights, nodes in parallel
-    /// (each map depends on its own lights only: the same bits on any thread count).
+    /// (each map depends on its own lights only: the same bits on any thread count). Each
+    /// lane's lights are found by [`LightTree::span`] (`O(depth)` a lane), so nothing is
+    /// allocated once the maps are.
     fn fill_grids(&mut self) {
         use rayon::prelude::*;
-        let ranges = self.lane_ranges();
-        let (lights, emission, footprints) = (&self.lights, &self.emission, &self.footprints);
         let mut mapped = std::mem::take(&mut self.mapped);
         mapped.resize(self.nodes.len(), MappedLanes::EMPTY);
+        let tree = &*self;
         mapped
             .par_iter_mut()
-            .zip(ranges.par_iter())
-            .zip(self.bounds.par_iter())
+            .zip(tree.nodes.par_iter())
+            .zip(tree.bounds.par_iter())
             .with_max_len(1)
-            .for_each(|((node, lanes), bounds)| {
+            .for_each(|((node_lanes, node), bounds)| {
                 let grids: [LaneGrid; TREE_WIDTH] = std::array::from_fn(|k| {
-                    let (first, count) = lanes[k];
-                    let r = first as usize..(first + count) as usize;
-                    if count == 0 {
-                        LaneGrid::EMPTY
-                    } else {
+                    tree.span(node.child[k]).map_or(LaneGrid::EMPTY, |r| {
                         LaneGrid::of_lights(
-                            &lights[r.clone()],
-                            &emission[r.clone()],
-                            &footprints[r],
+                            &tree.lights[r.clone()],
+                            &tree.emission[r.clone()],
+                            &tree.footprints[r],
                         )
-                    }
+                    })
                 });
-                *node = MappedLanes::new(bounds, &grids);
+                *node_lanes = MappedLanes::new(bounds, &grids);
             });
         self.mapped = mapped;
-    }
-
-    /// Each node's lanes' lights as `(first, count)` in leaf order, top down.
-    fn lane_ranges(&self) -> Vec<[(u32, u32); TREE_WIDTH]> {
-        let mut ranges = vec![[(0u32, 0u32); TREE_WIDTH]; self.nodes.len()];
-        if self.nodes.is_empty() {
-            return ranges;
-        }
-        // (node, end of its lights)
-        let mut stack = vec![(0usize, self.lights.len())];
-        while let Some((k, end)) = stack.pop() {
-            let node = &self.nodes[k];
-            for (lane, range) in ranges[k].iter_mut().enumerate() {
-                let Some(first) = self.first_of(node.child[lane]) else {
-                    continue;
-                };
-                let lane_end = (lane + 1..TREE_WIDTH)
-                    .find_map(|next| self.first_of(node.child[next]))
-                    .unwrap_or(end);
-                *range = (first as u32, (lane_end - first) as u32);
-                if let Child::Node(j) = node.child[lane].get() {
-                    stack.push((j, lane_end));
-                }
-            }
-        }
-        ranges
     }
 
     /// New powers for the same lights (same positions, cones and ranges): each light's
@@ -177,8 +148,7 @@ impl LightTree {
     /// Its cost: for point lights `O(N)` with no allocation. For a tree with spots or ranges
     /// mapped over a region, every lane's map ([`crate::spatial::grid`]) is recomputed from
     /// its lights as a build does: each light is integrated into the maps of the lanes above
-    /// it, `O(N · depth)` footprint integrations, and one array of lane ranges (a word pair
-    /// per node lane) is allocated. `lightpick bench` times it as `tree-refit-spots`. A tree
+    /// it, `O(N · depth)` footprint integrations, with no allocation either. `lightpick bench` times it as `tree-refit-spots`. A tree
     /// with per-tile cuts ([`super::TileCuts`]) drops its tiles' cuts (nothing allocated):
     /// each tile is cut again when a pick next needs it
     /// (`O(K · depth)` a tile; `tree-refit-cuts` times the refit with every tile cut).
