@@ -63,16 +63,6 @@ fn cut_every_tile(sampler: &SpatialSampler) -> (f64, f64, f64) {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let names: Vec<String> = std::env::args().skip(1).collect();
-    // (tiles along a side, most entries a cut, most spread, leaf clusters split); `None`:
-    // the tree without cuts.
-    let configs: [Option<(u32, usize, f64, bool)>; 6] = [
-        None,
-        Some((64, 64, 1.25, false)),
-        Some((64, 64, 1.25, true)),
-        Some((64, 128, 1.25, true)),
-        Some((64, 64, 1.4, true)),
-        Some((128, 64, 1.25, true)),
-    ];
     for name in &names {
         let mut scene = Scene::preset(name).or_else(|_| Scene::load(name))?;
         scene.plane.width = 128;
@@ -84,19 +74,43 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let n = scene.light_count();
         let pmf = scene.powers.pmf();
         let table = AliasTable::build(&scene.powers);
-        let samplers: Vec<SpatialSampler> = configs
+        let built = TileCuts::build(&tree, &scene.plane).ok_or("a tree to cut")?;
+        let (k, spread) = (built.max_entries(), built.max_spread());
+        let sized = |tiles: u32, k: usize, spread: f64| {
+            TileCuts::build_sized(&tree, &scene.plane, tiles, k, spread).expect("a tree to cut")
+        };
+        // Each row: its label and its cuts (`None`: the tree from its root).
+        let rows: Vec<(String, Option<TileCuts>)> = vec![
+            ("the tree from its root".into(), None),
+            (
+                "64 × 64 tiles, cut ≤ 64, spread ≤ 1.25, weighed by the tree's probabilities"
+                    .into(),
+                Some(sized(64, 64, 1.25).weighing_by_tree_probabilities()),
+            ),
+            (
+                format!("built: cut ≤ {k}, spread ≤ {spread}, weighed by estimates"),
+                Some(built.clone()),
+            ),
+            (
+                format!("cut ≤ {}, spread ≤ {spread}", 192 - k),
+                Some(sized(64, 192 - k, spread)),
+            ),
+            ("cut ≤ 128, spread ≤ 2".into(), Some(sized(64, 128, 2.0))),
+            (
+                format!(
+                    "cut ≤ {k}, spread ≤ {}",
+                    if spread > 2.0 { 1.25 } else { 4.0 }
+                ),
+                Some(sized(64, k, if spread > 2.0 { 1.25 } else { 4.0 })),
+            ),
+            (
+                format!("cut ≤ {k}, spread ≤ {spread}, clusters whole"),
+                Some(built.clone().keeping_leaf_clusters()),
+            ),
+        ];
+        let samplers: Vec<SpatialSampler> = rows
             .iter()
-            .map(|config| {
-                let cuts = config.and_then(|(tiles, k, spread, split)| {
-                    let cuts = TileCuts::build_sized(&tree, &scene.plane, tiles, k, spread)?;
-                    Some(if split {
-                        cuts
-                    } else {
-                        cuts.keeping_leaf_clusters()
-                    })
-                });
-                SpatialSampler::Tree(tree.clone().with_cuts(cuts))
-            })
+            .map(|(_, cuts)| SpatialSampler::Tree(tree.clone().with_cuts(cuts.clone())))
             .collect();
         // Shading points: a G × G raster of pixel centres.
         let g: u32 = if n > 100_000 { 6 } else { 24 };
@@ -140,20 +154,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         });
         println!("{name} ({n} lights): alias {t_alias:.1} ns per pixel sample");
         let v_tree = v[0];
-        for ((config, s), v) in configs.iter().zip(&samplers).zip(&v) {
+        for (((label, _), s), v) in rows.iter().zip(&samplers).zip(&v) {
             let (cut_ms, entries, singles) = cut_every_tile(s);
             let t = time(&mut |x, rng| s.estimate(x, rng));
-            let label = match config {
-                None => "tree from the root".to_string(),
-                Some((tiles, k, spread, split)) => {
-                    let leaves = if *split {
-                        "clusters split"
-                    } else {
-                        "clusters whole"
-                    };
-                    format!("{tiles}×{tiles} tiles, cut ≤ {k}, spread ≤ {spread}, {leaves}")
-                }
-            };
             println!(
                 "  {label}: {:.0}× below power ({:.2}× the tree's variance); {t:.1} ns ({:.1}× \
                  alias); every tile cut in {cut_ms:.1} ms, {entries:.1} entries a tile, \

@@ -54,7 +54,9 @@ fn check(scene: &Scene, scheme: Scheme, q_of: impl Fn(DVec2) -> Vec<f64>) {
     let mut renderer = CpuRenderer::new(scene, scheme, 77);
     renderer.accumulate(SPP);
     let acc = renderer.accumulator();
-    let spatial = SpatialSampler::build(&scene.positions, &scene.powers);
+    // The scene's own spatial sampler (cut per tile of its pixels), the one the renderer
+    // picks with.
+    let spatial = SpatialSampler::for_scene(scene);
     let n = f64::from(SPP);
     for py in 0..scene.plane.height {
         for px in 0..scene.plane.width {
@@ -125,8 +127,8 @@ fn spatial_sampling_variance_at_each_pixel_is_the_inspected_one() {
         .map(DVec3::from)
         .collect();
     s.powers = LightPowers::new((0..40).map(|k| 1.0 + f64::from(k % 7)).collect()).unwrap();
-    let sampler = SpatialSampler::build(&s.positions, &s.powers);
-    assert!(matches!(sampler, SpatialSampler::Tree(_)));
+    let sampler = SpatialSampler::for_scene(&s);
+    assert!(matches!(&sampler, SpatialSampler::Tree(t) if t.tile_cuts().is_some()));
     check(&s, Scheme::Spatial, |x| sampler.pdfs(x));
 }
 

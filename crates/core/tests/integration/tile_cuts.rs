@@ -339,3 +339,128 @@ fn the_alias_columns_give_each_entry_exactly_its_mass_over_every_draw() {
         }
     }
 }
+
+/// Where a cut reaches single lights, each is weighed by its shares of the irradiance at
+/// the tile's nine weighing points: `q̃_i = √(max_k s_i(x_k) · rms_k s_i(x_k))` with
+/// `s_i(x_k) = c_i(x_k)/Σ_j c_j(x_k)`, then `w_i = (1 − ε)·q̃_i/Σ q̃ + ε·p_i/Σ p`, on the
+/// `2^24` grid (each mass `⌊w_i·2^24⌋` or 1, the remainder to the largest). Recomputed
+/// here from the scene alone, the weighing points from the tile's pixels (the centres of
+/// its ninths), on `equal`, whose every tile is cut into its 64 lights.
+#[test]
+fn a_cut_of_single_lights_weighs_each_by_its_shares_at_the_weighing_points() {
+    use lightpick_core::spatial::importance::POWER_SHARE;
+    let scene = preset_at("equal", 128, 128);
+    let tree = cut_tree(&scene);
+    let cuts = tree.tile_cuts().expect("cuts");
+    let pmf = scene.powers.pmf();
+    let [tiles_x, tiles_y] = cuts.tiles();
+    let tiles = (tiles_x * tiles_y) as usize;
+    for tile in [0, 1, tiles_x as usize + 5, tiles / 2 + 17, tiles - 1] {
+        let entries: Vec<(ChildRef, u32)> = cuts.entries(&tree, tile).collect();
+        let lights: Vec<usize> = entries
+            .iter()
+            .map(|&(e, _)| match e.get() {
+                Child::Leaf { first, count: 1 } => tree.order()[first] as usize,
+                other => panic!("tile {tile}: an entry {other:?} that is not one light"),
+            })
+            .collect();
+        assert_eq!(
+            lights.len(),
+            scene.light_count(),
+            "tile {tile}: every light"
+        );
+        let [first, end] = cuts
+            .tile_pixels(tile)
+            .map(|[px, py]| dvec2(f64::from(px), f64::from(py)));
+        let points: Vec<DVec2> = (0..9)
+            .map(|k| {
+                let f = dvec2(f64::from(k % 3) + 0.5, f64::from(k / 3) + 0.5) / 3.0;
+                scene.plane.point_at(first + f * (end - first))
+            })
+            .collect();
+        let shares: Vec<Vec<f64>> = points
+            .iter()
+            .map(|&x| {
+                let c: Vec<f64> = lights
+                    .iter()
+                    .map(|&i| pmf[i] * scene.light_term(i, x))
+                    .collect();
+                let total: f64 = c.iter().sum();
+                c.iter().map(|c| c / total).collect()
+            })
+            .collect();
+        let q: Vec<f64> = (0..lights.len())
+            .map(|e| {
+                let s: Vec<f64> = shares.iter().map(|at| at[e]).collect();
+                let largest = s.iter().fold(0.0f64, |m, &v| m.max(v));
+                let rms = (s.iter().map(|v| v * v).sum::<f64>() / 9.0).sqrt();
+                (largest * rms).sqrt()
+            })
+            .collect();
+        let (q_sum, p_sum): (f64, f64) = (q.iter().sum(), lights.iter().map(|&i| pmf[i]).sum());
+        let largest = entries.iter().map(|&(_, m)| m).max().expect("entries");
+        for (e, &(_, mass)) in entries.iter().enumerate() {
+            let w = (1.0 - POWER_SHARE) * q[e] / q_sum + POWER_SHARE * pmf[lights[e]] / p_sum;
+            let cells = w * f64::from(GRID);
+            // Flooring costs under a cell; the largest takes the remainder (under a cell
+            // per entry).
+            let slack = if mass == largest {
+                1.0 + entries.len() as f64
+            } else {
+                1.0
+            };
+            assert!(
+                (f64::from(mass) - cells).abs() <= slack,
+                "tile {tile}, light {}: mass {mass} against {cells:.2} cells",
+                lights[e]
+            );
+        }
+    }
+}
+
+/// Mean exact variance `Σ c_i²/P_i − E²` over a grid of pixel centres.
+fn mean_variance(scene: &Scene, sampler: &SpatialSampler, grid: u32) -> f64 {
+    let pmf = scene.powers.pmf();
+    let mut sum = 0.0;
+    for j in 0..grid {
+        for i in 0..grid {
+            let (px, py) = (
+                i * scene.plane.width / grid + 1,
+                j * scene.plane.height / grid + 2,
+            );
+            let x = pixel_center(&scene.plane, px, py);
+            let pdf = sampler.pdfs(x);
+            let c: Vec<f64> = (0..scene.light_count())
+                .map(|i| pmf[i] * scene.light_term(i, x))
+                .collect();
+            let e: f64 = c.iter().sum();
+            let second: f64 = c
+                .iter()
+                .zip(&pdf)
+                .map(|(&c, &p)| {
+                    assert!(c == 0.0 || p > 0.0, "a contributing light has P = 0 at {x}");
+                    if c > 0.0 { c * c / p } else { 0.0 }
+                })
+                .sum();
+            sum += second - e * e;
+        }
+    }
+    sum / f64::from(grid * grid)
+}
+
+/// Weighing a cut's entries by their estimates replaces the tree's top levels, whose
+/// errors compound level by level: on point lights the cut's exact variance is well below
+/// the tree's from its root (measured 0.07× on `equal`, 0.16× on `heavy-tail`).
+#[test]
+fn cuts_weighed_by_estimates_have_well_below_the_trees_variance_on_point_lights() {
+    for name in ["equal", "heavy-tail"] {
+        let scene = preset_at(name, 128, 128);
+        let tree = cut_tree(&scene);
+        let cut = mean_variance(&scene, &SpatialSampler::Tree(tree.clone()), 12);
+        let whole = mean_variance(&scene, &SpatialSampler::Tree(tree.with_cuts(None)), 12);
+        assert!(
+            cut < 0.5 * whole,
+            "{name}: {cut:e} against the tree's {whole:e}"
+        );
+    }
+}

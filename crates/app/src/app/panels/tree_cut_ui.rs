@@ -29,9 +29,10 @@ pub fn cut_stage_ui(ui: &mut Ui, cut: &CutStep, dark: bool) {
     };
     ui.label(format!(
         "This pixel's tile (pixels {x0}–{} across, {y0}–{} down) keeps a cut of the tree: \
-         {held} that hold every light able to reach it, weighed once for the whole tile by \
-         the tree's own choices at nine points of it. The pick starts by drawing one of \
-         them, with no work at x.",
+         {held} that hold every light able to reach it, each weighed once for the whole tile \
+         by what it gives nine points of the tile: a single light by its own contribution, a \
+         group by its estimate (its representative light, or its map for spots). The pick \
+         starts by drawing one of them, with no work at x.",
         x1 - 1,
         y1 - 1,
     ));

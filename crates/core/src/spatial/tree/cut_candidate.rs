@@ -22,18 +22,21 @@ pub(super) const WEIGHING_POINTS: [[f64; 2]; WEIGHING_SIDE * WEIGHING_SIDE] = {
     points
 };
 
-/// One tile's cut as it is grown: each entry's subtree, its probability under the tree at
-/// each weighing point, and its power.
+/// One tile's cut as it is grown: each entry's subtree, its estimate at each weighing
+/// point, and its power.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Candidate {
     /// The entry's subtree (a node, a leaf cluster, or a single light).
     pub(super) at: ChildRef,
-    /// `P_tree(e | x_k)` at each weighing point `x_k`.
+    /// `Ê_e(x_k)`, what the entry is estimated to give each weighing point `x_k` (or, for
+    /// measuring the alternative, the tree's probability `P_tree(e | x_k)`).
     pub(super) reach: [f64; WEIGHING_POINTS.len()],
-    /// The largest of `reach`: `q̄_e = max_k P_tree(e | x_k)`.
+    /// Its largest share `max_k Ê_e(x_k)/Ê(x_k)` against the cut's totals `Ê(x_k)` as
+    /// they were last taken (the growth's order and spread).
     pub(super) peak: f64,
-    /// What the cut weighs the entry by: `q̃_e = √(q̄_e · q_e)`, `q_e` the root mean square
-    /// of `reach` (the module docs of `tile_cut`).
+    /// What the cut weighs the entry by: `q̃_e = √(q̄_e · q_e)`, `q̄_e` the largest and `q_e`
+    /// the root mean square of its shares against the final cut's totals
+    /// ([`Candidate::weigh`]; the module docs of `tile_cut`).
     pub(super) weight: f64,
     /// `Φ_e`, the normalized power of the entry's lights.
     pub(super) power: f64,
@@ -43,17 +46,37 @@ pub(super) struct Candidate {
 }
 
 impl Candidate {
-    /// The entry `at`, reached with `reach` at the weighing points, of power `power`.
+    /// The entry `at` with the estimates `reach` at the weighing points, of power `power`;
+    /// its peak and weight are taken later ([`Candidate::largest_share`],
+    /// [`Candidate::weigh`]).
     pub(super) fn new(at: ChildRef, reach: [f64; WEIGHING_POINTS.len()], power: f64) -> Self {
-        let peak = reach.iter().fold(0.0f64, |m, &r| m.max(r));
-        let mean_square = reach.iter().map(|r| r * r).sum::<f64>() / reach.len() as f64;
         Self {
             at,
             reach,
-            peak,
-            weight: (peak * mean_square.sqrt()).sqrt(),
+            peak: 0.0,
+            weight: 0.0,
             power,
             whole: false,
         }
+    }
+
+    /// `max_k Ê_e(x_k) · inverse_total[k]`: the entry's largest share against the totals
+    /// whose reciprocals are `inverse_total`.
+    #[inline]
+    pub(super) fn largest_share(&self, inverse_total: &[f64; WEIGHING_POINTS.len()]) -> f64 {
+        self.reach
+            .iter()
+            .zip(inverse_total)
+            .fold(0.0f64, |m, (r, t)| m.max(r * t))
+    }
+
+    /// Sets [`Candidate::weight`] from the shares against the totals whose reciprocals are
+    /// `inverse_total`: `√(q̄_e · q_e)`.
+    pub(super) fn weigh(&mut self, inverse_total: &[f64; WEIGHING_POINTS.len()]) {
+        let shares: [f64; WEIGHING_POINTS.len()] =
+            std::array::from_fn(|k| self.reach[k] * inverse_total[k]);
+        let peak = shares.iter().fold(0.0f64, |m, &s| m.max(s));
+        let mean_square = shares.iter().map(|s| s * s).sum::<f64>() / shares.len() as f64;
+        self.weight = (peak * mean_square.sqrt()).sqrt();
     }
 }

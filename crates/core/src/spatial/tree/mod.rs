@@ -54,6 +54,7 @@
 mod build;
 mod cut_candidate;
 mod cut_columns;
+mod cut_growth;
 mod descent;
 mod fill;
 mod footprint_split;

@@ -18,47 +18,59 @@
 //! entries' lights reach `x` and every level's masses sum to `2^24`.
 //!
 //! # How a tile cuts and weighs
-//! Let `x_1 … x_9` be the centres of the tile's ninths and `P_tree(e | x_k)` the tree's own
-//! probability of descending into subtree `e` at `x_k` (the product of its branch masses
-//! there, lanes weighed by their representative lights or, for spots, their maps). A cut
-//! starts as the root alone and splits, while it can, its entry of largest
-//! `q̄_e = max_k P_tree(e | x_k)`: a node into its lanes, leaving out a lane whose footprint
-//! box misses the tile (none of its lights gives the tile anything); a leaf cluster into
-//! its lights, each reached with the cluster's probability times its share `c_j(x_k)/Σ c`
-//! there, when every light's share at every weighing point is at least half its largest
-//! (else the cluster stays whole and the cut goes on with the others). A pick that takes a
-//! single light evaluates that light alone: on a tile far from its lights (a point light's
-//! share changes slowly across a tile) the pick costs about what an alias pick costs plus
-//! the cut's draw. A spot's share can jump at its cone's edge between two weighing points,
-//! so a cluster of spots (or of lights with a range) splits only where each light either
-//! misses the tile (its footprint box does not meet it: it is left out) or keeps its factor
-//! above half its peak over the whole tile, a bound taken at the tile's corners
-//! ([`Emission::factor_floor_over`]): no cone's or range's edge then crosses the tile.
-//! (Splitting spots' clusters on the weighing points alone cost `gallery` 1.25× its
-//! variance, measured; with the bound it costs nothing.) Its entries are weighed
+//! Let `x_1 … x_9` be the centres of the tile's ninths. Each entry `e` of a cut carries an
+//! **estimate** `Ê_e(x_k)` of what its lights give each weighing point: for a single
+//! light or a leaf cluster its exact contribution `Σ_j p_j·G_j(x_k)·S_j(x_k)`; for a lane
+//! of point lights its representative light `Φ_c·G(c, x_k)` (the tree's own importance,
+//! [`crate::spatial::importance`]); for a lane of spots or ranges its map's value there
+//! plus its unbounded lights' representative light ([`crate::spatial::grid`]). Against the
+//! cut's total `Ê(x_k) = Σ_f Ê_f(x_k)` each entry has the **share** `s_e(x_k) =
+//! Ê_e(x_k)/Ê(x_k)`. A cut starts as the root's lanes and splits, while it can, its entry
+//! of largest `q̄_e = max_k s_e(x_k)`: a node into its lanes, leaving out a lane whose
+//! footprint box misses the tile (none of its lights gives the tile anything); a leaf
+//! cluster into its lights, when each light's contribution at every weighing point is at
+//! least half its largest (else the cluster stays whole and the cut goes on with the
+//! others). A pick that takes a single light evaluates that light alone. A spot's
+//! contribution can jump at its cone's edge between two weighing points, so a cluster of
+//! spots (or of lights with a range) splits only where each light either misses the tile
+//! (its footprint box does not meet it: it is left out) or keeps its factor above half its
+//! peak over the whole tile, a bound taken at the tile's corners
+//! ([`Emission::factor_floor_over`]): no cone's or range's edge then crosses the tile. Its
+//! entries are weighed
 //!
 //! `w_e = (1 − ε)·q̃_e / Σ q̃ + ε·Φ_e / Σ Φ`,  `ε =` [`POWER_SHARE`],
 //!
-//! `q̃_e = √(q̄_e · q_e)` with `q_e = (Σ_k P_tree(e | x_k)²/9)^½`, the root mean square of the
-//! entry's probabilities at the weighing points: every entry holding power keeps
-//! `m_e ≥ 1`, so a light that contributes anywhere in the tile keeps `P(i | x) > 0`, and
-//! the estimate stays unbiased.
+//! `q̃_e = √(q̄_e · q_e)` with `q_e = (Σ_k s_e(x_k)²/9)^½`, the root mean square of the
+//! entry's shares at the weighing points: every entry holding power keeps `m_e ≥ 1`, so a
+//! light that contributes anywhere in the tile keeps `P(i | x) > 0`, and the estimate stays
+//! unbiased.
 //!
-//! **What fixing the top costs.** Where the tree picks nearly by contribution (its pdf
-//! close to `c_i/E`), its second moment below entry `e` is about `P_tree(e | x)·E²`, and a
-//! cut of weights `w` has the variance `E²·(Σ_e P_tree(e | x)²/w_e − 1)`: least on average
-//! over the weighing points for `w_e ∝ q_e`, the root mean square. The largest, `q̄_e`,
-//! guards a point between them where `P_tree(e | x)` peaks; `q̃_e` takes both (measured
-//! against either alone in the module docs of [`crate::spatial`]). At a weighing point the
-//! cut pick's probability of any light is at least `(1 − ε)/(√3·S)` times the tree's, where
-//! `S = Σ_e q̄_e ≥ 1` is the cut's **spread** (`q_e ≥ q̄_e/3`, so `q̃_e ≥ q̄_e/√3 ≥
-//! P_tree(e | x_k)/√3`, and `Σ q̃ ≤ S`): the second moment `Σ c_i²/P(i | x)` grows at most
-//! by `√3·S/(1 − ε)` (up to the grid's rounding of `w_e`). A split is made only while `S`
-//! stays at most [`CUT_MAX_SPREAD`], so the cut fixes exactly the decisions that hardly
-//! change across the tile (far lights, lanes whose branch probabilities agree at all nine
-//! points) and leaves to the descent at `x` those that do. The first split that would pass
-//! either limit ends the cut (trying the smaller entries costs more build time than it
-//! saves). The variances and times measured are in the module docs of [`crate::spatial`].
+//! **Why estimates, not the tree's probabilities.** A descent from the root multiplies one
+//! branch probability per level, each a ratio of representative lights with a share of
+//! power mixed in: the errors of every level compound, and each level gives `ε` of its
+//! probability to power. A cut weighed by the tree's probabilities `P_tree(e | x_k)` (as it
+//! was first built) inherits all of that and at best keeps the tree's variance. Weighed by
+//! estimates, the cut replaces the levels above its entries by one comparison of
+//! estimates that get better as the cut gets finer, exact where it reaches single lights or
+//! whole leaf clusters; below an entry the descent at `x` is the tree's as before. Exact
+//! variances over the tree's (the module docs of [`crate::spatial`]): 0.07× on `equal`,
+//! 0.16× on `heavy-tail`, 0.64× on `grid`, 0.11–0.17× on clustered light sets near the
+//! plane that no preset resembles, 0.63× on `stage`, 0.82–1.16× on the other spot scenes.
+//!
+//! **What fixing the top costs.** Where the shares estimate the entries' parts of the
+//! irradiance well, a cut of weights `w` has at `x_k` the variance `E²·(Σ_e s_e(x_k)²/w_e −
+//! 1)` at the entry level: least on average over the weighing points for `w_e ∝ q_e`, the
+//! root mean square. The largest, `q̄_e`, guards a point between them where the share peaks;
+//! `q̃_e` takes both. At a weighing point the cut's probability of any entry is at least
+//! `(1 − ε)/(√3·S)` times its share, where `S = Σ_e q̄_e ≥ 1` is the cut's **spread**
+//! (`q_e ≥ q̄_e/3`, so `q̃_e ≥ q̄_e/√3 ≥ s_e(x_k)/√3`, and `Σ q̃ ≤ S`). A split is made only
+//! while `S` stays at most the cut's limit and the cut at most [`CUT_MAX_ENTRIES`] entries
+//! ([`CUT_MAX_ENTRIES_LARGE`] in a tree of more than [`CUT_LARGE_TREE`] lights): the limit
+//! is [`CUT_MAX_SPREAD`] (4) over point lights, whose shares change smoothly across a tile,
+//! and [`CUT_MAX_SPREAD_PROFILES`] (1.25) over spots and ranges, whose maps are cell means a
+//! cone's edge makes a poor guide between the points (at 2, `gallery` loses 2.7× its
+//! variance). The first split that would pass either limit ends the cut (trying the
+//! smaller entries costs more build time than it saves).
 //!
 //! # The draw: Walker's alias columns on the grid, exact
 //! A tile of `n` entries keeps `K = n` rounded up to a power of two columns of `C = 2^24/K`
@@ -86,25 +98,32 @@ use glam::DVec2;
 use super::LightTree;
 use super::cut_candidate::{Candidate, WEIGHING_POINTS};
 use super::cut_columns::{AliasWork, MOST_ENTRIES, alias_columns_into, alias_pick};
+use super::cut_growth::{Rules, Weighing, grow};
 use super::node::{Child, ChildRef, TREE_WIDTH};
 use crate::scene::ReceiverPlane;
-use crate::spatial::importance::{GRID_CELL, POWER_SHARE, grid_masses_into};
+use crate::spatial::importance::{POWER_SHARE, grid_masses_into};
 
 /// Tiles along the longer side of the receiver (32 × 32 tiles on a square one).
 pub const CUT_TILES_PER_SIDE: u32 = 64;
 
 /// The most entries of one tile's cut.
-pub const CUT_MAX_ENTRIES: usize = 64;
+pub const CUT_MAX_ENTRIES: usize = 128;
 
-/// The most a cut may spread its entries' probabilities: `Σ_e max_k P_tree(e | x_k)` over
-/// the tile's weighing points `x_k` (module docs), at most this.
-pub const CUT_MAX_SPREAD: f64 = 1.25;
+/// The most a cut may spread its entries' shares, `Σ_e max_k s_e(x_k)` over the tile's
+/// weighing points `x_k` (module docs), in a tree of point lights.
+pub const CUT_MAX_SPREAD: f64 = 4.0;
 
-/// A cut splits a leaf cluster into its lights only where each light's share
-/// `c_j(x_k)/Σ c` at every weighing point is at least this fraction of its largest there,
-/// and each spot's emission factor over the whole tile at least this fraction of its peak
-/// (module docs).
-const LEAF_FLATNESS: f64 = 0.5;
+/// [`CUT_MAX_SPREAD`] in a tree of spots or lights with a range, whose maps are cell means
+/// that a cone's edge crossing the tile makes a poor guide between the weighing points.
+pub const CUT_MAX_SPREAD_PROFILES: f64 = 1.25;
+
+/// Trees of more lights than this cut at most [`CUT_MAX_ENTRIES_LARGE`] entries a tile:
+/// their cuts reach no single light either way, and the app's 100 bytes per light at
+/// `10^6` lights hold half the cut.
+pub const CUT_LARGE_TREE: usize = 1 << 18;
+
+/// The most entries of a tile's cut in a tree of more than [`CUT_LARGE_TREE`] lights.
+pub const CUT_MAX_ENTRIES_LARGE: usize = 64;
 
 /// The cuts of every tile of one receiver's pixel grid; see the module docs. A tile is cut
 /// the first time something needs it (a pick, a pdf, the GPU's upload: [`TileCuts::cut_all`]),
@@ -117,12 +136,8 @@ pub struct TileCuts {
     plane: ReceiverPlane,
     /// Pixels along a tile's side.
     tile_side: u32,
-    /// The most entries of a tile's cut.
-    max_entries: usize,
-    /// The most `Σ_e max_k P_tree(e | x_k)` of a tile's cut.
-    max_spread: f64,
-    /// Whether leaf clusters may split into their lights (module docs).
-    split_leaves: bool,
+    /// How each tile's cut grows: its limits and what it weighs its entries by.
+    rules: Rules,
     /// Tiles along `x` (columns).
     tiles_x: u32,
     /// Tiles along `y` (rows, from the plane's top row of pixels).
@@ -141,11 +156,7 @@ type TileCut = Box<[u32]>;
 /// their tiles' cuts are then equal, made or not.
 impl PartialEq for TileCuts {
     fn eq(&self, other: &Self) -> bool {
-        self.plane == other.plane
-            && self.tile_side == other.tile_side
-            && self.max_entries == other.max_entries
-            && self.max_spread == other.max_spread
-            && self.split_leaves == other.split_leaves
+        self.plane == other.plane && self.tile_side == other.tile_side && self.rules == other.rules
     }
 }
 
@@ -153,13 +164,17 @@ impl TileCuts {
     /// The cuts of `tree` over `plane`'s pixel grid (`None` when the tree's root is not an
     /// internal node, or the plane has no pixels), each tile cut when first needed.
     pub fn build(tree: &LightTree, plane: &ReceiverPlane) -> Option<Self> {
-        Self::build_sized(
-            tree,
-            plane,
-            CUT_TILES_PER_SIDE,
-            CUT_MAX_ENTRIES,
-            CUT_MAX_SPREAD,
-        )
+        let max_entries = if tree.lights.len() > CUT_LARGE_TREE {
+            CUT_MAX_ENTRIES_LARGE
+        } else {
+            CUT_MAX_ENTRIES
+        };
+        let max_spread = if tree.emission.is_empty() {
+            CUT_MAX_SPREAD
+        } else {
+            CUT_MAX_SPREAD_PROFILES
+        };
+        Self::build_sized(tree, plane, CUT_TILES_PER_SIDE, max_entries, max_spread)
     }
 
     /// [`TileCuts::build`] with about `tiles_per_side` tiles along the receiver's longer
@@ -200,9 +215,12 @@ impl TileCuts {
         Some(Self {
             plane: plane.clone(),
             tile_side,
-            max_entries: max_entries.clamp(TREE_WIDTH, MOST_ENTRIES),
-            max_spread: max_spread.max(1.0),
-            split_leaves: true,
+            rules: Rules {
+                max_entries: max_entries.clamp(TREE_WIDTH, MOST_ENTRIES),
+                max_spread: max_spread.max(1.0),
+                split_leaves: true,
+                weighing: Weighing::Estimates,
+            },
             tiles_x,
             tiles_y,
             cuts: (0..tiles_x * tiles_y).map(|_| OnceLock::new()).collect(),
@@ -221,7 +239,12 @@ impl TileCuts {
 
     /// The most entries of a tile's cut.
     pub fn max_entries(&self) -> usize {
-        self.max_entries
+        self.rules.max_entries
+    }
+
+    /// The most spread `Σ_e max_k s_e(x_k)` of a tile's cut (module docs).
+    pub fn max_spread(&self) -> f64 {
+        self.rules.max_spread
     }
 
     /// Every tile's cut dropped, to be cut again when next needed (the tree's new powers,
@@ -234,7 +257,17 @@ impl TileCuts {
     /// clusters gains (the `tile_cuts` example).
     #[must_use]
     pub fn keeping_leaf_clusters(mut self) -> Self {
-        self.split_leaves = false;
+        self.rules.split_leaves = false;
+        self.clear();
+        self
+    }
+
+    /// The same cuts with entries weighed by the tree's probabilities `P_tree(e | x_k)`
+    /// instead of their estimated contributions (module docs): for measuring what weighing
+    /// by estimates gains (the `tile_cuts` example).
+    #[must_use]
+    pub fn weighing_by_tree_probabilities(mut self) -> Self {
+        self.rules.weighing = Weighing::TreeProbabilities;
         self.clear();
         self
     }
@@ -374,44 +407,26 @@ impl TileCuts {
     /// order with their alias columns, as [`TileCut`]'s words in `scratch.words`.
     fn cut_tile(&self, tree: &LightTree, tile: u32, scratch: &mut Scratch) {
         let tile = self.tile_geometry(tile);
-        let Scratch {
-            cut,
-            children,
-            weights,
-            masses,
-            ..
-        } = scratch;
+        let Scratch { cut, children, .. } = scratch;
         cut.clear();
+        // The root alone: its estimate is a placeholder, replaced by its lanes' at once.
         cut.push(Candidate::new(
             tree.root(),
             [1.0; WEIGHING_POINTS.len()],
             1.0,
         ));
-        // Σ_e max_k P_tree(e | x_k): the bound on how much fixing the cut's decisions can
-        // raise the variance at the weighing points (module docs).
-        let mut spread = 1.0;
-        while let Some(k) = cut
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| !c.whole && splits(c.at, self.split_leaves))
-            .max_by(|a, b| a.1.peak.total_cmp(&b.1.peak))
-            .map(|(k, _)| k)
-        {
-            children.clear();
-            if !split_into(tree, cut[k].at, cut[k].reach, tile, children) {
-                cut[k].whole = true;
-                continue;
-            }
-            let grown = spread - cut[k].peak + children.iter().map(|c| c.peak).sum::<f64>();
-            if cut.len() - 1 + children.len() > self.max_entries || grown > self.max_spread {
-                // The largest entry that can still be split cannot: the cut is done (trying
-                // the smaller ones costs more than it gains, measured).
-                break;
-            }
-            spread = grown;
-            cut.swap_remove(k);
-            cut.append(children);
-        }
+        grow(tree, tile, cut, children, self.rules);
+        Self::finish(tree, scratch);
+    }
+
+    /// The grown cut's masses and alias columns, in `scratch.words`.
+    fn finish(tree: &LightTree, scratch: &mut Scratch) {
+        let Scratch {
+            cut,
+            weights,
+            masses,
+            ..
+        } = scratch;
         // In leaf order (the subtrees' ranges are disjoint).
         cut.sort_unstable_by_key(|c| tree.first_of(c.at));
         let (reach, power) = cut
@@ -461,100 +476,4 @@ struct Scratch {
     masses: Vec<u32>,
     columns: AliasWork,
     words: Vec<u32>,
-}
-
-/// Whether a cut of `tree` can split `at`: an internal node into its lanes; when
-/// `split_leaves`, a leaf cluster of more than one light into its lights (whether it does
-/// on a tile is [`split_into`]'s call).
-fn splits(at: ChildRef, split_leaves: bool) -> bool {
-    match at.get() {
-        Child::Node(_) => true,
-        Child::Leaf { count, .. } => split_leaves && count > 1,
-        Child::Empty => false,
-    }
-}
-
-/// Whether a leaf cluster's lights, as [`split_into`] gave them, may enter the cut one by
-/// one: each light's share at every weighing point at least [`LEAF_FLATNESS`] of its largest.
-fn flat_on_tile(lights: &[Candidate]) -> bool {
-    let flat = |c: &Candidate| c.reach.iter().all(|&r| r >= LEAF_FLATNESS * c.peak);
-    lights.iter().all(flat)
-}
-
-/// Whether the footprint box `footprint` (`None`: unbounded) meets the box `rect`.
-fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
-    footprint.is_none_or(|[a, b]| a.cmple(hi).all() && b.cmpge(lo).all())
-}
-
-/// The lanes of node `at` (reached with probability `reach[k]` at weighing point `k`) that
-/// can light the tile (`tile`: its weighing points and box), appended to `out` in leaf
-/// order, each reached with the node's grid probability at each point; or the lights of
-/// leaf cluster `at`, each reached with the cluster's grid masses by contribution. A lane
-/// or a light whose footprint misses the tile's box is left out: none of its lights gives
-/// the tile anything, and a pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
-/// Returns whether the cut may take them: always a node's lanes; a leaf cluster's lights
-/// where each keeps its emission factor within [`LEAF_FLATNESS`] of its peak over the whole
-/// tile ([`Emission::factor_floor_over`]: always for point lights) and [`flat_on_tile`]
-/// holds for their shares (else the cluster stays whole).
-///
-/// [`Emission::factor_floor_over`]: crate::scene::Emission::factor_floor_over
-fn split_into(
-    tree: &LightTree,
-    at: ChildRef,
-    reach: [f64; WEIGHING_POINTS.len()],
-    (points, rect): ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]),
-    out: &mut Vec<Candidate>,
-) -> bool {
-    let n = match at.get() {
-        Child::Node(n) => n,
-        Child::Leaf { first, count } => {
-            let lights = first..first + count;
-            // Where each light is mapped on the plane (within the receiver, where picks are
-            // made); none for point lights, which reach every tile.
-            let footprints = tree.footprints.get(lights.clone());
-            let lights_tile = |j: usize| footprints.is_none_or(|f| meets(f[j], rect));
-            if let Some(emission) = tree.emission.get(lights.clone()) {
-                // A cone's or range's edge that may cross the tile keeps the cluster whole,
-                // before its lights' shares are weighed.
-                let lit = tree.lights[lights.clone()].iter().zip(emission).enumerate();
-                for (j, (light, e)) in lit {
-                    if lights_tile(j)
-                        && e.factor_floor_over(light.position_in_world, rect) < LEAF_FLATNESS
-                    {
-                        return false;
-                    }
-                }
-            }
-            let masses = points.map(|x| tree.leaf_masses_at(first, count, x).0);
-            let start = out.len();
-            for (j, light) in tree.lights[lights].iter().enumerate() {
-                // A light that gives the tile nothing is left out.
-                if lights_tile(j) {
-                    out.push(Candidate::new(
-                        ChildRef::leaf(first + j, 1),
-                        std::array::from_fn(|k| reach[k] * f64::from(masses[k][j]) * GRID_CELL),
-                        light.power,
-                    ));
-                }
-            }
-            return flat_on_tile(&out[start..]);
-        }
-        Child::Empty => return true,
-    };
-    let node = &tree.nodes()[n];
-    let masses = points.map(|x| tree.node_masses_at(n, x));
-    let bounds = tree.bounds(n);
-    for lane in 0..TREE_WIDTH {
-        let child = node.child[lane];
-        let footprint = bounds.map(|b| b[lane].footprint);
-        if child.get() == Child::Empty || !meets(footprint, rect) {
-            continue;
-        }
-        out.push(Candidate::new(
-            child,
-            std::array::from_fn(|k| reach[k] * f64::from(masses[k][lane]) * GRID_CELL),
-            node.power(lane),
-        ));
-    }
-    true
 }

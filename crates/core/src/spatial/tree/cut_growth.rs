@@ -1,0 +1,263 @@
+//! How one tile's cut grows from the root ([`super::TileCuts`], whose module docs give the
+//! rule and what it guarantees): the splits, what each entry is estimated to give the
+//! tile's weighing points, and when a cut is done.
+
+use glam::DVec2;
+
+use super::LightTree;
+use super::cut_candidate::{Candidate, WEIGHING_POINTS};
+use super::node::{Child, ChildRef, TREE_WIDTH};
+use crate::spatial::importance::{GRID_CELL, IMPORTANCE_CAP, lane_importances};
+
+/// How a tile's cut grows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Rules {
+    /// The most entries of a tile's cut.
+    pub(super) max_entries: usize,
+    /// The most spread `Σ_e max_k s_e(x_k)` of a tile's cut.
+    pub(super) max_spread: f64,
+    /// Whether leaf clusters may split into their lights.
+    pub(super) split_leaves: bool,
+    /// What the entries are weighed by.
+    pub(super) weighing: Weighing,
+}
+
+/// How far a cut's total estimate at a weighing point may move before its entries' largest
+/// shares are taken again ([`grow`]).
+const TOTALS_DRIFT: f64 = 1.0 / 16.0;
+
+/// Each estimate is capped here, so that the cut's sum of at most
+/// [`super::CUT_MAX_ENTRIES`] of
+/// them stays finite (a light `10^-150` above the plane gives `~10^298`).
+const ESTIMATE_CAP: f64 = IMPORTANCE_CAP / 256.0;
+
+/// What a cut weighs its entries by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Weighing {
+    /// Their estimated contributions `Ê_e(x_k)` (module docs).
+    Estimates,
+    /// The tree's probabilities `P_tree(e | x_k)` (for measuring the alternative).
+    TreeProbabilities,
+}
+
+/// A cut splits a leaf cluster into its lights only where each light's contribution at
+/// every weighing point is at least this fraction of its largest there (its share in the
+/// tree's probabilities when weighing by those), and each spot's emission factor over the
+/// whole tile at least this fraction of its peak ([`super::TileCuts`]).
+const LEAF_FLATNESS: f64 = 0.5;
+
+/// Grows a tile's cut from the root (module docs): splits the entry of largest share
+/// `max_k s_e(x_k)` while the cut keeps at most `rules.max_entries` entries and a
+/// spread `Σ_e max_k s_e(x_k)` of at most the cut's limit, then weighs each entry by
+/// its shares (`q̃_e` in `Candidate::weight`).
+///
+/// The shares `s_e(x_k) = Ê_e(x_k) / Σ_f Ê_f(x_k)` are taken against the totals of the
+/// cut as it stands; every split changes those totals a little, so the entries' largest
+/// shares are kept against the totals they were last taken against and taken again,
+/// all of them, only when a total has moved by more than [`TOTALS_DRIFT`] since: the
+/// cut then costs `O(n)` a split instead of `O(9n)`, and the order of its splits and
+/// its spread are those of the current totals within that drift.
+pub(super) fn grow(
+    tree: &LightTree,
+    tile: ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]),
+    cut: &mut Vec<Candidate>,
+    children: &mut Vec<Candidate>,
+    rules: Rules,
+) {
+    const W: usize = WEIGHING_POINTS.len();
+    let reciprocal = |t: [f64; W]| t.map(|t| if t > 0.0 { 1.0 / t } else { 0.0 });
+    let mut total = [1.0; W];
+    // 1/total at each point as the entries' peaks were last taken.
+    let mut taken_at = reciprocal(total);
+    cut[0].peak = 1.0;
+    let mut spread = 1.0;
+    while let Some(k) = cut
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| !c.whole && splits(c.at, rules.split_leaves))
+        .max_by(|a, b| a.1.peak.total_cmp(&b.1.peak))
+        .map(|(k, _)| k)
+    {
+        children.clear();
+        if !split_into(
+            tree,
+            cut[k].at,
+            cut[k].reach,
+            tile,
+            children,
+            rules.weighing,
+        ) {
+            cut[k].whole = true;
+            continue;
+        }
+        let mut grown = total;
+        for (p, g) in grown.iter_mut().enumerate() {
+            *g += children.iter().map(|c| c.reach[p]).sum::<f64>() - cut[k].reach[p];
+        }
+        let drifted = grown.iter().zip(&taken_at).any(|(&g, &r)| {
+            let moved = (g * r - 1.0).abs();
+            moved.is_nan() || moved > TOTALS_DRIFT
+        });
+        let grown_spread = if drifted {
+            taken_at = reciprocal(grown);
+            for c in cut.iter_mut() {
+                c.peak = c.largest_share(&taken_at);
+            }
+            for c in children.iter_mut() {
+                c.peak = c.largest_share(&taken_at);
+            }
+            spread = cut.iter().map(|c| c.peak).sum();
+            spread - cut[k].peak + children.iter().map(|c| c.peak).sum::<f64>()
+        } else {
+            for c in children.iter_mut() {
+                c.peak = c.largest_share(&taken_at);
+            }
+            spread - cut[k].peak + children.iter().map(|c| c.peak).sum::<f64>()
+        };
+        if cut.len() - 1 + children.len() > rules.max_entries || grown_spread > rules.max_spread {
+            // The largest entry that can still be split cannot: the cut is done (trying
+            // the smaller ones costs more than it gains, measured).
+            break;
+        }
+        total = grown;
+        spread = grown_spread;
+        cut.swap_remove(k);
+        cut.append(children);
+    }
+    let exact = reciprocal(total);
+    for c in cut.iter_mut() {
+        c.weigh(&exact);
+    }
+}
+
+/// Whether a cut of `tree` can split `at`: an internal node into its lanes; when
+/// `split_leaves`, a leaf cluster of more than one light into its lights (whether it does
+/// on a tile is [`split_into`]'s call).
+fn splits(at: ChildRef, split_leaves: bool) -> bool {
+    match at.get() {
+        Child::Node(_) => true,
+        Child::Leaf { count, .. } => split_leaves && count > 1,
+        Child::Empty => false,
+    }
+}
+
+/// Whether a leaf cluster's lights, as [`split_into`] gave them, may enter the cut one by
+/// one: each light's estimate at every weighing point at least [`LEAF_FLATNESS`] of its
+/// largest.
+fn flat_on_tile(lights: &[Candidate]) -> bool {
+    let flat = |c: &Candidate| {
+        let largest = c.reach.iter().fold(0.0f64, |m, &r| m.max(r));
+        c.reach.iter().all(|&r| r >= LEAF_FLATNESS * largest)
+    };
+    lights.iter().all(flat)
+}
+
+/// Whether the footprint box `footprint` (`None`: unbounded) meets the box `rect`.
+fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
+    footprint.is_none_or(|[a, b]| a.cmple(hi).all() && b.cmpge(lo).all())
+}
+
+/// The lanes of node `at` that can light the tile (`tile`: its weighing points and box),
+/// appended to `out` in leaf order with their estimates at each point (by `weighing`: the
+/// lane's representative light or map; or, with `at` reached with probability `reach[k]`
+/// at weighing point `k`, the node's grid probability times that); or the lights of leaf
+/// cluster `at`, each with its exact contribution (or the cluster's grid masses by
+/// contribution times `reach[k]`). A lane
+/// or a light whose footprint misses the tile's box is left out: none of its lights gives
+/// the tile anything, and a pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
+/// Returns whether the cut may take them: always a node's lanes; a leaf cluster's lights
+/// where each keeps its emission factor within [`LEAF_FLATNESS`] of its peak over the whole
+/// tile ([`Emission::factor_floor_over`]: always for point lights) and [`flat_on_tile`]
+/// holds for their estimates (else the cluster stays whole).
+///
+/// [`Emission::factor_floor_over`]: crate::scene::Emission::factor_floor_over
+fn split_into(
+    tree: &LightTree,
+    at: ChildRef,
+    reach: [f64; WEIGHING_POINTS.len()],
+    (points, rect): ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]),
+    out: &mut Vec<Candidate>,
+    weighing: Weighing,
+) -> bool {
+    let by_estimates = weighing == Weighing::Estimates;
+    let n = match at.get() {
+        Child::Node(n) => n,
+        Child::Leaf { first, count } => {
+            let lights = first..first + count;
+            // Where each light is mapped on the plane (within the receiver, where picks are
+            // made); none for point lights, which reach every tile.
+            let footprints = tree.footprints.get(lights.clone());
+            let lights_tile = |j: usize| footprints.is_none_or(|f| meets(f[j], rect));
+            if let Some(emission) = tree.emission.get(lights.clone()) {
+                // A cone's or range's edge that may cross the tile keeps the cluster whole,
+                // before its lights' shares are weighed.
+                let lit = tree.lights[lights.clone()].iter().zip(emission).enumerate();
+                for (j, (light, e)) in lit {
+                    if lights_tile(j)
+                        && e.factor_floor_over(light.position_in_world, rect) < LEAF_FLATNESS
+                    {
+                        return false;
+                    }
+                }
+            }
+            let masses = points.map(|x| tree.leaf_masses_at(first, count, x));
+            let start = out.len();
+            for (j, light) in tree.lights[lights].iter().enumerate() {
+                // A light that gives the tile nothing is left out.
+                if lights_tile(j) {
+                    out.push(Candidate::new(
+                        ChildRef::leaf(first + j, 1),
+                        std::array::from_fn(|k| {
+                            if by_estimates {
+                                masses[k].1[j].min(ESTIMATE_CAP)
+                            } else {
+                                reach[k] * f64::from(masses[k].0[j]) * GRID_CELL
+                            }
+                        }),
+                        light.power,
+                    ));
+                }
+            }
+            return flat_on_tile(&out[start..]);
+        }
+        Child::Empty => return true,
+    };
+    let node = &tree.nodes()[n];
+    let bounds = tree.bounds(n);
+    // Each lane's estimate of what it gives each weighing point: its map's value (and
+    // its unbounded lights' representative light) for spots and ranges, its representative
+    // light `Φ_c·G(c, x)` for point lights (`lane_importances` is `4π` times that); or its
+    // probability under the tree there.
+    let lanes_at = |x: DVec2| -> [f64; TREE_WIDTH] {
+        if !by_estimates {
+            return tree.node_masses_at(n, x).map(|m| f64::from(m) * GRID_CELL);
+        }
+        let lanes = if let (Some(b), Some(m)) = (bounds, tree.mapped(n)) {
+            m.weights(b, x).0
+        } else {
+            let [cx, cy, cz] = &node.centroid;
+            lane_importances([cx, cy, cz], &node.power, x).map(|i| i / (4.0 * std::f64::consts::PI))
+        };
+        lanes.map(|e| e.min(ESTIMATE_CAP))
+    };
+    let estimates = points.map(lanes_at);
+    for lane in 0..TREE_WIDTH {
+        let child = node.child[lane];
+        let footprint = bounds.map(|b| b[lane].footprint);
+        if child.get() == Child::Empty || !meets(footprint, rect) {
+            continue;
+        }
+        out.push(Candidate::new(
+            child,
+            std::array::from_fn(|k| {
+                if by_estimates {
+                    estimates[k][lane]
+                } else {
+                    reach[k] * estimates[k][lane]
+                }
+            }),
+            node.power(lane),
+        ));
+    }
+    true
+}
