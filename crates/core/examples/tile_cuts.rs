@@ -1,7 +1,8 @@
 //! Measures the light tree's per-tile cuts ([`lightpick_core::spatial::TileCuts`]) against the
 //! tree descended from its root: the exact variance of one sample and the time per pixel
-//! sample, for a few tile counts, cut sizes and spreads, with leaf clusters kept whole or
-//! split into single lights (spots' only where their cones stay on the tile).
+//! sample: the cuts as built, the cuts as first built (weighed by the tree's probabilities
+//! alone), and the built ones with another cut size, spread limit, share of the weights
+//! given by the tree's probabilities, or with every leaf cluster kept whole.
 //!
 //! Printed per scene (rendered at 128 × 128 pixels): the exact variance of one sample
 //! (`Σ c_i²/q_i − E²`, mean over a grid of points off the pixel centres) of power picking, of the tree
@@ -88,20 +89,34 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 Some(sized(64, 64, 1.25).weighing_by_tree_probabilities()),
             ),
             (
-                format!("built: cut ≤ {k}, spread ≤ {spread}, weighed by estimates"),
+                format!(
+                    "built: cut ≤ {k}, spread ≤ {spread}, weighed by estimates, the tree's share {}",
+                    lightpick_core::spatial::CUT_TREE_SHARE
+                ),
                 Some(built.clone()),
             ),
             (
                 format!("cut ≤ {}, spread ≤ {spread}", 192 - k),
                 Some(sized(64, 192 - k, spread)),
             ),
-            ("cut ≤ 128, spread ≤ 2".into(), Some(sized(64, 128, 2.0))),
             (
                 format!(
                     "cut ≤ {k}, spread ≤ {}",
                     if spread > 2.0 { 1.25 } else { 4.0 }
                 ),
                 Some(sized(64, k, if spread > 2.0 { 1.25 } else { 4.0 })),
+            ),
+            (
+                "built, no share of the weights by the tree's probabilities".into(),
+                Some(built.clone().with_tree_share(0.0)),
+            ),
+            (
+                "built, the tree's share 0.1".into(),
+                Some(built.clone().with_tree_share(0.1)),
+            ),
+            (
+                "built, the tree's share 0.5".into(),
+                Some(built.clone().with_tree_share(0.5)),
             ),
             (
                 format!("cut ≤ {k}, spread ≤ {spread}, clusters whole"),

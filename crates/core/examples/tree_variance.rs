@@ -13,8 +13,10 @@
 //!
 //! Names are presets, or `random` (2000 spots at random heights aimed at random marks, a
 //! third with ranges) and `arena` (1500 spots on a ring aimed into it, every fifth wide):
-//! spot sets the tree was not tuned to. `--write DIR` also saves those two as lightpick JSON
-//! (`DIR/random.json`, `DIR/arena.json`) for `lightpick bench --scene`.
+//! spot sets the tree was not tuned to; and three clustered sets of point lights near the
+//! plane that no preset resembles ([`clustered`]): `clusters-low`, `chandeliers` and
+//! `strips`. `--write DIR` also saves those five as lightpick JSON (`DIR/random.json`,
+//! `DIR/arena.json`, `DIR/clusters-low.json`, …) for `lightpick bench --scene`.
 
 use glam::{DVec2, DVec3, dvec2, dvec3};
 use lightpick_core::scene::{Emission, ReceiverPlane, Scene, Spot, pixel_center};
@@ -25,6 +27,9 @@ use lightpick_core::spatial::SpatialSampler;
 #[path = "../tests/integration/common/mix.rs"]
 mod mix;
 use mix::SplitMix;
+
+#[path = "tree_variance/clustered.rs"]
+mod clustered;
 
 /// A spot at `from` aimed at `mark` on the plane.
 fn aimed(from: DVec3, mark: DVec3, inner: f64, outer: f64) -> Spot {
@@ -145,6 +150,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let dir = std::path::PathBuf::from(names.get(at + 1).ok_or("--write DIR")?);
         std::fs::write(dir.join("random.json"), random_spots()?.to_json())?;
         std::fs::write(dir.join("arena.json"), arena()?.to_json())?;
+        for scene in clustered::all()? {
+            std::fs::write(dir.join(format!("{}.json", scene.name)), scene.to_json())?;
+        }
         names.drain(at..=at + 1);
     }
     let names = if names.is_empty() {
@@ -162,7 +170,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let scene = match name.as_str() {
             "random" => random_spots()?,
             "arena" => arena()?,
-            preset => Scene::preset(preset)?,
+            other => match clustered::by_name(other)? {
+                Some(scene) => scene,
+                None => Scene::preset(other)?,
+            },
         };
         let side = if scene.light_count() > 100_000 {
             17

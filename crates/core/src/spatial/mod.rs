@@ -42,32 +42,54 @@
 //! A descent from the root costs 10–22 alias picks: one importance per lane and level, then
 //! every light of a leaf. The receiver is one plane with a known pixel grid, so
 //! [`SpatialSampler::for_scene`] cuts the tree once per tile of pixels (lightcuts and
-//! stochastic lightcuts cut a tree once per region): [`TileCuts`] keeps, per tile, up to 64
-//! entries weighed once for the whole tile (subtrees, and single lights taken out of their
-//! leaf clusters: a spot only where its cone's edge does not cross the tile), a pick draws
-//! one of them by the tile's alias
-//! columns (one word and one entry read) and descends below it at `x` as before; a single
-//! light costs no descent at all. The pdf stays exact (the entry's grid probability times
-//! the descent's) and positive wherever a light contributes; a cut splits an entry only
-//! while the tree's own probabilities agree across the tile (the spread bound of
-//! [`TileCuts`]), so the variance stays close to the tree's. Exact variances over 24 × 24
-//! points off the pixel centres (× below power sampling; in brackets, over the tree without
-//! cuts) and time per pixel sample (ns, one thread, every tile cut beforehand, over the
-//! alias table's) at 128 × 128 pixels, from `cargo run --release -p lightpick-core
-//! --example tile_cuts -- equal heavy-tail grid stage gallery random.json arena.json
-//! million` (one run; `million` over 6 × 6 points, its times dominated by cache misses that
-//! the renderers' interleaved descents hide):
+//! stochastic lightcuts cut a tree once per region): [`TileCuts`] keeps, per tile, up to 128
+//! entries (subtrees, and single lights taken out of their leaf clusters: a spot only where
+//! its cone's edge does not cross the tile) weighed once for the whole tile by what each is
+//! estimated to give the tile's nine weighing points (a single light or a leaf cluster
+//! exactly, a lane by its representative light or its map), a quarter of the weight by the
+//! tree's own probabilities there. A pick draws one entry by the tile's alias columns (one
+//! word and one entry read) and descends below it at `x` as before; a single light costs no
+//! descent at all. The pdf stays exact (the entry's grid probability times the descent's)
+//! and positive wherever a light contributes. Weighed so, a cut replaces the tree's top
+//! levels, whose errors compound from level to level, by one comparison of estimates that
+//! get better as the cut gets finer: its variance falls well below the tree's on point
+//! lights. Exact variances over 24 × 24 points off the pixel centres (× below power
+//! sampling; in brackets, over the tree without cuts) and time per pixel sample (one
+//! thread, every tile cut beforehand, over the alias table's) at 128 × 128 pixels, from
+//! `cargo run --release -p lightpick-core --example tile_cuts -- equal heavy-tail grid stage
+//! gallery random.json arena.json clusters-low.json chandeliers.json strips.json million`
+//! (one run; the files written by `cargo run --release -p lightpick-core --example
+//! tree_variance -- --write .`; `clusters-low`: 24 clusters of 400 lights 5–30 cm above the
+//! plane, `chandeliers`: 100 of 100 lights 0.5–1 m up, `strips`: 40 lines of 250 lights
+//! 10 cm up, sets no preset resembles):
 //!
-//! | pick | `equal` | `heavy-tail` | `grid` | `stage` | `gallery` | `random` | `arena` |
-//! | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |
-//! | the tree from its root | 60×, 10.9× | 177×, 21.9× | 251×, 18.0× | 151×, 13.7× | 4366×, 9.6× | 156×, 20.0× | 195×, 19.4× |
-//! | 64 × 64 tiles, cut ≤ 64, spread ≤ 1.25, leaf clusters whole | 62× (0.96), 5.8× | 172× (1.03), 11.5× | 239× (1.05), 6.9× | 152× (1.00), 5.1× | 3048× (1.43), 5.4× | 151× (1.03), 7.7× | 199× (0.98), 7.3× |
-//! | **the same, clusters split (spots' where their cones stay on the tile; built)** | **60× (1.00), 2.3×** | **173× (1.02), 11.5×** | **238× (1.05), 7.0×** | **152× (0.99), 4.7×** | **3048× (1.43), 5.4×** | **151× (1.03), 7.4×** | **199× (0.98), 7.1×** |
-//! | the same, entries weighed by their largest `q̄_e` (another run) | 60× (0.99), 2.4× | 176× (1.01), 11.5× | 250× (1.01), 6.8× | 146× (1.04), 4.7× | 2780× (1.57), 5.3× | 150× (1.04), 7.5× | 191× (1.02), 7.5× |
-//! | the same as built, cut ≤ 128 | 60× (1.00), 2.3× | 170× (1.04), 10.1× | 238× (1.05), 6.6× | 152× (0.99), 4.7× | 3048× (1.43), 5.4× | 152× (1.03), 6.4× | 199× (0.98), 7.0× |
-//! | the same as built, spread ≤ 1.4 | 60× (1.00), 2.3× | 173× (1.02), 11.6× | 238× (1.05), 7.0× | 153× (0.99), 4.6× | 2591× (1.69), 4.9× | 151× (1.03), 7.6× | 215× (0.90), 6.4× |
-//! | the same as built, 128 × 128 tiles (one pixel each here) | 60× (1.00), 2.4× | 182× (0.97), 11.8× | 243× (1.03), 5.7× | 157× (0.97), 4.5× | 3309× (1.32), 4.5× | 151× (1.03), 7.6× | 210× (0.93), 6.6× |
+//! | pick | `equal` | `heavy-tail` | `grid` | `stage` | `gallery` | `random` | `arena` | `clusters-low` | `chandeliers` | `strips` |
+//! | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |
+//! | the tree from its root | 60×, 10.1× | 177×, 20.6× | 251×, 17.5× | 151×, 13.5× | 4366×, 9.6× | 156×, 20.2× | 195×, 19.8× | 11×, 20.7× | 46×, 21.1× | 16×, 22.9× |
+//! | cuts as first built: ≤ 64 entries, spread ≤ 1.25, weighed by the tree's probabilities alone | 60× (1.00), 2.2× | 173× (1.03), 10.9× | 239× (1.05), 7.0× | 152× (0.99), 4.4× | 3048× (1.43), 5.2× | 151× (1.03), 7.4× | 199× (0.98), 7.0× | 11× (0.97), 13.9× | 45× (1.01), 10.6× | 13× (1.25), 12.4× |
+//! | **built: ≤ 128 entries, spread ≤ 4 (point lights) or 1.25 (spots), weighed by estimates, the tree's share ¼** | **425× (0.14), 2.2×** | **863× (0.21), 9.6×** | **409× (0.61), 6.2×** | **228× (0.66), 4.6×** | **3594× (1.22), 5.4×** | **164× (0.95), 6.0×** | **235× (0.83), 7.8×** | **8× (1.34), 8.6×** | **209× (0.22), 10.4×** | **224× (0.07), 7.8×** |
+//! | the same, ≤ 64 entries | 425× (0.14), 2.2× | 807× (0.22), 11.2× | 419× (0.60), 6.4× | 228× (0.66), 4.6× | 3594× (1.22), 5.4× | 160× (0.97), 7.4× | 235× (0.83), 7.9× | 7× (1.52), 9.7× | 138× (0.33), 10.1× | 139× (0.12), 8.2× |
+//! | the same, the other kind's spread (1.25 on point lights, 4 on spots) | 425× (0.14), 2.2× | 863× (0.21), 9.6× | 371× (0.68), 7.9× | 247× (0.61), 4.3× | 1435× (3.04), 3.1× | 165× (0.94), 6.0× | 428× (0.46), 5.3× | 5× (2.22), 11.1× | 205× (0.22), 9.2× | 10× (1.66), 12.3× |
+//! | the same, no share of the weights by the tree's probabilities | 891× (0.07), 2.2× | 1129× (0.16), 9.6× | 393× (0.64), 6.1× | 241× (0.63), 4.6× | 3770× (1.16), 5.4× | 165× (0.94), 6.0× | 237× (0.82), 7.8× | 4× (2.44), 8.7× | 216× (0.21), 9.0× | 226× (0.07), 7.3× |
+//! | the same, the tree's share 0.1 | 701× (0.09), 2.2× | 1071× (0.17), 9.5× | 409× (0.61), 6.2× | 237× (0.64), 4.6× | 3703× (1.18), 5.4× | 165× (0.94), 6.0× | 237× (0.82), 7.6× | 6× (1.83), 8.8× | 229× (0.20), 9.0× | 233× (0.07), 7.6× |
+//! | the same, the tree's share 0.5 | 198× (0.30), 2.2× | 507× (0.35), 9.6× | 371× (0.68), 6.4× | 205× (0.74), 4.6× | 3412× (1.28), 5.4× | 161× (0.97), 6.1× | 227× (0.86), 7.8× | 11× (0.95), 9.3× | 142× (0.32), 9.3× | 187× (0.09), 8.3× |
+//! | the same, leaf clusters kept whole | 60× (1.00), 5.4× | 826× (0.21), 9.6× | 423× (0.59), 6.2× | 226× (0.67), 4.9× | 3594× (1.21), 5.5× | 164× (0.95), 6.1× | 232× (0.84), 7.9× | 8× (1.34), 9.0× | 280× (0.16), 8.6× | 224× (0.07), 12.0× |
 //!
+//! On `million` (10^6 lights, cuts of at most 64 entries above 2^18 lights, 6 × 6 points)
+//! the built cuts give 1118× below power (0.14× the tree's variance) at 6.7× alias's time,
+//! against 186× (0.87) for the cuts weighed by the tree's probabilities alone; without the
+//! tree's share 1443× (0.11). The tree's share costs `equal` and `heavy-tail` half their
+//! gain and protects the sets near the plane where a representative light misjudges a
+//! group just above the tile. Another draw of the same recipe (made outside the repository,
+//! with Python's `random` instead of `SplitMix`) shows how far apart two such sets can
+//! fall: there the built cuts give 164× below power (0.12× the tree's variance), 189×
+//! (0.11×) without the tree's share, where this draw's give 8× (1.34×) and 4× (2.44×); no
+//! share tried was best on both. What the cut does not change is the work below an entry: a pick there still
+//! descends (a node's importances, a leaf's contributions), so a pick costs 2.2 alias picks
+//! where the cut reaches single lights (`equal`) and 4.6–10 elsewhere.
+//!
+//! The rest of this section was measured with the cuts as first built (weighed by the
+//! tree's probabilities alone, at most 64 entries, spread ≤ 1.25).
 //! Splitting leaf clusters puts all of `equal`'s mass on single lights (64 a tile), 14 % of
 //! `heavy-tail`'s, 20 % of `grid`'s (59 % at one pixel a tile) and 17 % of `stage`'s (1–10 %
 //! on the other spot scenes); the rest stays in subtrees, where a pick still costs a
@@ -118,8 +140,9 @@ pub(crate) use bounds::REACH_SLACK;
 pub use exact::ExactSampler;
 pub use grid::{LaneGrid, MappedLanes};
 pub use tree::{
-    CUT_MAX_ENTRIES, CUT_TILES_PER_SIDE, Child, ChildRef, LEAF_SIZE, LightTree, TREE_WIDTH,
-    TileCuts, TreeNode,
+    CUT_LARGE_TREE, CUT_MAX_ENTRIES, CUT_MAX_ENTRIES_LARGE, CUT_MAX_SPREAD,
+    CUT_MAX_SPREAD_PROFILES, CUT_TILES_PER_SIDE, CUT_TREE_SHARE, Child, ChildRef, LEAF_SIZE,
+    LightTree, TREE_WIDTH, TileCuts, TreeNode,
 };
 
 use glam::{DVec2, DVec3};

@@ -1,6 +1,7 @@
 //! One tile's cut as it is grown ([`super::TileCuts`]): the points of a tile where its
 //! entries are weighed, and each candidate entry with what the cut weighs it by.
 
+use super::cut_growth::Weighing;
 use super::node::ChildRef;
 
 /// Weighing points along a tile's side.
@@ -31,6 +32,9 @@ pub(super) struct Candidate {
     /// `Ê_e(x_k)`, what the entry is estimated to give each weighing point `x_k` (or, for
     /// measuring the alternative, the tree's probability `P_tree(e | x_k)`).
     pub(super) reach: [f64; WEIGHING_POINTS.len()],
+    /// `P_tree(e | x_k)`, the tree's probability of descending into the entry at each
+    /// weighing point.
+    pub(super) tree_reach: [f64; WEIGHING_POINTS.len()],
     /// Its largest share `max_k Ê_e(x_k)/Ê(x_k)` against the cut's totals `Ê(x_k)` as
     /// they were last taken (the growth's order and spread).
     pub(super) peak: f64,
@@ -38,6 +42,8 @@ pub(super) struct Candidate {
     /// the root mean square of its shares against the final cut's totals
     /// ([`Candidate::weigh`]; the module docs of `tile_cut`).
     pub(super) weight: f64,
+    /// The same of its probabilities under the tree.
+    pub(super) tree_weight: f64,
     /// `Φ_e`, the normalized power of the entry's lights.
     pub(super) power: f64,
     /// Whether the cut keeps this entry whole (a leaf cluster whose lights' shares change
@@ -49,34 +55,67 @@ impl Candidate {
     /// The entry `at` with the estimates `reach` at the weighing points, of power `power`;
     /// its peak and weight are taken later ([`Candidate::largest_share`],
     /// [`Candidate::weigh`]).
-    pub(super) fn new(at: ChildRef, reach: [f64; WEIGHING_POINTS.len()], power: f64) -> Self {
+    pub(super) fn new(
+        at: ChildRef,
+        reach: [f64; WEIGHING_POINTS.len()],
+        tree_reach: [f64; WEIGHING_POINTS.len()],
+        power: f64,
+    ) -> Self {
         Self {
             at,
             reach,
+            tree_reach,
             peak: 0.0,
             weight: 0.0,
+            tree_weight: 0.0,
             power,
             whole: false,
         }
     }
 
-    /// `max_k Ê_e(x_k) · inverse_total[k]`: the entry's largest share against the totals
-    /// whose reciprocals are `inverse_total`.
+    /// What the cut grows by: the estimates, or the tree's probabilities.
     #[inline]
-    pub(super) fn largest_share(&self, inverse_total: &[f64; WEIGHING_POINTS.len()]) -> f64 {
-        self.reach
+    pub(super) fn grown_by(&self, by: Weighing) -> &[f64; WEIGHING_POINTS.len()] {
+        match by {
+            Weighing::Estimates => &self.reach,
+            Weighing::TreeProbabilities => &self.tree_reach,
+        }
+    }
+
+    /// The entry's largest share by `by` against the totals whose reciprocals are
+    /// `inverse_total`.
+    #[inline]
+    pub(super) fn largest_share(
+        &self,
+        by: Weighing,
+        inverse_total: &[f64; WEIGHING_POINTS.len()],
+    ) -> f64 {
+        self.grown_by(by)
             .iter()
             .zip(inverse_total)
             .fold(0.0f64, |m, (r, t)| m.max(r * t))
     }
 
-    /// Sets [`Candidate::weight`] from the shares against the totals whose reciprocals are
-    /// `inverse_total`: `√(q̄_e · q_e)`.
-    pub(super) fn weigh(&mut self, inverse_total: &[f64; WEIGHING_POINTS.len()]) {
-        let shares: [f64; WEIGHING_POINTS.len()] =
-            std::array::from_fn(|k| self.reach[k] * inverse_total[k]);
-        let peak = shares.iter().fold(0.0f64, |m, &s| m.max(s));
-        let mean_square = shares.iter().map(|s| s * s).sum::<f64>() / shares.len() as f64;
-        self.weight = (peak * mean_square.sqrt()).sqrt();
+    /// Sets [`Candidate::weight`] and [`Candidate::tree_weight`] from the shares against the
+    /// totals whose reciprocals are given: `√(q̄_e · q_e)` of each.
+    pub(super) fn weigh(
+        &mut self,
+        estimated: &[f64; WEIGHING_POINTS.len()],
+        by_tree: &[f64; WEIGHING_POINTS.len()],
+    ) {
+        self.weight = blend_of(&self.reach, estimated);
+        self.tree_weight = blend_of(&self.tree_reach, by_tree);
     }
+}
+
+/// `√(q̄ · q)` of the shares `reach[k]·inverse_total[k]`: `q̄` their largest, `q` their root
+/// mean square.
+fn blend_of(
+    reach: &[f64; WEIGHING_POINTS.len()],
+    inverse_total: &[f64; WEIGHING_POINTS.len()],
+) -> f64 {
+    let shares: [f64; WEIGHING_POINTS.len()] = std::array::from_fn(|k| reach[k] * inverse_total[k]);
+    let peak = shares.iter().fold(0.0f64, |m, &s| m.max(s));
+    let mean_square = shares.iter().map(|s| s * s).sum::<f64>() / shares.len() as f64;
+    (peak * mean_square.sqrt()).sqrt()
 }

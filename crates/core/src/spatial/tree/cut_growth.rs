@@ -18,8 +18,10 @@ pub(super) struct Rules {
     pub(super) max_spread: f64,
     /// Whether leaf clusters may split into their lights.
     pub(super) split_leaves: bool,
-    /// What the entries are weighed by.
+    /// What the cut grows by (its splits' order and its spread).
     pub(super) weighing: Weighing,
+    /// The share of the weights given by the tree's probabilities.
+    pub(super) blend: f64,
 }
 
 /// How far a cut's total estimate at a weighing point may move before its entries' largest
@@ -65,6 +67,7 @@ pub(super) fn grow(
     rules: Rules,
 ) {
     const W: usize = WEIGHING_POINTS.len();
+    let by = rules.weighing;
     let reciprocal = |t: [f64; W]| t.map(|t| if t > 0.0 { 1.0 / t } else { 0.0 });
     let mut total = [1.0; W];
     // 1/total at each point as the entries' peaks were last taken.
@@ -79,20 +82,13 @@ pub(super) fn grow(
         .map(|(k, _)| k)
     {
         children.clear();
-        if !split_into(
-            tree,
-            cut[k].at,
-            cut[k].reach,
-            tile,
-            children,
-            rules.weighing,
-        ) {
+        if !split_into(tree, cut[k].at, cut[k].tree_reach, tile, children) {
             cut[k].whole = true;
             continue;
         }
         let mut grown = total;
         for (p, g) in grown.iter_mut().enumerate() {
-            *g += children.iter().map(|c| c.reach[p]).sum::<f64>() - cut[k].reach[p];
+            *g += children.iter().map(|c| c.grown_by(by)[p]).sum::<f64>() - cut[k].grown_by(by)[p];
         }
         let drifted = grown.iter().zip(&taken_at).any(|(&g, &r)| {
             let moved = (g * r - 1.0).abs();
@@ -101,16 +97,16 @@ pub(super) fn grow(
         let grown_spread = if drifted {
             taken_at = reciprocal(grown);
             for c in cut.iter_mut() {
-                c.peak = c.largest_share(&taken_at);
+                c.peak = c.largest_share(by, &taken_at);
             }
             for c in children.iter_mut() {
-                c.peak = c.largest_share(&taken_at);
+                c.peak = c.largest_share(by, &taken_at);
             }
             spread = cut.iter().map(|c| c.peak).sum();
             spread - cut[k].peak + children.iter().map(|c| c.peak).sum::<f64>()
         } else {
             for c in children.iter_mut() {
-                c.peak = c.largest_share(&taken_at);
+                c.peak = c.largest_share(by, &taken_at);
             }
             spread - cut[k].peak + children.iter().map(|c| c.peak).sum::<f64>()
         };
@@ -124,9 +120,19 @@ pub(super) fn grow(
         cut.swap_remove(k);
         cut.append(children);
     }
-    let exact = reciprocal(total);
+    // Both weights of every entry, against the final cut's totals of each.
+    let totals = |of: fn(&Candidate) -> &[f64; W]| {
+        cut.iter().fold([0.0; W], |mut t, c| {
+            t.iter_mut().zip(of(c)).for_each(|(t, r)| *t += r);
+            t
+        })
+    };
+    let (estimated, by_tree) = (
+        reciprocal(totals(|c| &c.reach)),
+        reciprocal(totals(|c| &c.tree_reach)),
+    );
     for c in cut.iter_mut() {
-        c.weigh(&exact);
+        c.weigh(&estimated, &by_tree);
     }
 }
 
@@ -174,12 +180,10 @@ fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
 fn split_into(
     tree: &LightTree,
     at: ChildRef,
-    reach: [f64; WEIGHING_POINTS.len()],
+    tree_reach: [f64; WEIGHING_POINTS.len()],
     (points, rect): ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]),
     out: &mut Vec<Candidate>,
-    weighing: Weighing,
 ) -> bool {
-    let by_estimates = weighing == Weighing::Estimates;
     let n = match at.get() {
         Child::Node(n) => n,
         Child::Leaf { first, count } => {
@@ -207,12 +211,9 @@ fn split_into(
                 if lights_tile(j) {
                     out.push(Candidate::new(
                         ChildRef::leaf(first + j, 1),
+                        std::array::from_fn(|k| masses[k].1[j].min(ESTIMATE_CAP)),
                         std::array::from_fn(|k| {
-                            if by_estimates {
-                                masses[k].1[j].min(ESTIMATE_CAP)
-                            } else {
-                                reach[k] * f64::from(masses[k].0[j]) * GRID_CELL
-                            }
+                            tree_reach[k] * (f64::from(masses[k].0[j]) * GRID_CELL)
                         }),
                         light.power,
                     ));
@@ -226,12 +227,8 @@ fn split_into(
     let bounds = tree.bounds(n);
     // Each lane's estimate of what it gives each weighing point: its map's value (and
     // its unbounded lights' representative light) for spots and ranges, its representative
-    // light `Φ_c·G(c, x)` for point lights (`lane_importances` is `4π` times that); or its
-    // probability under the tree there.
-    let lanes_at = |x: DVec2| -> [f64; TREE_WIDTH] {
-        if !by_estimates {
-            return tree.node_masses_at(n, x).map(|m| f64::from(m) * GRID_CELL);
-        }
+    // light `Φ_c·G(c, x)` for point lights (`lane_importances` is `4π` times that).
+    let estimates = points.map(|x| {
         let lanes = if let (Some(b), Some(m)) = (bounds, tree.mapped(n)) {
             m.weights(b, x).0
         } else {
@@ -239,8 +236,8 @@ fn split_into(
             lane_importances([cx, cy, cz], &node.power, x).map(|i| i / (4.0 * std::f64::consts::PI))
         };
         lanes.map(|e| e.min(ESTIMATE_CAP))
-    };
-    let estimates = points.map(lanes_at);
+    });
+    let masses = points.map(|x| tree.node_masses_at(n, x));
     for lane in 0..TREE_WIDTH {
         let child = node.child[lane];
         let footprint = bounds.map(|b| b[lane].footprint);
@@ -249,13 +246,8 @@ fn split_into(
         }
         out.push(Candidate::new(
             child,
-            std::array::from_fn(|k| {
-                if by_estimates {
-                    estimates[k][lane]
-                } else {
-                    reach[k] * estimates[k][lane]
-                }
-            }),
+            std::array::from_fn(|k| estimates[k][lane]),
+            std::array::from_fn(|k| tree_reach[k] * (f64::from(masses[k][lane]) * GRID_CELL)),
             node.power(lane),
         ));
     }

@@ -63,7 +63,10 @@ mod node;
 mod tile_cut;
 
 pub use node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
-pub use tile_cut::{CUT_MAX_ENTRIES, CUT_TILES_PER_SIDE, TileCuts};
+pub use tile_cut::{
+    CUT_LARGE_TREE, CUT_MAX_ENTRIES, CUT_MAX_ENTRIES_LARGE, CUT_MAX_SPREAD,
+    CUT_MAX_SPREAD_PROFILES, CUT_TILES_PER_SIDE, CUT_TREE_SHARE, TileCuts,
+};
 
 use glam::DVec2;
 
