@@ -100,12 +100,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 Some(sized(64, 192 - k, spread)),
             ),
             (
-                format!(
-                    "cut ≤ {k}, spread ≤ {}",
-                    if spread > 2.0 { 1.25 } else { 4.0 }
-                ),
-                Some(sized(64, k, if spread > 2.0 { 1.25 } else { 4.0 })),
+                format!("cut ≤ {k}, spread ≤ 1.25"),
+                Some(sized(64, k, 1.25)),
             ),
+            (format!("cut ≤ {k}, spread ≤ 1.6"), Some(sized(64, k, 1.6))),
+            (format!("cut ≤ {k}, spread ≤ 4"), Some(sized(64, k, 4.0))),
             (
                 "built, no share of the weights by the tree's probabilities".into(),
                 Some(built.clone().with_tree_share(0.0)),

@@ -147,6 +147,7 @@ fn light_tree_spot_map_on_stage() {
     let seed = app.state.settings.seed;
     let (pixel, number) = (0..16)
         .map(|k| [60 + 11 * k, 70 + 5 * (k % 7)])
+        .chain((0..640).map(|k| [8 * (k % 32) + 3, 8 * (k / 32) + 5]))
         .find_map(|pixel| {
             app.state.light_tree.select_pixel(pixel);
             (0..20).find_map(|number| {

@@ -188,7 +188,11 @@ fn culled_groups_say_why_and_take_no_probability() {
     let mut harness = tree_panel("stage", [60, 70]);
     // Below the tiles' cuts (which leave out what cannot reach a tile) a node's group is
     // culled where x alone is out of its lights' reach: at a pixel near a spot's edge.
-    let pixels: Vec<[u32; 2]> = (0..16).map(|k| [60 + 11 * k, 70 + 5 * (k % 7)]).collect();
+    // The cuts take most of a tile's mass to single spots and leaf clusters: the pixels of
+    // a coarse raster over the whole stage, until a pick goes through such a node.
+    let pixels: Vec<[u32; 2]> = (0..640)
+        .map(|k| [8 * (k % 32) + 3, 8 * (k / 32) + 5])
+        .collect();
     let (pixel, number, stage, record) = find_pick(&mut harness, &pixels, |record| {
         record.steps.iter().position(|s| {
             s.lanes

@@ -304,16 +304,17 @@ fn stepped_pick_ui(ui: &mut Ui, state: &mut AppState, pick: &SteppedPick) {
     };
     if let Some(step) = record.steps.get(stage) {
         let spatial = std::sync::Arc::clone(state.built.samplers.spatial());
-        let power_shares = match &*spatial {
+        let (power_shares, mapped) = match &*spatial {
             SpatialSampler::Tree(tree) => {
                 let node = &tree.nodes()[step.node];
                 let powers: [f64; 4] = std::array::from_fn(|lane| node.power(lane));
                 let total: f64 = powers.iter().sum();
-                powers.map(|p| if total > 0.0 { p / total } else { 0.0 })
+                let shares = powers.map(|p| if total > 0.0 { p / total } else { 0.0 });
+                (shares, tree.mapped(step.node).is_some())
             }
-            SpatialSampler::Exact(_) => [f64::NAN; 4],
+            SpatialSampler::Exact(_) => ([f64::NAN; 4], false),
         };
-        node_stage_ui(ui, record, (stage, step, power_shares), dark);
+        node_stage_ui(ui, record, (stage, step, power_shares, mapped), dark);
     } else if stage == record.steps.len() {
         let powers = state.built.scene.powers.as_slice();
         leaf_stage_ui(ui, record, powers, pick.total_power, dark);
@@ -324,20 +325,27 @@ fn stepped_pick_ui(ui: &mut Ui, state: &mut AppState, pick: &SteppedPick) {
 
 /// A node: its four groups' probabilities as bars, culled ones greyed with the reason, the
 /// random number and the group it takes.
-/// `power_shares`: each group's share of the node's power, where power picking would go.
+/// `power_shares`: each group's share of the node's power, where power picking would go;
+/// `mapped`: whether the node's groups are weighed by their maps (spots and ranges).
 fn node_stage_ui(
     ui: &mut Ui,
     record: &TreePick,
-    (stage, step, power_shares): (
+    (stage, step, power_shares, mapped): (
         usize,
         &lightpick_core::lesson::tree_pick::TreePickStep,
         [f64; 4],
+        bool,
     ),
     dark: bool,
 ) {
+    let weight = if mapped {
+        "what its map says its lights give the floor at x, mixed with a share of their \
+         peak intensity"
+    } else {
+        "its representative light's power over its distance, mixed with a share of its power"
+    };
     ui.label(format!(
-        "Node at depth {}: its four groups weighed at x (each group's weight is its \
-         representative light's power over its distance, mixed with a share of its power).",
+        "Node at depth {}: its four groups weighed at x (each group's weight is {weight}).",
         step.depth
     ));
     egui::Grid::new("lightpick_node_groups")
@@ -352,12 +360,13 @@ fn node_stage_ui(
                     RichText::new(name)
                 };
                 ui.colored_label(color, name);
-                if let Some(reason) = group.culled {
+                if group.culled.is_some() {
+                    // An empty bar; why it is empty is said below the grid, where it wraps.
+                    bar_ui(ui, 0.0, color);
                     ui.colored_label(
                         colors::muted(dark),
-                        culled_words(reason, group.light_count()),
+                        format!("P = 0 · {} lights", group.light_count()),
                     );
-                    ui.label("");
                 } else {
                     bar_ui(ui, group.probability, color);
                     ui.label(format!(
@@ -380,6 +389,14 @@ fn node_stage_ui(
                 ui.end_row();
             }
         });
+    for (lane, group) in step.lanes.iter().enumerate() {
+        if let Some(reason) = group.culled {
+            ui.colored_label(
+                colors::muted(dark),
+                culled_words(['A', 'B', 'C', 'D'][lane], reason, group.light_count()),
+            );
+        }
+    }
     let u = f64::from(step.random24) / 16_777_216.0;
     let before = match (stage, &record.cut) {
         (0, Some(cut)) => cut.pdf_after,
@@ -396,20 +413,17 @@ fn node_stage_ui(
     ));
 }
 
-/// Why a culled group has probability 0, in a student's words.
-fn culled_words(reason: Culled, lights: usize) -> String {
+/// Why group `letter`, culled, has probability 0, in a student's words (one sentence).
+fn culled_words(letter: char, reason: Culled, lights: usize) -> String {
     let why = match reason {
-        Culled::Empty => "empty",
-        Culled::OutsideFootprint => "culled: x is outside where its lights shine",
-        Culled::BeyondRange => "culled: x is beyond its lights' range",
-        Culled::OutsideCone => "culled: x is outside its spots' cones",
-        Culled::NoPower => "culled: its lights have no power",
+        Culled::Empty => return format!("Group {letter} is empty."),
+        Culled::OutsideFootprint => "x is outside where its lights shine",
+        Culled::BeyondRange => "x is beyond its lights' range",
+        Culled::OutsideCone => "x is outside its spots' cones",
+        Culled::NoPower => "its lights have no power",
     };
-    if lights == 0 {
-        why.to_owned()
-    } else {
-        format!("{why} ({lights} lights, P = 0)")
-    }
+    let lights = numbers::count(lights, "light", "lights");
+    format!("Group {letter} is culled: {why}, so its {lights} get P = 0.")
 }
 
 /// The leaf cluster: its lights, each by its exact contribution at x.

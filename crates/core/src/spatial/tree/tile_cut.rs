@@ -74,10 +74,11 @@
 //! while `S` stays at most the cut's limit and the cut at most [`CUT_MAX_ENTRIES`] entries
 //! ([`CUT_MAX_ENTRIES_LARGE`] in a tree of more than [`CUT_LARGE_TREE`] lights): the limit
 //! is [`CUT_MAX_SPREAD`] (4) over point lights, whose shares change smoothly across a tile,
-//! and [`CUT_MAX_SPREAD_PROFILES`] (1.25) over spots and ranges, whose maps are cell means a
-//! cone's edge makes a poor guide between the points (at 2, `gallery` loses 2.7× its
-//! variance). The first split that would pass either limit ends the cut (trying the
-//! smaller entries costs more build time than it saves).
+//! and [`CUT_MAX_SPREAD_PROFILES`] (1.6) over spots and ranges, whose maps are cell means a
+//! cone's edge makes a poor guide between the points (at 2, `gallery` has 2.8× the tree's
+//! variance, at 1.6 1.8×, at 1.25 1.2×, where `arena` has 0.46×, 0.48× and 0.83× and its
+//! picks cost 5.7, 5.7 and 7.8 alias picks). The first split that would pass either limit
+//! ends the cut (trying the smaller entries costs more build time than it saves).
 //!
 //! # The draw: Walker's alias columns on the grid, exact
 //! A tile of `n` entries keeps `K = n` rounded up to a power of two columns of `C = 2^24/K`
@@ -122,7 +123,7 @@ pub const CUT_MAX_SPREAD: f64 = 4.0;
 
 /// [`CUT_MAX_SPREAD`] in a tree of spots or lights with a range, whose maps are cell means
 /// that a cone's edge crossing the tile makes a poor guide between the weighing points.
-pub const CUT_MAX_SPREAD_PROFILES: f64 = 1.25;
+pub const CUT_MAX_SPREAD_PROFILES: f64 = 1.6;
 
 /// The share of a cut's weights given by the tree's probabilities `P_tree(e | x_k)`, the
 /// rest by the entries' estimates (module docs): a floor under every entry's weight
