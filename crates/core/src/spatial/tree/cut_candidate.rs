@@ -1,8 +1,16 @@
 //! One tile's cut as it is grown ([`super::TileCuts`]): the points of a tile where its
 //! entries are weighed, and each candidate entry with what the cut weighs it by.
 
-use super::cut_growth::Weighing;
 use super::node::ChildRef;
+
+/// What a cut grows by: the order of its splits and its spread.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Weighing {
+    /// Their estimated contributions `Ê_e(x_k)` (module docs).
+    Estimates,
+    /// The tree's probabilities `P_tree(e | x_k)` (for measuring the alternative).
+    TreeProbabilities,
+}
 
 /// Weighing points along a tile's side.
 pub(super) const WEIGHING_SIDE: usize = 3;
@@ -23,20 +31,20 @@ pub(super) const WEIGHING_POINTS: [[f64; 2]; WEIGHING_SIDE * WEIGHING_SIDE] = {
     points
 };
 
-/// One tile's cut as it is grown: each entry's subtree, its estimate at each weighing
-/// point, and its power.
+/// One tile's cut as it is grown: each entry's subtree, its estimate and its probability
+/// under the tree at each weighing point, and its power.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Candidate {
     /// The entry's subtree (a node, a leaf cluster, or a single light).
     pub(super) at: ChildRef,
-    /// `Ê_e(x_k)`, what the entry is estimated to give each weighing point `x_k` (or, for
-    /// measuring the alternative, the tree's probability `P_tree(e | x_k)`).
-    pub(super) reach: [f64; WEIGHING_POINTS.len()],
+    /// `Ê_e(x_k)`, what the entry is estimated to give each weighing point `x_k`.
+    pub(super) estimate: [f64; WEIGHING_POINTS.len()],
     /// `P_tree(e | x_k)`, the tree's probability of descending into the entry at each
     /// weighing point.
-    pub(super) tree_reach: [f64; WEIGHING_POINTS.len()],
+    pub(super) tree_probability: [f64; WEIGHING_POINTS.len()],
     /// Its largest share `max_k Ê_e(x_k)/Ê(x_k)` against the cut's totals `Ê(x_k)` as
-    /// they were last taken (the growth's order and spread).
+    /// they were last taken (the growth's order and spread; of `P_tree` when the cut grows
+    /// by the tree's probabilities).
     pub(super) peak: f64,
     /// What the cut weighs the entry by: `q̃_e = √(q̄_e · q_e)`, `q̄_e` the largest and `q_e`
     /// the root mean square of its shares against the final cut's totals
@@ -52,19 +60,20 @@ pub(super) struct Candidate {
 }
 
 impl Candidate {
-    /// The entry `at` with the estimates `reach` at the weighing points, of power `power`;
+    /// The entry `at` with the estimates `estimate` and the tree's probabilities
+    /// `tree_probability` at the weighing points, of power `power`;
     /// its peak and weight are taken later ([`Candidate::largest_share`],
     /// [`Candidate::weigh`]).
     pub(super) fn new(
         at: ChildRef,
-        reach: [f64; WEIGHING_POINTS.len()],
-        tree_reach: [f64; WEIGHING_POINTS.len()],
+        estimate: [f64; WEIGHING_POINTS.len()],
+        tree_probability: [f64; WEIGHING_POINTS.len()],
         power: f64,
     ) -> Self {
         Self {
             at,
-            reach,
-            tree_reach,
+            estimate,
+            tree_probability,
             peak: 0.0,
             weight: 0.0,
             tree_weight: 0.0,
@@ -77,8 +86,8 @@ impl Candidate {
     #[inline]
     pub(super) fn grown_by(&self, by: Weighing) -> &[f64; WEIGHING_POINTS.len()] {
         match by {
-            Weighing::Estimates => &self.reach,
-            Weighing::TreeProbabilities => &self.tree_reach,
+            Weighing::Estimates => &self.estimate,
+            Weighing::TreeProbabilities => &self.tree_probability,
         }
     }
 
@@ -103,18 +112,19 @@ impl Candidate {
         estimated: &[f64; WEIGHING_POINTS.len()],
         by_tree: &[f64; WEIGHING_POINTS.len()],
     ) {
-        self.weight = blend_of(&self.reach, estimated);
-        self.tree_weight = blend_of(&self.tree_reach, by_tree);
+        self.weight = mixed_weight(&self.estimate, estimated);
+        self.tree_weight = mixed_weight(&self.tree_probability, by_tree);
     }
 }
 
-/// `√(q̄ · q)` of the shares `reach[k]·inverse_total[k]`: `q̄` their largest, `q` their root
+/// `√(q̄ · q)` of the shares `estimate[k]·inverse_total[k]`: `q̄` their largest, `q` their root
 /// mean square.
-fn blend_of(
-    reach: &[f64; WEIGHING_POINTS.len()],
+fn mixed_weight(
+    estimate: &[f64; WEIGHING_POINTS.len()],
     inverse_total: &[f64; WEIGHING_POINTS.len()],
 ) -> f64 {
-    let shares: [f64; WEIGHING_POINTS.len()] = std::array::from_fn(|k| reach[k] * inverse_total[k]);
+    let shares: [f64; WEIGHING_POINTS.len()] =
+        std::array::from_fn(|k| estimate[k] * inverse_total[k]);
     let peak = shares.iter().fold(0.0f64, |m, &s| m.max(s));
     let mean_square = shares.iter().map(|s| s * s).sum::<f64>() / shares.len() as f64;
     (peak * mean_square.sqrt()).sqrt()

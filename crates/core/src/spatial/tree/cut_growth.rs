@@ -5,7 +5,7 @@
 use glam::DVec2;
 
 use super::LightTree;
-use super::cut_candidate::{Candidate, WEIGHING_POINTS};
+use super::cut_candidate::{Candidate, WEIGHING_POINTS, Weighing};
 use super::node::{Child, ChildRef, TREE_WIDTH};
 use crate::spatial::importance::{GRID_CELL, IMPORTANCE_CAP, lane_importances};
 
@@ -21,7 +21,7 @@ pub(super) struct Rules {
     /// What the cut grows by (its splits' order and its spread).
     pub(super) weighing: Weighing,
     /// The share of the weights given by the tree's probabilities.
-    pub(super) blend: f64,
+    pub(super) tree_share: f64,
 }
 
 /// How far a cut's total estimate at a weighing point may move before its entries' largest
@@ -32,15 +32,6 @@ const TOTALS_DRIFT: f64 = 1.0 / 16.0;
 /// [`super::CUT_MAX_ENTRIES`] of
 /// them stays finite (a light `10^-150` above the plane gives `~10^298`).
 const ESTIMATE_CAP: f64 = IMPORTANCE_CAP / 256.0;
-
-/// What a cut weighs its entries by.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Weighing {
-    /// Their estimated contributions `Ê_e(x_k)` (module docs).
-    Estimates,
-    /// The tree's probabilities `P_tree(e | x_k)` (for measuring the alternative).
-    TreeProbabilities,
-}
 
 /// A cut splits a leaf cluster into its lights only where each light's contribution at
 /// every weighing point is at least this fraction of its largest there (its share in the
@@ -82,7 +73,7 @@ pub(super) fn grow(
         .map(|(k, _)| k)
     {
         children.clear();
-        if !split_into(tree, cut[k].at, cut[k].tree_reach, tile, children) {
+        if !split_into(tree, cut[k].at, cut[k].tree_probability, tile, children) {
             cut[k].whole = true;
             continue;
         }
@@ -128,8 +119,8 @@ pub(super) fn grow(
         })
     };
     let (estimated, by_tree) = (
-        reciprocal(totals(|c| &c.reach)),
-        reciprocal(totals(|c| &c.tree_reach)),
+        reciprocal(totals(|c| &c.estimate)),
+        reciprocal(totals(|c| &c.tree_probability)),
     );
     for c in cut.iter_mut() {
         c.weigh(&estimated, &by_tree);
@@ -152,8 +143,8 @@ fn splits(at: ChildRef, split_leaves: bool) -> bool {
 /// largest.
 fn flat_on_tile(lights: &[Candidate]) -> bool {
     let flat = |c: &Candidate| {
-        let largest = c.reach.iter().fold(0.0f64, |m, &r| m.max(r));
-        c.reach.iter().all(|&r| r >= LEAF_FLATNESS * largest)
+        let largest = c.estimate.iter().fold(0.0f64, |m, &r| m.max(r));
+        c.estimate.iter().all(|&r| r >= LEAF_FLATNESS * largest)
     };
     lights.iter().all(flat)
 }
@@ -165,10 +156,10 @@ fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
 
 /// The lanes of node `at` that can light the tile (`tile`: its weighing points and box),
 /// appended to `out` in leaf order with their estimates at each point (by `weighing`: the
-/// lane's representative light or map; or, with `at` reached with probability `reach[k]`
+/// lane's representative light or map; or, with `at` reached with probability `estimate[k]`
 /// at weighing point `k`, the node's grid probability times that); or the lights of leaf
 /// cluster `at`, each with its exact contribution (or the cluster's grid masses by
-/// contribution times `reach[k]`). A lane
+/// contribution times `estimate[k]`). A lane
 /// or a light whose footprint misses the tile's box is left out: none of its lights gives
 /// the tile anything, and a pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
 /// Returns whether the cut may take them: always a node's lanes; a leaf cluster's lights
@@ -180,7 +171,7 @@ fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
 fn split_into(
     tree: &LightTree,
     at: ChildRef,
-    tree_reach: [f64; WEIGHING_POINTS.len()],
+    tree_probability: [f64; WEIGHING_POINTS.len()],
     (points, rect): ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]),
     out: &mut Vec<Candidate>,
 ) -> bool {
@@ -189,7 +180,7 @@ fn split_into(
         Child::Leaf { first, count } => {
             let lights = first..first + count;
             // Where each light is mapped on the plane (within the receiver, where picks are
-            // made); none for point lights, which reach every tile.
+            // made); none for point lights, which estimate every tile.
             let footprints = tree.footprints.get(lights.clone());
             let lights_tile = |j: usize| footprints.is_none_or(|f| meets(f[j], rect));
             if let Some(emission) = tree.emission.get(lights.clone()) {
@@ -213,7 +204,7 @@ fn split_into(
                         ChildRef::leaf(first + j, 1),
                         std::array::from_fn(|k| masses[k].1[j].min(ESTIMATE_CAP)),
                         std::array::from_fn(|k| {
-                            tree_reach[k] * (f64::from(masses[k].0[j]) * GRID_CELL)
+                            tree_probability[k] * (f64::from(masses[k].0[j]) * GRID_CELL)
                         }),
                         light.power,
                     ));
@@ -247,7 +238,7 @@ fn split_into(
         out.push(Candidate::new(
             child,
             std::array::from_fn(|k| estimates[k][lane]),
-            std::array::from_fn(|k| tree_reach[k] * (f64::from(masses[k][lane]) * GRID_CELL)),
+            std::array::from_fn(|k| tree_probability[k] * (f64::from(masses[k][lane]) * GRID_CELL)),
             node.power(lane),
         ));
     }

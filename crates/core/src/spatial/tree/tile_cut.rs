@@ -104,9 +104,9 @@ use std::sync::OnceLock;
 use glam::DVec2;
 
 use super::LightTree;
-use super::cut_candidate::{Candidate, WEIGHING_POINTS};
+use super::cut_candidate::{Candidate, WEIGHING_POINTS, Weighing};
 use super::cut_columns::{AliasWork, MOST_ENTRIES, alias_columns_into, alias_pick};
-use super::cut_growth::{Rules, Weighing, grow};
+use super::cut_growth::{Rules, grow};
 use super::node::{Child, ChildRef, TREE_WIDTH};
 use crate::scene::ReceiverPlane;
 use crate::spatial::importance::{POWER_SHARE, grid_masses_into};
@@ -233,7 +233,7 @@ impl TileCuts {
                 max_spread: max_spread.max(1.0),
                 split_leaves: true,
                 weighing: Weighing::Estimates,
-                blend: CUT_TREE_SHARE,
+                tree_share: CUT_TREE_SHARE,
             },
             tiles_x,
             tiles_y,
@@ -265,7 +265,7 @@ impl TileCuts {
     /// tree's probabilities: for measuring alternatives (the `tile_cuts` example).
     #[must_use]
     pub fn with_tree_share(mut self, tree_share: f64) -> Self {
-        self.rules.blend = tree_share.clamp(0.0, 1.0);
+        self.rules.tree_share = tree_share.clamp(0.0, 1.0);
         self.clear();
         self
     }
@@ -291,7 +291,7 @@ impl TileCuts {
     #[must_use]
     pub fn weighing_by_tree_probabilities(mut self) -> Self {
         self.rules.weighing = Weighing::TreeProbabilities;
-        self.rules.blend = 1.0;
+        self.rules.tree_share = 1.0;
         self.clear();
         self
     }
@@ -441,11 +441,11 @@ impl TileCuts {
             1.0,
         ));
         grow(tree, tile, cut, children, self.rules);
-        Self::finish(tree, scratch, self.rules.blend);
+        Self::finish(tree, scratch, self.rules.tree_share);
     }
 
     /// The grown cut's masses and alias columns, in `scratch.words`.
-    fn finish(tree: &LightTree, scratch: &mut Scratch, blend: f64) {
+    fn finish(tree: &LightTree, scratch: &mut Scratch, tree_share: f64) {
         let Scratch {
             cut,
             weights,
@@ -458,25 +458,26 @@ impl TileCuts {
             (e + c.weight, t + c.tree_weight, p + c.power)
         });
         let usable = |sum: f64| sum > 0.0 && sum.is_finite();
-        // The tree's share of the weights: all of it where the estimates say nothing.
+        // The tree's share of the weights: all of it where the estimates say nothing, none
+        // where the tree's probabilities do (`None`: neither does, by power alone).
         let tree_share = match (usable(estimated), usable(by_tree)) {
-            (true, true) => blend,
-            (false, true) => 1.0,
-            (true, false) => 0.0,
-            (false, false) => f64::NAN,
+            (true, true) => Some(tree_share),
+            (false, true) => Some(1.0),
+            (true, false) => Some(0.0),
+            (false, false) => None,
         };
         weights.clear();
         weights.extend(cut.iter().map(|c| {
             let by_power = if power > 0.0 { c.power / power } else { 0.0 };
-            if tree_share.is_nan() {
+            let Some(share) = tree_share else {
                 return by_power;
-            }
+            };
             let mut w = 0.0;
-            if tree_share < 1.0 {
-                w += (1.0 - tree_share) * c.weight / estimated;
+            if share < 1.0 {
+                w += (1.0 - share) * c.weight / estimated;
             }
-            if tree_share > 0.0 {
-                w += tree_share * c.tree_weight / by_tree;
+            if share > 0.0 {
+                w += share * c.tree_weight / by_tree;
             }
             (1.0 - POWER_SHARE) * w + POWER_SHARE * by_power
         }));
