@@ -83,18 +83,19 @@
 //! without the tree's share 1443× (0.11). The spread limits: point lights' shares change
 //! smoothly across a tile, and a spread of 4 lets the cut reach the lights of a strip or a
 //! cluster near the plane (`strips` 224× against 10× at 1.25); spots' maps are cell means
-//! that a cone's edge crossing the tile makes a poor guide, and `gallery` loses variance as
-//! the spread grows (1.22×, 1.77×, 3.04× the tree's at 1.25, 1.6, 4) where `arena` gains
+//! that a cone's edge crossing the tile makes a poor guide, and `gallery`'s variance grows
+//! with the spread (1.22×, 1.77×, 3.04× the tree's at 1.25, 1.6, 4) where `arena`'s falls
 //! (0.83×, 0.48×, 0.46×, its picks 7.8, 5.6, 5.5 alias picks): 1.6 keeps `gallery` within
-//! 1.25× of the variance of the cuts as first built and doubles `arena`'s efficiency. The tree's share costs `equal` and `heavy-tail` half their
-//! gain and protects the sets near the plane where a representative light misjudges a
-//! group just above the tile. Another draw of the same recipe (made outside the repository,
-//! with Python's `random` instead of `SplitMix`) shows how far apart two such sets can
-//! fall: there the built cuts give 164× below power (0.12× the tree's variance), 189×
-//! (0.11×) without the tree's share, where this draw's give 8× (1.34×) and 4× (2.44×); no
-//! share tried was best on both. What the cut does not change is the work below an entry: a pick there still
-//! descends (a node's importances, a leaf's contributions), so a pick costs 2.2 alias picks
-//! where the cut reaches single lights (`equal`) and 3.9–10 elsewhere.
+//! 1.25× of the variance of the cuts as first built and doubles `arena`'s efficiency. The
+//! tree's share costs `equal` and `heavy-tail` half their gain and protects the sets near
+//! the plane where a representative light misjudges a group just above the tile. Another
+//! draw of the same recipe (made outside the repository, with Python's `random` instead of
+//! `SplitMix`) shows how far apart two such sets can fall: there the built cuts give 164×
+//! below power (0.12× the tree's variance), 189× (0.11×) without the tree's share, where
+//! this draw's give 8× (1.34×) and 4× (2.44×); no share tried was best on both. What the
+//! cut does not change is the work below an entry: a pick there still descends (a node's
+//! importances, a leaf's contributions), so a pick costs 2.2 alias picks where the cut
+//! reaches single lights (`equal`) and 3.9–10 elsewhere.
 //!
 //! The rest of this section was measured with the cuts as first built (weighed by the
 //! tree's probabilities alone, at most 64 entries, spread ≤ 1.25).
