@@ -126,6 +126,21 @@ fn extreme_powers_and_scales_match_the_cpu() {
 
 #[test]
 fn presets_match_the_cpu() {
+    // `heavy-tail`'s tiles are cut into more than 64 entries: the GPU's draw through 128
+    // alias columns (seven alias bits) is compared too.
+    let heavy = preset_at("heavy-tail", 32, 32);
+    let SpatialSampler::Tree(tree) = SpatialSampler::for_scene(&heavy) else {
+        panic!("a tree");
+    };
+    let cuts = tree.tile_cuts().expect("cuts");
+    let [tx, ty] = cuts.tiles();
+    let most = (0..(tx * ty) as usize)
+        .map(|tile| cuts.entries(&tree, tile).count())
+        .max();
+    assert!(
+        most > Some(64),
+        "heavy-tail's largest cut: {most:?} entries"
+    );
     for name in ["extreme-range", "heavy-tail", "million", "zeros"] {
         compare(&preset_at(name, 32, 32), 1, name);
     }
