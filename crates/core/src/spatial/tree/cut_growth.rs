@@ -29,8 +29,8 @@ pub(super) struct Rules {
 const TOTALS_DRIFT: f64 = 1.0 / 16.0;
 
 /// Each estimate is capped here, so that the cut's sum of at most
-/// [`super::CUT_MAX_ENTRIES`] of
-/// them stays finite (a light `10^-150` above the plane gives `~10^298`).
+/// [`super::CUT_MAX_ENTRIES`] of them stays finite (a light `10^-150` above the plane gives
+/// `~10^298`).
 const ESTIMATE_CAP: f64 = IMPORTANCE_CAP / 256.0;
 
 /// A cut splits a leaf cluster into its lights only where each light's contribution at
@@ -41,8 +41,8 @@ const LEAF_FLATNESS: f64 = 0.5;
 
 /// Grows a tile's cut from the root (module docs): splits the entry of largest share
 /// `max_k s_e(x_k)` while the cut keeps at most `rules.max_entries` entries and a
-/// spread `Σ_e max_k s_e(x_k)` of at most the cut's limit, then weighs each entry by
-/// its shares (`q̃_e` in `Candidate::weight`).
+/// spread `Σ_e max_k s_e(x_k)` of at most `rules.max_spread`, then weighs each entry by
+/// its shares and by its probabilities under the tree (`Candidate::weigh`).
 ///
 /// The shares `s_e(x_k) = Ê_e(x_k) / Σ_f Ê_f(x_k)` are taken against the totals of the
 /// cut as it stands; every split changes those totals a little, so the entries' largest
