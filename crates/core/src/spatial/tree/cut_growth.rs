@@ -7,7 +7,7 @@ use glam::DVec2;
 use super::LightTree;
 use super::cut_candidate::{Candidate, WEIGHING_POINTS, Weighing};
 use super::node::{Child, ChildRef, TREE_WIDTH};
-use crate::spatial::importance::{GRID_CELL, IMPORTANCE_CAP, lane_importances};
+use crate::spatial::importance::{GRID_CELL, IMPORTANCE_CAP, branch_probabilities, grid_masses};
 
 /// How a tile's cut grows.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -34,9 +34,9 @@ const TOTALS_DRIFT: f64 = 1.0 / 16.0;
 const ESTIMATE_CAP: f64 = IMPORTANCE_CAP / 256.0;
 
 /// A cut splits a leaf cluster into its lights only where each light's contribution at
-/// every weighing point is at least this fraction of its largest there (its share in the
-/// tree's probabilities when weighing by those), and each spot's emission factor over the
-/// whole tile at least this fraction of its peak ([`super::TileCuts`]).
+/// every weighing point is at least this fraction of its largest there (whatever the cut
+/// grows by), and each spot's emission factor over the whole tile at least this fraction
+/// of its peak ([`super::TileCuts`]).
 const LEAF_FLATNESS: f64 = 0.5;
 
 /// Grows a tile's cut from the root (module docs): splits the entry of largest share
@@ -85,22 +85,17 @@ pub(super) fn grow(
             let moved = (g * r - 1.0).abs();
             moved.is_nan() || moved > TOTALS_DRIFT
         });
-        let grown_spread = if drifted {
+        if drifted {
             taken_at = reciprocal(grown);
             for c in cut.iter_mut() {
                 c.peak = c.largest_share(by, &taken_at);
             }
-            for c in children.iter_mut() {
-                c.peak = c.largest_share(by, &taken_at);
-            }
             spread = cut.iter().map(|c| c.peak).sum();
-            spread - cut[k].peak + children.iter().map(|c| c.peak).sum::<f64>()
-        } else {
-            for c in children.iter_mut() {
-                c.peak = c.largest_share(by, &taken_at);
-            }
-            spread - cut[k].peak + children.iter().map(|c| c.peak).sum::<f64>()
-        };
+        }
+        for c in children.iter_mut() {
+            c.peak = c.largest_share(by, &taken_at);
+        }
+        let grown_spread = spread - cut[k].peak + children.iter().map(|c| c.peak).sum::<f64>();
         if cut.len() - 1 + children.len() > rules.max_entries || grown_spread > rules.max_spread {
             // The largest entry that can still be split cannot: the cut is done (trying
             // the smaller ones costs more than it gains, measured).
@@ -155,13 +150,13 @@ fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
 }
 
 /// The lanes of node `at` that can light the tile (`tile`: its weighing points and box),
-/// appended to `out` in leaf order with their estimates at each point (by `weighing`: the
-/// lane's representative light or map; or, with `at` reached with probability `estimate[k]`
-/// at weighing point `k`, the node's grid probability times that); or the lights of leaf
-/// cluster `at`, each with its exact contribution (or the cluster's grid masses by
-/// contribution times `estimate[k]`). A lane
-/// or a light whose footprint misses the tile's box is left out: none of its lights gives
-/// the tile anything, and a pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
+/// appended to `out` in leaf order, each with its estimate at each point (the lane's map or
+/// representative light) and its probability under the tree there (`at`'s,
+/// `tree_probability[k]` at weighing point `k`, times the node's grid probability of the
+/// lane); or the lights of leaf cluster `at`, each with its exact contribution and the
+/// cluster's probability times its grid mass by contribution. A lane or a light whose
+/// footprint misses the tile's box is left out: none of its lights gives the tile anything,
+/// and a pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
 /// Returns whether the cut may take them: always a node's lanes; a leaf cluster's lights
 /// where each keeps its emission factor within [`LEAF_FLATNESS`] of its peak over the whole
 /// tile ([`Emission::factor_floor_over`]: always for point lights) and [`flat_on_tile`]
@@ -180,7 +175,7 @@ fn split_into(
         Child::Leaf { first, count } => {
             let lights = first..first + count;
             // Where each light is mapped on the plane (within the receiver, where picks are
-            // made); none for point lights, which estimate every tile.
+            // made); none for point lights, which reach every tile.
             let footprints = tree.footprints.get(lights.clone());
             let lights_tile = |j: usize| footprints.is_none_or(|f| meets(f[j], rect));
             if let Some(emission) = tree.emission.get(lights.clone()) {
@@ -216,19 +211,21 @@ fn split_into(
     };
     let node = &tree.nodes()[n];
     let bounds = tree.bounds(n);
-    // Each lane's estimate of what it gives each weighing point: its map's value (and
-    // its unbounded lights' representative light) for spots and ranges, its representative
-    // light `Φ_c·G(c, x)` for point lights (`lane_importances` is `4π` times that).
-    let estimates = points.map(|x| {
-        let lanes = if let (Some(b), Some(m)) = (bounds, tree.mapped(n)) {
-            m.weights(b, x).0
-        } else {
-            let [cx, cy, cz] = &node.centroid;
-            lane_importances([cx, cy, cz], &node.power, x).map(|i| i / (4.0 * std::f64::consts::PI))
-        };
-        lanes.map(|e| e.min(ESTIMATE_CAP))
-    });
-    let masses = points.map(|x| tree.node_masses_at(n, x));
+    // Each lane's importance and share at each weighing point, read once: the importance
+    // is its estimate of what it gives the point (its map's value, with its unbounded
+    // lights' representative light, for spots and ranges; for point lights its
+    // representative light `Φ_c·G(c, x)`, of which the importance is `4π` times), and the
+    // two mixed are the tree's branch masses there.
+    let importance_per_estimate = if tree.mapped(n).is_some() {
+        1.0
+    } else {
+        4.0 * std::f64::consts::PI
+    };
+    let weights = points.map(|x| tree.node_weights(n, x));
+    let estimates = weights
+        .map(|(importance, _)| importance.map(|i| (i / importance_per_estimate).min(ESTIMATE_CAP)));
+    let masses =
+        weights.map(|(importance, share)| grid_masses(branch_probabilities(importance, share)));
     for lane in 0..TREE_WIDTH {
         let child = node.child[lane];
         let footprint = bounds.map(|b| b[lane].footprint);

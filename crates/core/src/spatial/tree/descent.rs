@@ -21,6 +21,22 @@ impl LightTree {
         }
     }
 
+    /// Node `k`'s lanes' importances and defensive shares at `x`, from which
+    /// [`LightTree::node_masses_at`] mixes its masses: point lights' `4π·I_c` and powers
+    /// ([`TreeNode::weights`]), or lanes' maps and peak intensities
+    /// ([`TreeNode::weights_mapped`]).
+    #[inline]
+    pub(super) fn node_weights(
+        &self,
+        k: usize,
+        x: DVec2,
+    ) -> ([f64; TREE_WIDTH], [f64; TREE_WIDTH]) {
+        match (self.bounds.get(k), self.mapped.get(k)) {
+            (Some(bounds), Some(mapped)) => TreeNode::weights_mapped(bounds, mapped, x),
+            _ => self.nodes[k].weights(x),
+        }
+    }
+
     /// The grid masses of the lights `first .. first + count` of a leaf cluster at `x`, by
     /// their contributions `c_j = p_j·G_j(x)`, and the contributions themselves.
     #[inline]

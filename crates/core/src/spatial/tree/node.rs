@@ -124,30 +124,49 @@ impl TreeNode {
         self.child[lane]
     }
 
+    /// The four lanes' importances at `point_on_plane` for point lights (`4π·I_c`,
+    /// [`lane_importances`]) and their powers: what [`TreeNode::masses`] mixes.
+    #[inline]
+    pub fn weights(&self, point_on_plane: DVec2) -> ([f64; TREE_WIDTH], [f64; TREE_WIDTH]) {
+        let [x, y, z] = &self.centroid;
+        let importance = lane_importances([x, y, z], &self.power, point_on_plane);
+        (importance, self.power)
+    }
+
     /// The grid masses of the four lanes at `point_on_plane` for point lights (summing to
     /// `2^24`, or all 0 when no lane has power).
     #[inline]
     pub fn masses(&self, point_on_plane: DVec2) -> [u32; TREE_WIDTH] {
-        let [x, y, z] = &self.centroid;
-        let importance = lane_importances([x, y, z], &self.power, point_on_plane);
-        grid_masses(branch_probabilities(importance, self.power))
+        let (importance, power) = self.weights(point_on_plane);
+        grid_masses(branch_probabilities(importance, power))
+    }
+
+    /// The four lanes' importances at `point_on_plane` for lights with emission profiles
+    /// (their maps' values, capped at [`IMPORTANCE_CAP`]) and their shares of peak intensity
+    /// `Σ p_i·g_i` ([`MappedLanes::weights`]; both 0 for a lane whose bounds exclude the
+    /// point): what [`TreeNode::masses_mapped`] mixes.
+    #[inline]
+    pub fn weights_mapped(
+        bounds: &[LaneBounds; TREE_WIDTH],
+        mapped: &MappedLanes,
+        point_on_plane: DVec2,
+    ) -> ([f64; TREE_WIDTH], [f64; TREE_WIDTH]) {
+        let (importance, share) = mapped.weights(bounds, point_on_plane);
+        (importance.map(|i| i.min(IMPORTANCE_CAP)), share)
     }
 
     /// The grid masses of four lanes of lights with emission profiles at `point_on_plane`:
     /// a lane whose bounds exclude the point gets none; the others are weighed by their
     /// maps, mixed with their shares of peak intensity `Σ p_i·g_i`
-    /// ([`MappedLanes::weights`], [`branch_probabilities`]). All zero when every lane is
-    /// culled.
+    /// ([`TreeNode::weights_mapped`], [`branch_probabilities`]). All zero when every lane
+    /// is culled.
     #[inline]
     pub fn masses_mapped(
         bounds: &[LaneBounds; TREE_WIDTH],
         mapped: &MappedLanes,
         point_on_plane: DVec2,
     ) -> [u32; TREE_WIDTH] {
-        let (importance, share) = mapped.weights(bounds, point_on_plane);
-        grid_masses(branch_probabilities(
-            importance.map(|i| i.min(IMPORTANCE_CAP)),
-            share,
-        ))
+        let (importance, share) = Self::weights_mapped(bounds, mapped, point_on_plane);
+        grid_masses(branch_probabilities(importance, share))
     }
 }
