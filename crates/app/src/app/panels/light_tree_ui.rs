@@ -22,6 +22,9 @@ use crate::app::state::AppState;
 use crate::app::state::light_tree::{SteppedPick, TreeColoring};
 use crate::numbers::{self, three_significant};
 
+/// The letters a node's four groups are named by, lane by lane.
+const LANE_LETTERS: [char; 4] = ['A', 'B', 'C', 'D'];
+
 /// The picture's cached texture and what it was drawn for.
 #[derive(Clone)]
 struct Drawn {
@@ -353,7 +356,7 @@ fn node_stage_ui(
         .show(ui, |ui| {
             for (lane, (group, color)) in step.lanes.iter().zip(LANE_COLORS).enumerate() {
                 let color = colors::to_color32(color);
-                let name = format!("group {}", ['A', 'B', 'C', 'D'][lane]);
+                let name = format!("group {}", LANE_LETTERS[lane]);
                 let name = if lane == step.lane {
                     RichText::new(format!("{name} ← picked")).strong()
                 } else {
@@ -393,7 +396,7 @@ fn node_stage_ui(
         if let Some(reason) = group.culled {
             ui.colored_label(
                 colors::muted(dark),
-                culled_words(['A', 'B', 'C', 'D'][lane], reason, group.light_count()),
+                culled_words(LANE_LETTERS[lane], reason, group.light_count()),
             );
         }
     }
@@ -406,7 +409,7 @@ fn node_stage_ui(
     ui.label(format!(
         "Random number u = {:.4} → group {}. P so far: {} × {} = {}",
         u,
-        ['A', 'B', 'C', 'D'][step.lane],
+        LANE_LETTERS[step.lane],
         three_significant(before),
         three_significant(step.lanes[step.lane].probability),
         three_significant(step.pdf_after)
