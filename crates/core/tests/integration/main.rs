@@ -11,6 +11,7 @@ mod gpu_emission;
 
 mod alias_guarantees;
 mod alias_properties;
+mod cut_bounds;
 mod determinism;
 mod extremes;
 #[cfg(feature = "gpu")]

@@ -57,6 +57,10 @@ pub(super) struct Candidate {
     /// Whether the cut keeps this entry whole (a leaf cluster whose lights' shares change
     /// too much across the tile).
     pub(super) whole: bool,
+    /// An upper bound of what the entry's lights give any point of the tile
+    /// ([`super::TreeNode::contribution_bound`]), for a subtree of point lights; 0 where
+    /// none is taken (leaf clusters, single lights, lanes of spots).
+    pub(super) bound: f64,
 }
 
 impl Candidate {
@@ -79,7 +83,13 @@ impl Candidate {
             tree_weight: 0.0,
             power,
             whole: false,
+            bound: 0.0,
         }
+    }
+
+    /// The same entry with the bound `bound` of what it gives the tile.
+    pub(super) fn bounded_by(self, bound: f64) -> Self {
+        Self { bound, ..self }
     }
 
     /// What the cut grows by: the estimates, or the tree's probabilities.

@@ -39,8 +39,14 @@ const ESTIMATE_CAP: f64 = IMPORTANCE_CAP / 256.0;
 /// of its peak ([`super::TileCuts`]).
 const LEAF_FLATNESS: f64 = 0.5;
 
-/// Grows a tile's cut from the root (module docs): splits the entry of largest share
-/// `max_k s_e(x_k)` while the cut keeps at most `rules.max_entries` entries and a
+/// A subtree of point lights is split ahead of its largest share when its bound
+/// ([`super::TreeNode::contribution_bound`]), as a share of the cut's largest total, is
+/// more than this many times that share ([`urgency`]).
+const BOUND_OVER_SHARE: f64 = 64.0;
+
+/// Grows a tile's cut from the root (module docs): splits the most urgent entry (largest
+/// share `max_k s_e(x_k)`, or a subtree's bound where that share may be far off:
+/// [`urgency`]) while the cut keeps at most `rules.max_entries` entries and a
 /// spread `Σ_e max_k s_e(x_k)` of at most `rules.max_spread`, then weighs each entry by
 /// its shares and by its probabilities under the tree (`Candidate::weigh`).
 ///
@@ -65,11 +71,14 @@ pub(super) fn grow(
     let mut taken_at = reciprocal(total);
     cut[0].peak = 1.0;
     let mut spread = 1.0;
+    // `1 / max_k Ê(x_k)`: the entries' bounds as shares of the cut's largest total (none
+    // when the cut grows by the tree's probabilities).
+    let mut bound_scale = 0.0;
     while let Some(k) = cut
         .iter()
         .enumerate()
         .filter(|(_, c)| !c.whole && splits(c.at, rules.split_leaves))
-        .max_by(|a, b| a.1.peak.total_cmp(&b.1.peak))
+        .max_by(|a, b| urgency(a.1, bound_scale).total_cmp(&urgency(b.1, bound_scale)))
         .map(|(k, _)| k)
     {
         children.clear();
@@ -87,6 +96,9 @@ pub(super) fn grow(
         });
         if drifted {
             taken_at = reciprocal(grown);
+            if by == Weighing::Estimates {
+                bound_scale = taken_at.iter().fold(f64::INFINITY, |m, &r| m.min(r));
+            }
             for c in cut.iter_mut() {
                 c.peak = c.largest_share(by, &taken_at);
             }
@@ -97,8 +109,8 @@ pub(super) fn grow(
         }
         let grown_spread = spread - cut[k].peak + children.iter().map(|c| c.peak).sum::<f64>();
         if cut.len() - 1 + children.len() > rules.max_entries || grown_spread > rules.max_spread {
-            // The largest entry that can still be split cannot: the cut is done (trying
-            // the smaller ones costs more than it gains, measured).
+            // The most urgent entry that can still be split cannot: the cut is done (trying
+            // the others costs more than it gains, measured).
             break;
         }
         total = grown;
@@ -119,6 +131,20 @@ pub(super) fn grow(
     );
     for c in cut.iter_mut() {
         c.weigh(&estimated, &by_tree);
+    }
+}
+
+/// How urgently a cut splits `c`: its largest share `max_k s_e(x_k)`, or its bound as a
+/// share of the cut's largest total (`bound_scale = 1 / max_k Ê(x_k)`) where that is more
+/// than [`BOUND_OVER_SHARE`] times larger: a subtree whose representative light may
+/// misjudge it that much (a group of lights hanging just above the tile) is split ahead of
+/// what its estimates say ([`grow`]).
+fn urgency(c: &Candidate, bound_scale: f64) -> f64 {
+    let bound_share = c.bound * bound_scale;
+    if bound_share > BOUND_OVER_SHARE * c.peak {
+        bound_share
+    } else {
+        c.peak
     }
 }
 
@@ -232,12 +258,19 @@ fn split_into(
         if child.get() == Child::Empty || !meets(footprint, rect) {
             continue;
         }
-        out.push(Candidate::new(
+        let entry = Candidate::new(
             child,
             std::array::from_fn(|k| estimates[k][lane]),
             std::array::from_fn(|k| tree_probability[k] * (f64::from(masses[k][lane]) * GRID_CELL)),
             node.power(lane),
-        ));
+        );
+        // A subtree of point lights, which its representative light may misjudge.
+        let bounded = tree.mapped(n).is_none() && matches!(child.get(), Child::Node(_));
+        out.push(if bounded {
+            entry.bounded_by(node.contribution_bound(lane, rect).min(ESTIMATE_CAP))
+        } else {
+            entry
+        });
     }
     true
 }

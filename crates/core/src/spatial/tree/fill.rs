@@ -136,6 +136,21 @@ impl Summary for Bounded {
 }
 
 impl Aggregate {
+    /// The lane's reach ([`TreeNode`]'s `reach`): the distance from its centroid to the
+    /// farthest corner of its lights' box (every light lies within it), rounded up to
+    /// `f32`, and the box's lowest height rounded down; `0` and `∞` for an empty lane.
+    fn reach(&self) -> [f32; 2] {
+        if self.min.z > self.max.z {
+            return [0.0, f32::INFINITY];
+        }
+        let farthest = (self.centroid - self.min).max(self.max - self.centroid);
+        // One step of `f32` beyond the nearest `f32` covers the `f64` roundings of the
+        // length (relative `~10^-16`).
+        let radius = (farthest.length() as f32).next_up();
+        let floor = (self.min.z as f32).next_down().max(0.0);
+        [radius, floor]
+    }
+
     /// `Σ w_k·y_k / Σ w_k` with `w_k = p_k / max p` (no underflow however small the powers),
     /// clamped into the box; the box's centre when nothing has power.
     fn combine(
@@ -259,6 +274,7 @@ pub(super) fn fill<S: Summary>(
         for (axis, c) in node.centroid.iter_mut().zip(a.centroid.to_array()) {
             axis[lane] = c;
         }
+        [node.reach[0][lane], node.reach[1][lane]] = a.reach();
     }
     if let Some(b) = this_bounds {
         b[0] = lanes.map(|a| a.bounds());

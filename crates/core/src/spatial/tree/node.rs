@@ -99,6 +99,10 @@ pub struct TreeNode {
     pub(super) power: [f64; TREE_WIDTH],
     /// Each lane's child.
     pub(super) child: [ChildRef; TREE_WIDTH],
+    /// Where each lane's lights can be ([`TreeNode::contribution_bound`]): the radius `r` of
+    /// a sphere about the lane's centroid that holds them all (`f32`, rounded up), and the
+    /// height `z_min` of its lowest light (`f32`, rounded down); `0` and `∞` in empty lanes.
+    pub(super) reach: [[f32; TREE_WIDTH]; 2],
 }
 
 impl TreeNode {
@@ -106,6 +110,7 @@ impl TreeNode {
         centroid: [[0.0; TREE_WIDTH], [0.0; TREE_WIDTH], [1.0; TREE_WIDTH]],
         power: [0.0; TREE_WIDTH],
         child: [ChildRef::EMPTY; TREE_WIDTH],
+        reach: [[0.0; TREE_WIDTH], [f32::INFINITY; TREE_WIDTH]],
     };
 
     /// The power-weighted centroid of lane `lane`'s lights, in the world.
@@ -122,6 +127,31 @@ impl TreeNode {
     /// What lane `lane` holds.
     pub fn child(&self, lane: usize) -> ChildRef {
         self.child[lane]
+    }
+
+    /// An upper bound of what lane `lane`'s point lights give any point `x` of the rectangle
+    /// `rect` (`[min, max]`) on the plane: `Σ p_i·G_i(x) ≤ Φ_c / (4π·d²)` with
+    ///
+    /// `d = max(|c − rect| − r, z_min)`,
+    ///
+    /// `c` the lane's centroid, `|c − rect|` its distance to the rectangle, `r` and `z_min`
+    /// its reach ([`TreeNode::reach`]). Each light `y_i` is at least `d` from every point of
+    /// the rectangle (`|y_i − x| ≥ |c − x| − |y_i − c|`, and `≥ z_i`), and
+    /// `G_i(x) = z_i / (4π|y_i − x|³) ≤ 1 / (4π|y_i − x|²)`. Unlike the representative
+    /// light it cannot miss a light hanging just above the rectangle. 0 for an empty lane;
+    /// `∞` where `d` is 0.
+    pub fn contribution_bound(&self, lane: usize, [lo, hi]: [DVec2; 2]) -> f64 {
+        let power = self.power[lane];
+        if power <= 0.0 {
+            return 0.0;
+        }
+        let c = self.centroid(lane);
+        let dx = (lo.x - c.x).max(c.x - hi.x).max(0.0);
+        let dy = (lo.y - c.y).max(c.y - hi.y).max(0.0);
+        let [radius, floor] = self.reach.map(|r| f64::from(r[lane]));
+        let d = ((dx * dx + dy * dy + c.z * c.z).sqrt() - radius).max(floor);
+        let cosine = ((c.z + radius) / d).min(1.0);
+        power * cosine / (4.0 * std::f64::consts::PI * d * d)
     }
 
     /// The four lanes' importances at `point_on_plane` for point lights (`4π·I_c`,
