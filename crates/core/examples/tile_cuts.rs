@@ -106,12 +106,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             (format!("cut ≤ {k}, spread ≤ 1.6"), Some(sized(64, k, 1.6))),
             (format!("cut ≤ {k}, spread ≤ 4"), Some(sized(64, k, 4.0))),
             (
-                "built, no share of the weights by the tree's probabilities".into(),
-                Some(built.clone().with_tree_share(0.0)),
-            ),
-            (
                 "built, the tree's share 0.1".into(),
                 Some(built.clone().with_tree_share(0.1)),
+            ),
+            (
+                "built, the tree's share 0.25".into(),
+                Some(built.clone().with_tree_share(0.25)),
             ),
             (
                 "built, the tree's share 0.5".into(),

@@ -46,8 +46,10 @@
 //! entries (subtrees, and single lights taken out of their leaf clusters: a spot only where
 //! its cone's edge does not cross the tile) weighed once for the whole tile by what each is
 //! estimated to give the tile's nine weighing points (a single light or a leaf cluster
-//! exactly, a lane by its representative light or its map), a quarter of the weight by the
-//! tree's own probabilities there. A pick draws one entry by the tile's alias columns (one
+//! exactly, a lane by its representative light or its map); a group of point lights whose
+//! bound ([`TreeNode::contribution_bound`]) says it may give the tile far more than its
+//! representative light does is split first. A pick draws one entry by the tile's alias
+//! columns (one
 //! word and one entry read) and descends below it at `x` as before; a single light costs no
 //! descent at all. The pdf stays exact (the entry's grid probability times the descent's)
 //! and positive wherever a light contributes. Weighed so, a cut replaces the tree's top
@@ -65,37 +67,41 @@
 //!
 //! | pick | `equal` | `heavy-tail` | `grid` | `stage` | `gallery` | `random` | `arena` | `clusters-low` | `chandeliers` | `strips` |
 //! | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |
-//! | the tree from its root | 60×, 10.4× | 177×, 21.0× | 251×, 17.1× | 151×, 13.7× | 4366×, 9.5× | 156×, 20.5× | 195×, 20.1× | 11×, 20.7× | 46×, 20.7× | 16×, 20.3× |
-//! | cuts as first built: ≤ 64 entries, spread ≤ 1.25, weighed by the tree's probabilities alone | 60× (1.00), 2.2× | 173× (1.03), 11.1× | 239× (1.05), 7.0× | 152× (0.99), 4.5× | 3048× (1.43), 5.2× | 151× (1.03), 7.5× | 199× (0.98), 7.2× | 11× (0.97), 11.9× | 45× (1.01), 10.6× | 13× (1.25), 12.2× |
-//! | **built: ≤ 128 entries, spread ≤ 4 (point lights) or 1.6 (spots), weighed by estimates, the tree's share ¼** | **425× (0.14), 2.3×** | **863× (0.21), 9.7×** | **409× (0.61), 6.0×** | **247× (0.61), 4.3×** | **2463× (1.77), 3.9×** | **165× (0.94), 6.2×** | **406× (0.48), 5.7×** | **8× (1.34), 8.9×** | **209× (0.22), 9.1×** | **224× (0.07), 7.5×** |
-//! | the same, ≤ 64 entries | 425× (0.14), 2.3× | 807× (0.22), 11.0× | 419× (0.60), 6.2× | 247× (0.61), 4.4× | 2463× (1.77), 4.0× | 162× (0.96), 7.5× | 389× (0.50), 6.0× | 7× (1.52), 9.9× | 138× (0.33), 10.1× | 139× (0.12), 8.1× |
-//! | the same, spread ≤ 1.25 | 425× (0.14), 2.2× | 863× (0.21), 9.6× | 371× (0.68), 7.7× | 228× (0.66), 4.7× | 3594× (1.22), 5.4× | 164× (0.95), 6.2× | 235× (0.83), 7.8× | 5× (2.22), 11.3× | 205× (0.22), 9.2× | 10× (1.66), 12.0× |
-//! | the same, spread ≤ 1.6 | 425× (0.14), 2.2× | 863× (0.21), 9.7× | 409× (0.61), 6.0× | 247× (0.61), 4.3× | 2463× (1.77), 3.9× | 165× (0.94), 6.1× | 406× (0.48), 5.6× | 7× (1.53), 9.5× | 209× (0.22), 9.1× | 10× (1.66), 9.1× |
-//! | the same, spread ≤ 4 | 425× (0.14), 2.3× | 863× (0.21), 9.6× | 409× (0.61), 6.0× | 247× (0.61), 4.3× | 1435× (3.04), 3.1× | 165× (0.94), 6.1× | 428× (0.46), 5.5× | 8× (1.34), 8.9× | 209× (0.22), 9.2× | 224× (0.07), 7.4× |
-//! | the same, no share of the weights by the tree's probabilities | 891× (0.07), 2.2× | 1129× (0.16), 9.6× | 393× (0.64), 5.9× | 261× (0.58), 4.3× | 2547× (1.71), 3.9× | 166× (0.93), 6.0× | 438× (0.44), 5.7× | 4× (2.44), 8.6× | 216× (0.21), 8.9× | 226× (0.07), 7.0× |
-//! | the same, the tree's share 0.1 | 701× (0.09), 2.2× | 1071× (0.17), 9.6× | 409× (0.61), 5.9× | 258× (0.59), 4.3× | 2517× (1.73), 3.9× | 166× (0.94), 6.1× | 431× (0.45), 5.7× | 6× (1.83), 8.8× | 229× (0.20), 9.0× | 233× (0.07), 7.2× |
-//! | the same, the tree's share 0.5 | 198× (0.30), 2.2× | 507× (0.35), 9.7× | 371× (0.68), 6.3× | 221× (0.68), 4.4× | 2360× (1.85), 4.0× | 163× (0.96), 6.1× | 346× (0.56), 5.7× | 11× (0.95), 9.2× | 142× (0.32), 9.4× | 187× (0.09), 8.0× |
-//! | the same, leaf clusters kept whole | 60× (1.00), 5.6× | 826× (0.21), 9.8× | 423× (0.59), 5.9× | 245× (0.62), 4.7× | 2463× (1.77), 4.0× | 165× (0.94), 6.1× | 415× (0.47), 5.9× | 8× (1.34), 8.9× | 280× (0.16), 8.8× | 224× (0.07), 7.3× |
+//! | the tree from its root | 60× (1.00), 10.8× | 177× (1.00), 20.7× | 251× (1.00), 17.0× | 151× (1.00), 13.7× | 4366× (1.00), 9.3× | 156× (1.00), 20.4× | 195× (1.00), 21.1× | 11× (1.00), 19.3× | 46× (1.00), 21.2× | 16× (1.00), 21.0× |
+//! | cuts as first built: ≤ 64 entries, spread ≤ 1.25, weighed by the tree's probabilities alone | 60× (1.00), 2.4× | 173× (1.03), 11.1× | 239× (1.05), 7.0× | 152× (0.99), 4.5× | 3048× (1.43), 5.2× | 151× (1.03), 7.6× | 199× (0.98), 7.8× | 11× (0.97), 11.1× | 45× (1.01), 10.9× | 13× (1.25), 12.9× |
+//! | **built: ≤ 128 entries, spread ≤ 4 (point lights) or 1.6 (spots), weighed by estimates, groups above the tile split by their bounds** | **891× (0.07), 2.4×** | **1129× (0.16), 9.1×** | **392× (0.64), 5.8×** | **261× (0.58), 4.4×** | **2547× (1.71), 3.9×** | **166× (0.93), 6.1×** | **438× (0.44), 5.9×** | **296× (0.04), 8.5×** | **411× (0.11), 9.4×** | **231× (0.07), 7.9×** |
+//! | the same, ≤ 64 entries | 891× (0.07), 2.3× | 1037× (0.17), 10.4× | 398× (0.63), 6.0× | 261× (0.58), 4.4× | 2547× (1.71), 3.8× | 163× (0.96), 7.4× | 417× (0.47), 6.1× | 347× (0.03), 10.2× | 221× (0.21), 10.8× | 31× (0.53), 9.6× |
+//! | the same, spread ≤ 1.25 | 891× (0.07), 2.3× | 1129× (0.16), 9.1× | 385× (0.65), 7.6× | 241× (0.63), 4.5× | 3770× (1.16), 5.2× | 165× (0.94), 6.2× | 237× (0.82), 8.1× | 9× (1.20), 10.8× | 409× (0.11), 10.0× | 9× (1.90), 12.6× |
+//! | the same, spread ≤ 1.6 | 891× (0.07), 2.3× | 1129× (0.16), 9.5× | 392× (0.64), 5.7× | 261× (0.58), 4.2× | 2547× (1.71), 3.8× | 166× (0.93), 6.4× | 438× (0.44), 5.8× | 43× (0.25), 9.0× | 411× (0.11), 9.8× | 9× (1.80), 9.7× |
+//! | the same, spread ≤ 4 | 891× (0.07), 2.4× | 1129× (0.16), 9.3× | 392× (0.64), 5.7× | 261× (0.58), 4.3× | 1474× (2.96), 2.9× | 166× (0.93), 6.8× | 466× (0.42), 5.8× | 296× (0.04), 8.8× | 411× (0.11), 9.4× | 231× (0.07), 8.1× |
+//! | the same, the tree's share 0.1 | 701× (0.09), 2.4× | 1071× (0.17), 9.2× | 409× (0.61), 5.7× | 258× (0.59), 4.3× | 2517× (1.73), 3.8× | 166× (0.94), 6.8× | 431× (0.45), 5.8× | 273× (0.04), 8.6× | 368× (0.12), 9.5× | 236× (0.07), 8.1× |
+//! | the same, the tree's share ¼ | 425× (0.14), 2.3× | 863× (0.21), 8.9× | 409× (0.61), 5.7× | 247× (0.61), 4.4× | 2463× (1.77), 3.9× | 165× (0.94), 6.6× | 406× (0.48), 5.8× | 232× (0.05), 8.8× | 277× (0.17), 9.4× | 225× (0.07), 8.3× |
+//! | the same, the tree's share 0.5 | 198× (0.30), 2.3× | 507× (0.35), 9.1× | 371× (0.68), 5.8× | 221× (0.68), 4.3× | 2360× (1.85), 3.9× | 163× (0.96), 6.7× | 346× (0.56), 5.8× | 164× (0.07), 8.6× | 158× (0.29), 9.6× | 187× (0.09), 8.6× |
+//! | the same, leaf clusters kept whole | 54× (1.11), 5.8× | 1069× (0.17), 9.0× | 402× (0.62), 5.6× | 259× (0.58), 4.8× | 2548× (1.71), 4.2× | 166× (0.94), 6.4× | 449× (0.43), 6.4× | 296× (0.04), 8.4× | 484× (0.09), 8.7× | 231× (0.07), 8.0× |
 //!
 //! On `million` (10^6 lights, cuts of at most 64 entries above 2^18 lights, 6 × 6 points)
-//! the built cuts give 1118× below power (0.14× the tree's variance) at 6.7× alias's time,
-//! against 186× (0.87) at 6.3× for the cuts weighed by the tree's probabilities alone;
-//! without the tree's share 1443× (0.11). The spread limits: point lights' shares change
+//! the built cuts give 1443× below power (0.11× the tree's variance) at 3.4× alias's time
+//! (an alias pick there waits on a cache miss per light, 231 ns a pixel sample in this
+//! run), against 186× (0.87) for the cuts weighed by the tree's probabilities alone and
+//! 1118× (0.14) with the tree's share ¼. The spread limits: point lights' shares change
 //! smoothly across a tile, and a spread of 4 lets the cut reach the lights of a strip or a
-//! cluster near the plane (`strips` 224× against 10× at 1.25); spots' maps are cell means
-//! that a cone's edge crossing the tile makes a poor guide, and `gallery`'s variance grows
-//! with the spread (1.22×, 1.77×, 3.04× the tree's at 1.25, 1.6, 4) where `arena`'s falls
-//! (0.83×, 0.48×, 0.46×, its picks 7.8, 5.6, 5.5 alias picks): 1.6 keeps `gallery` within
-//! 1.25× of the variance of the cuts as first built and doubles `arena`'s efficiency. The
-//! tree's share costs `equal` and `heavy-tail` half their gain and protects the sets near
-//! the plane where a representative light misjudges a group just above the tile. Another
-//! draw of the same recipe (made outside the repository, with Python's `random` instead of
-//! `SplitMix`) shows how far apart two such sets can fall: there the built cuts give 164×
-//! below power (0.12× the tree's variance), 189× (0.11×) without the tree's share, where
-//! this draw's give 8× (1.34×) and 4× (2.44×); no share tried was best on both. What the
+//! cluster near the plane (`strips` 231× against 9× at 1.25 and 1.6, `clusters-low` 296×
+//! against 43× at 1.6); spots' maps are cell means that a cone's edge crossing the tile
+//! makes a poor guide, and `gallery`'s variance grows with the spread (1.16×, 1.71×,
+//! 2.96× the tree's at 1.25, 1.6, 4) where `arena`'s falls (0.82×, 0.44×, 0.42×, its picks
+//! 8.1, 5.8, 5.8 alias picks): 1.6 keeps `gallery` within 1.25× of the variance of the
+//! cuts as first built and doubles `arena`'s efficiency. Until the cut split the groups
+//! hanging over a tile by their bounds, a quarter of each weight came from the tree's own
+//! probabilities: without it `clusters-low` had 2.4× the tree's variance, with it 1.3×,
+//! one point beneath a group of 600 lights holding 95 % of it. With the bounds that set has
+//! 0.04×, and the quarter only costs the others their gain (`equal` 0.14× against 0.07×,
+//! `heavy-tail` 0.21× against 0.16×, `chandeliers` 0.17× against 0.11×); `grid` alone
+//! keeps a little more (0.61× against 0.64×). Another draw of the `clusters-low` recipe
+//! (made outside the repository, with Python's `random` instead of `SplitMix`) gave 164×
+//! below power (0.12×) before the bounds. What the
 //! cut does not change is the work below an entry: a pick there still descends (a node's
-//! importances, a leaf's contributions), so a pick costs 2.2 alias picks where the cut
-//! reaches single lights (`equal`) and 3.9–10 elsewhere.
+//! importances, a leaf's contributions), so a pick costs 2.4 alias picks where the cut
+//! reaches single lights (`equal`) and 3.8–9.4 elsewhere.
 //!
 //! The rest of this section was measured with the cuts as first built (weighed by the
 //! tree's probabilities alone, at most 64 entries, spread ≤ 1.25).

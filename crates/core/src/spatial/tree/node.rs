@@ -130,16 +130,17 @@ impl TreeNode {
     }
 
     /// An upper bound of what lane `lane`'s point lights give any point `x` of the rectangle
-    /// `rect` (`[min, max]`) on the plane: `Σ p_i·G_i(x) ≤ Φ_c / (4π·d²)` with
+    /// `rect` (`[min, max]`) on the plane:
     ///
-    /// `d = max(|c − rect| − r, z_min)`,
+    /// `Σ p_i·G_i(x) ≤ Φ_c · min(1, (c_z + r)/d) / (4π·d²)`,  `d = max(|c − rect| − r, z_min)`,
     ///
-    /// `c` the lane's centroid, `|c − rect|` its distance to the rectangle, `r` and `z_min`
-    /// its reach ([`TreeNode::reach`]). Each light `y_i` is at least `d` from every point of
-    /// the rectangle (`|y_i − x| ≥ |c − x| − |y_i − c|`, and `≥ z_i`), and
-    /// `G_i(x) = z_i / (4π|y_i − x|³) ≤ 1 / (4π|y_i − x|²)`. Unlike the representative
-    /// light it cannot miss a light hanging just above the rectangle. 0 for an empty lane;
-    /// `∞` where `d` is 0.
+    /// `c` the lane's centroid, `|c − rect|` its distance to the rectangle, `r` the radius of
+    /// a sphere about `c` that holds every light of the lane and `z_min` the lowest light's
+    /// height (both kept per lane, rounded outward to `f32`). Each light `y_i` is at least
+    /// `d` from every point of the rectangle (`|y_i − x| ≥ |c − x| − |y_i − c|`, and
+    /// `≥ z_i`), no higher than `c_z + r`, and `G_i(x) = z_i / (4π|y_i − x|³)`. Unlike the
+    /// representative light it cannot miss a light hanging just above the rectangle. 0 for
+    /// an empty lane; `∞` where `d` is 0.
     pub fn contribution_bound(&self, lane: usize, [lo, hi]: [DVec2; 2]) -> f64 {
         let power = self.power[lane];
         if power <= 0.0 {

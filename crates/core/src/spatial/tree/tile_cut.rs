@@ -25,9 +25,18 @@
 //! [`crate::spatial::importance`]); for a lane of spots or ranges its map's value there
 //! plus its unbounded lights' representative light ([`crate::spatial::grid`]). Against the
 //! cut's total `Ê(x_k) = Σ_f Ê_f(x_k)` each entry has the **share** `s_e(x_k) =
-//! Ê_e(x_k)/Ê(x_k)`. A cut starts as the root's lanes and splits, while it can, its entry
-//! of largest `q̄_e = max_k s_e(x_k)`: a node into its lanes, leaving out a lane whose
-//! footprint box misses the tile (none of its lights gives the tile anything); a leaf
+//! Ê_e(x_k)/Ê(x_k)`. A cut starts as the root's lanes and splits, while it can, its most
+//! urgent entry: the one of largest `q̄_e = max_k s_e(x_k)`, unless a group of point lights
+//! may hold far more than its estimate says. A representative light judges a group just
+//! above the tile badly (the nearest few of its lights give a point beneath most of its
+//! light, and the centroid hangs elsewhere), so each lane of point lights also keeps its
+//! **reach**, the radius `r` of a sphere about its centroid `c` that holds its lights and
+//! the height `z_min` of the lowest, and with it a **bound** of what it gives any point of
+//! the tile, `B_e = Φ_e·min(1, (c_z + r)/d) / (4π·d²)` with `d = max(|c − tile| − r, z_min)`
+//! ([`super::TreeNode::contribution_bound`]). A group whose bound, as a share of the cut's
+//! largest total (`B_e / max_k Ê(x_k)`), is more than 64 times its `q̄_e` is split first,
+//! in the order of those bound shares. A node splits into its lanes, leaving out a lane
+//! whose footprint box misses the tile (none of its lights gives the tile anything); a leaf
 //! cluster into its lights, when each light's contribution at every weighing point is at
 //! least half its largest (else the cluster stays whole and the cut goes on with the
 //! others). A pick that takes a single light evaluates that light alone. A spot's
@@ -39,18 +48,22 @@
 //! entries are weighed
 //!
 //! `w_e = (1 − ε)·((1 − β)·q̃_e / Σ q̃ + β·t̃_e / Σ t̃) + ε·Φ_e / Σ Φ`,  `ε =` [`POWER_SHARE`],
-//! `β =` [`CUT_TREE_SHARE`],
+//! `β =` [`CUT_TREE_SHARE`] `= 0`,
 //!
 //! `q̃_e = √(q̄_e · q_e)` with `q_e = (Σ_k s_e(x_k)²/9)^½`, the root mean square of the
 //! entry's shares at the weighing points, and `t̃_e` the same of its probabilities under the
 //! tree from its root, `P_tree(e | x_k)`: every entry holding power keeps `m_e ≥ 1`, so a
 //! light that contributes anywhere in the tile keeps `P(i | x) > 0`, and the estimate stays
-//! unbiased. The tree's share is a floor: a representative light judges a group of lights
-//! just above the tile badly (the nearest few give a point most of its light), and where
-//! the estimates underweigh such an entry the tree's own choice, whose every level keeps a
-//! share of power, still holds a quarter of the weight (on 24 clusters of 400 lights 5–30 cm
-//! above the plane the cut's variance is 2.4× the tree's without it, 1.3× with it; on
-//! `equal` 0.07× without, 0.14× with).
+//! unbiased. On 24 clusters of 400 lights 5–30 cm above the plane, one point beneath a
+//! group of 600 lights held 95 % of the cut's variance: the group gave it two thirds of its
+//! light and was weighed 0.7 %. Before the bounds, a quarter of each weight given by the
+//! tree's probabilities (`β = ¼`) held that set to 1.3× the tree's variance (2.4× without);
+//! with the bounds the set has 0.04× (`β = 0`) and 0.05× (`β = ¼`), and the quarter only
+//! costs the others their gain (`equal` 0.14× against 0.07×, `heavy-tail` 0.21× against
+//! 0.16×). Where the bound leads a split at a ratio of 1 (its share instead of 64 times
+//! it; measured with `β = ¼`), `chandeliers` gains more (0.12× against 0.17×) and
+//! `heavy-tail` and `million` lose (0.22× and 0.17× against 0.21× and 0.14×): groups above
+//! the tile are split that the estimates judge well; at 16, `million` still has 0.17×.
 //!
 //! **Why estimates, not the tree's probabilities.** A descent from the root multiplies one
 //! branch probability per level, each a ratio of representative lights with a share of
@@ -126,9 +139,11 @@ pub const CUT_MAX_SPREAD: f64 = 4.0;
 pub const CUT_MAX_SPREAD_PROFILES: f64 = 1.6;
 
 /// The share of a cut's weights given by the tree's probabilities `P_tree(e | x_k)`, the
-/// rest by the entries' estimates (module docs): a floor under every entry's weight
-/// wherever a representative light or a map underestimates what it gives the tile.
-pub const CUT_TREE_SHARE: f64 = 0.25;
+/// rest by the entries' estimates (module docs): none. A quarter was a floor under the
+/// groups a representative light misjudges until the cut split those by their bounds; it
+/// now only costs variance (measured in the module docs of [`crate::spatial`]).
+/// [`TileCuts::with_tree_share`] measures other shares.
+pub const CUT_TREE_SHARE: f64 = 0.0;
 
 /// Trees of more lights than this cut at most [`CUT_MAX_ENTRIES_LARGE`] entries a tile:
 /// their cuts reach no single light either way, and the app's 100 bytes per light at
