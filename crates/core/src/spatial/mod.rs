@@ -47,7 +47,7 @@
 //! its cone's edge does not cross the tile) weighed once for the whole tile by what each is
 //! estimated to give the tile's nine weighing points (a single light or a leaf cluster
 //! exactly, a lane by its representative light or its map); a group of point lights whose
-//! bound ([`TreeNode::contribution_bound`]) says it may give the tile far more than its
+//! bound ([`TreeNode::lane_bound`]) says it may give the tile far more than its
 //! representative light does is split first. A pick draws one entry by the tile's alias
 //! columns (one
 //! word and one entry read) and descends below it at `x` as before; a single light costs no

@@ -58,7 +58,7 @@ pub(super) struct Candidate {
     /// too much across the tile).
     pub(super) whole: bool,
     /// An upper bound of what the entry's lights give any point of the tile
-    /// ([`super::TreeNode::contribution_bound`]), for a subtree of point lights; 0 where
+    /// ([`super::TreeNode::lane_bound`]), for a subtree of point lights; 0 where
     /// none is taken (leaf clusters, single lights, lanes of spots).
     pub(super) bound: f64,
 }

@@ -40,7 +40,7 @@ const ESTIMATE_CAP: f64 = IMPORTANCE_CAP / 256.0;
 const LEAF_FLATNESS: f64 = 0.5;
 
 /// A subtree of point lights is split ahead of its largest share when its bound
-/// ([`super::TreeNode::contribution_bound`]), as a share of the cut's largest total, is
+/// ([`super::TreeNode::lane_bound`]), as a share of the cut's largest total, is
 /// more than this many times that share ([`urgency`]).
 const BOUND_OVER_SHARE: f64 = 64.0;
 
@@ -265,11 +265,12 @@ fn split_into(
             node.power(lane),
         );
         // A subtree of point lights, which its representative light may misjudge.
-        let bounded = tree.mapped(n).is_none() && matches!(child.get(), Child::Node(_));
-        out.push(if bounded {
-            entry.bounded_by(node.contribution_bound(lane, rect).min(ESTIMATE_CAP))
-        } else {
-            entry
+        out.push(match child.get() {
+            Child::Node(k) if tree.mapped(n).is_none() => entry.bounded_by(
+                node.lane_bound(lane, &tree.nodes()[k], rect)
+                    .min(ESTIMATE_CAP),
+            ),
+            _ => entry,
         });
     }
     true

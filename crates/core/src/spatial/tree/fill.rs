@@ -136,9 +136,9 @@ impl Summary for Bounded {
 }
 
 impl Aggregate {
-    /// The lane's reach ([`TreeNode`]'s `reach`): the distance from its centroid to the
-    /// farthest corner of its lights' box (every light lies within it), rounded up to
-    /// `f32`, and the box's lowest height rounded down; `0` and `∞` for an empty lane.
+    /// The reach of what was summed ([`TreeNode`]'s `reach`): the distance from its centroid
+    /// to the farthest corner of its lights' box (every light lies within it), rounded up
+    /// to `f32`, and the box's lowest height rounded down; `0` and `∞` without lights.
     fn reach(&self) -> [f32; 2] {
         if self.min.z > self.max.z {
             return [0.0, f32::INFINITY];
@@ -274,10 +274,11 @@ pub(super) fn fill<S: Summary>(
         for (axis, c) in node.centroid.iter_mut().zip(a.centroid.to_array()) {
             axis[lane] = c;
         }
-        [node.reach[0][lane], node.reach[1][lane]] = a.reach();
     }
     if let Some(b) = this_bounds {
         b[0] = lanes.map(|a| a.bounds());
     }
-    S::of_lanes(&lanes)
+    let summary = S::of_lanes(&lanes);
+    node.reach = summary.aggregate().reach();
+    summary
 }

@@ -99,10 +99,11 @@ pub struct TreeNode {
     pub(super) power: [f64; TREE_WIDTH],
     /// Each lane's child.
     pub(super) child: [ChildRef; TREE_WIDTH],
-    /// Where each lane's lights can be ([`TreeNode::contribution_bound`]): the radius `r` of
-    /// a sphere about the lane's centroid that holds them all (`f32`, rounded up), and the
-    /// height `z_min` of its lowest light (`f32`, rounded down); `0` and `∞` in empty lanes.
-    pub(super) reach: [[f32; TREE_WIDTH]; 2],
+    /// Where this node's lights can be ([`TreeNode::lane_bound`]): the radius `r` of a
+    /// sphere about their power-weighted centroid (the one its parent's lane holds) that
+    /// holds them all (`f32`, rounded up), and the height `z_min` of the lowest (`f32`,
+    /// rounded down).
+    pub(super) reach: [f32; 2],
 }
 
 impl TreeNode {
@@ -110,7 +111,7 @@ impl TreeNode {
         centroid: [[0.0; TREE_WIDTH], [0.0; TREE_WIDTH], [1.0; TREE_WIDTH]],
         power: [0.0; TREE_WIDTH],
         child: [ChildRef::EMPTY; TREE_WIDTH],
-        reach: [[0.0; TREE_WIDTH], [f32::INFINITY; TREE_WIDTH]],
+        reach: [0.0, f32::INFINITY],
     };
 
     /// The power-weighted centroid of lane `lane`'s lights, in the world.
@@ -129,19 +130,19 @@ impl TreeNode {
         self.child[lane]
     }
 
-    /// An upper bound of what lane `lane`'s point lights give any point `x` of the rectangle
-    /// `rect` (`[min, max]`) on the plane:
+    /// An upper bound of what lane `lane`'s point lights, the lights of node `child` (the
+    /// lane's child), give any point `x` of the rectangle `rect` (`[min, max]`) on the plane:
     ///
     /// `Σ p_i·G_i(x) ≤ Φ_c · min(1, (c_z + r)/d) / (4π·d²)`,  `d = max(|c − rect| − r, z_min)`,
     ///
     /// `c` the lane's centroid, `|c − rect|` its distance to the rectangle, `r` the radius of
     /// a sphere about `c` that holds every light of the lane and `z_min` the lowest light's
-    /// height (both kept per lane, rounded outward to `f32`). Each light `y_i` is at least
+    /// height (the child's reach, rounded outward to `f32`). Each light `y_i` is at least
     /// `d` from every point of the rectangle (`|y_i − x| ≥ |c − x| − |y_i − c|`, and
     /// `≥ z_i`), no higher than `c_z + r`, and `G_i(x) = z_i / (4π|y_i − x|³)`. Unlike the
     /// representative light it cannot miss a light hanging just above the rectangle. 0 for
-    /// an empty lane; `∞` where `d` is 0.
-    pub fn contribution_bound(&self, lane: usize, [lo, hi]: [DVec2; 2]) -> f64 {
+    /// a lane without power; `∞` where `d` is 0.
+    pub fn lane_bound(&self, lane: usize, child: &TreeNode, [lo, hi]: [DVec2; 2]) -> f64 {
         let power = self.power[lane];
         if power <= 0.0 {
             return 0.0;
@@ -149,7 +150,7 @@ impl TreeNode {
         let c = self.centroid(lane);
         let dx = (lo.x - c.x).max(c.x - hi.x).max(0.0);
         let dy = (lo.y - c.y).max(c.y - hi.y).max(0.0);
-        let [radius, floor] = self.reach.map(|r| f64::from(r[lane]));
+        let [radius, floor] = child.reach.map(f64::from);
         let d = ((dx * dx + dy * dy + c.z * c.z).sqrt() - radius).max(floor);
         let cosine = ((c.z + radius) / d).min(1.0);
         power * cosine / (4.0 * std::f64::consts::PI * d * d)

@@ -29,11 +29,12 @@
 //! urgent entry: the one of largest `q̄_e = max_k s_e(x_k)`, unless a group of point lights
 //! may hold far more than its estimate says. A representative light judges a group just
 //! above the tile badly (the nearest few of its lights give a point beneath most of its
-//! light, and the centroid hangs elsewhere), so each lane of point lights also keeps its
-//! **reach**, the radius `r` of a sphere about its centroid `c` that holds its lights and
-//! the height `z_min` of the lowest, and with it a **bound** of what it gives any point of
-//! the tile, `B_e = Φ_e·min(1, (c_z + r)/d) / (4π·d²)` with `d = max(|c − tile| − r, z_min)`
-//! ([`super::TreeNode::contribution_bound`]). A group whose bound, as a share of the cut's
+//! light, and the centroid hangs elsewhere), so each node also keeps its **reach**, the
+//! radius `r` of a sphere about its lights' centroid `c` that holds them all and the height
+//! `z_min` of the lowest (8 bytes a node), and with it a lane of point lights over a
+//! subtree has a **bound** of what it gives any point of the tile,
+//! `B_e = Φ_e·min(1, (c_z + r)/d) / (4π·d²)` with `d = max(|c − tile| − r, z_min)`
+//! ([`super::TreeNode::lane_bound`]). A group whose bound, as a share of the cut's
 //! largest total (`B_e / max_k Ê(x_k)`), is more than 64 times its `q̄_e` is split first,
 //! in the order of those bound shares. A node splits into its lanes, leaving out a lane
 //! whose footprint box misses the tile (none of its lights gives the tile anything); a leaf
