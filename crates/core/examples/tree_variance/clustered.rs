@@ -7,12 +7,6 @@ use lightpick_core::scene::{ReceiverPlane, Scene};
 
 use super::SplitMix;
 
-/// A normal deviate (Box–Muller) of standard deviation `sigma`.
-fn normal(d: &mut SplitMix, sigma: f64) -> f64 {
-    let (u, v) = (1.0 - d.next_f64(), d.next_f64());
-    sigma * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-}
-
 /// A scene `name` of point lights over `[-8, 8]²` on 256 × 256 pixels.
 fn points(name: &str, lights: Vec<(DVec3, f64)>) -> Result<Scene, Box<dyn std::error::Error>> {
     let plane = ReceiverPlane {
@@ -33,7 +27,7 @@ fn clusters_low() -> Result<Scene, Box<dyn std::error::Error>> {
     for _ in 0..24 {
         let (cx, cy) = (d.range(-7.0, 7.0), d.range(-7.0, 7.0));
         for _ in 0..400 {
-            let (x, y) = (cx + normal(&mut d, 0.3), cy + normal(&mut d, 0.3));
+            let (x, y) = (cx + d.normal(0.3), cy + d.normal(0.3));
             let z = d.range(0.05, 0.3);
             lights.push((dvec3(x, y, z), 10f64.powf(d.range(-1.0, 1.0))));
         }
@@ -48,12 +42,8 @@ fn chandeliers() -> Result<Scene, Box<dyn std::error::Error>> {
     for _ in 0..100 {
         let centre = dvec3(d.range(-7.5, 7.5), d.range(-7.5, 7.5), d.range(0.5, 1.0));
         for _ in 0..100 {
-            let z = centre.z + normal(&mut d, 0.05).abs();
-            let at = dvec3(
-                centre.x + normal(&mut d, 0.1),
-                centre.y + normal(&mut d, 0.1),
-                z,
-            );
+            let z = centre.z + d.normal(0.05).abs();
+            let at = dvec3(centre.x + d.normal(0.1), centre.y + d.normal(0.1), z);
             lights.push((at, 1.0));
         }
     }

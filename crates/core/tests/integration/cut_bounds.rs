@@ -8,12 +8,7 @@ use lightpick_core::scene::{ReceiverPlane, Scene};
 use lightpick_core::spatial::{Child, LightTree, SpatialSampler, TREE_WIDTH};
 
 use crate::common::SplitMix;
-
-/// A normal deviate (Box–Muller) of standard deviation `sigma`.
-fn normal(d: &mut SplitMix, sigma: f64) -> f64 {
-    let (u, v) = (1.0 - d.next_f64(), d.next_f64());
-    sigma * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-}
+use crate::common::cuts::{cut_tree, mean_variance};
 
 /// `clusters` clusters of `per_cluster` lights (σ = 0.3 m across) `heights` above the
 /// plane `[-half, half]²` of 128 × 128 pixels, powers over two decades.
@@ -32,7 +27,7 @@ fn clusters(
             d.range(1.0 - half, half - 1.0),
         );
         for _ in 0..per_cluster {
-            let (x, y) = (cx + normal(&mut d, 0.3), cy + normal(&mut d, 0.3));
+            let (x, y) = (cx + d.normal(0.3), cy + d.normal(0.3));
             positions.push(dvec3(x, y, d.range(heights.0, heights.1)));
             powers.push(10f64.powf(d.range(-1.0, 1.0)));
         }
@@ -50,13 +45,6 @@ fn clusters(
 fn geometry_term(y: DVec3, x: DVec2) -> f64 {
     let r = y - x.extend(0.0);
     y.z / (4.0 * std::f64::consts::PI * r.length_squared() * r.length())
-}
-
-fn tree_of(scene: &Scene) -> LightTree {
-    match SpatialSampler::for_scene(scene) {
-        SpatialSampler::Tree(tree) => tree,
-        SpatialSampler::Exact(_) => panic!("enough lights for a tree"),
-    }
 }
 
 /// Points of `[lo, hi]` where a lane's lights may give the most: a 7 × 7 raster with the
@@ -138,33 +126,16 @@ fn every_lanes_bound_holds_over_every_point_of_a_rectangle() {
     );
 }
 
-/// Mean exact variance `Σ c_i²/P_i − E²` over a `grid × grid` raster of points off the
-/// pixel centres (where the cuts are weighed).
-fn mean_variance(scene: &Scene, sampler: &SpatialSampler, grid: u32) -> f64 {
-    let pmf = scene.powers.pmf();
-    let mut sum = 0.0;
-    for j in 0..grid {
-        for i in 0..grid {
-            let (lo, hi) = (scene.plane.min, scene.plane.max);
-            let t = dvec2(
-                (f64::from(i) + 0.37) / f64::from(grid),
-                (f64::from(j) + 0.61) / f64::from(grid),
-            );
-            let x = lo + t * (hi - lo);
-            let pdf = sampler.pdfs(x);
-            let (mut e, mut second) = (0.0, 0.0);
-            for (i, &p) in pdf.iter().enumerate() {
-                let c = pmf[i] * geometry_term(scene.positions[i], x);
-                assert!(c == 0.0 || p > 0.0, "a contributing light has P = 0 at {x}");
-                e += c;
-                if c > 0.0 {
-                    second += c * c / p;
-                }
-            }
-            sum += second - e * e;
-        }
-    }
-    sum / f64::from(grid * grid)
+/// A `grid × grid` raster of points of `plane` off the pixel centres (where the cuts are
+/// weighed).
+fn off_centre_raster(plane: &ReceiverPlane, grid: u32) -> Vec<DVec2> {
+    (0..grid * grid)
+        .map(|k| {
+            let (i, j) = (f64::from(k % grid), f64::from(k / grid));
+            let t = dvec2((i + 0.37) / f64::from(grid), (j + 0.61) / f64::from(grid));
+            plane.min + t * (plane.max - plane.min)
+        })
+        .collect()
 }
 
 /// On clusters of lights 5–30 cm above the plane a group's representative light misjudges
@@ -177,13 +148,10 @@ fn mean_variance(scene: &Scene, sampler: &SpatialSampler, grid: u32) -> f64 {
 fn cuts_split_the_groups_hanging_just_above_their_tiles() {
     for seed in [21, 43, 44, 45, 46, 47] {
         let scene = clusters(seed, 8.0, 24, 400, (0.05, 0.3));
-        let tree = tree_of(&scene);
-        assert!(
-            tree.tile_cuts().is_some(),
-            "the scene's tree is cut per tile"
-        );
-        let cut = mean_variance(&scene, &SpatialSampler::Tree(tree.clone()), 24);
-        let whole = mean_variance(&scene, &SpatialSampler::Tree(tree.with_cuts(None)), 24);
+        let tree = cut_tree(&scene);
+        let points = off_centre_raster(&scene.plane, 24);
+        let cut = mean_variance(&scene, &SpatialSampler::Tree(tree.clone()), &points);
+        let whole = mean_variance(&scene, &SpatialSampler::Tree(tree.with_cuts(None)), &points);
         assert!(
             cut < 0.1 * whole,
             "seed {seed}: {cut:e} against the tree's {whole:e}"

@@ -11,6 +11,7 @@ use lightpick_core::spatial::importance::{GRID, GRID_CELL};
 use lightpick_core::spatial::{Child, ChildRef, LightTree, SpatialSampler};
 
 use crate::common::SplitMix;
+use crate::common::cuts::{cut_tree, mean_variance};
 use crate::common::fit::assert_picks_fit;
 use crate::common::scenes::{
     preset_at, random_powers, scattered_positions, square_plane, tilted_spot,
@@ -52,16 +53,6 @@ fn spots_scene(n: usize, seed: u64) -> Scene {
     Scene::from_parts("spots", square_plane(2.0, 30), positions, powers)
         .expect("valid")
         .with_emission(emission)
-}
-
-fn cut_tree(scene: &Scene) -> LightTree {
-    match SpatialSampler::for_scene(scene) {
-        SpatialSampler::Tree(tree) => {
-            assert!(tree.tile_cuts().is_some(), "a scene's tree is cut per tile");
-            tree
-        }
-        SpatialSampler::Exact(_) => panic!("enough lights for a tree"),
-    }
 }
 
 /// Points of the plane where a cut could go wrong: every pixel centre and corner (tile
@@ -443,34 +434,18 @@ fn weighs_each_by_its_shares(scene: &Scene, tree: &LightTree, share: f64) {
     }
 }
 
-/// Mean exact variance `Σ c_i²/P_i − E²` over a grid of pixel centres.
-fn mean_variance(scene: &Scene, sampler: &SpatialSampler, grid: u32) -> f64 {
-    let pmf = scene.powers.pmf();
-    let mut sum = 0.0;
-    for j in 0..grid {
-        for i in 0..grid {
-            let (px, py) = (
-                i * scene.plane.width / grid + 1,
-                j * scene.plane.height / grid + 2,
-            );
-            let x = pixel_center(&scene.plane, px, py);
-            let pdf = sampler.pdfs(x);
-            let c: Vec<f64> = (0..scene.light_count())
-                .map(|i| pmf[i] * scene.light_term(i, x))
-                .collect();
-            let e: f64 = c.iter().sum();
-            let second: f64 = c
-                .iter()
-                .zip(&pdf)
-                .map(|(&c, &p)| {
-                    assert!(c == 0.0 || p > 0.0, "a contributing light has P = 0 at {x}");
-                    if c > 0.0 { c * c / p } else { 0.0 }
-                })
-                .sum();
-            sum += second - e * e;
-        }
-    }
-    sum / f64::from(grid * grid)
+/// A `grid × grid` raster of pixel centres of `plane`.
+fn pixel_raster(plane: &ReceiverPlane, grid: u32) -> Vec<DVec2> {
+    (0..grid * grid)
+        .map(|k| {
+            let (i, j) = (k % grid, k / grid);
+            pixel_center(
+                plane,
+                i * plane.width / grid + 1,
+                j * plane.height / grid + 2,
+            )
+        })
+        .collect()
 }
 
 /// Weighing a cut's entries by their estimates replaces the tree's top levels, whose
@@ -482,8 +457,9 @@ fn cuts_weighed_by_estimates_have_well_below_the_trees_variance_on_point_lights(
     for name in ["equal", "heavy-tail"] {
         let scene = preset_at(name, 128, 128);
         let tree = cut_tree(&scene);
-        let cut = mean_variance(&scene, &SpatialSampler::Tree(tree.clone()), 12);
-        let whole = mean_variance(&scene, &SpatialSampler::Tree(tree.with_cuts(None)), 12);
+        let points = pixel_raster(&scene.plane, 12);
+        let cut = mean_variance(&scene, &SpatialSampler::Tree(tree.clone()), &points);
+        let whole = mean_variance(&scene, &SpatialSampler::Tree(tree.with_cuts(None)), &points);
         assert!(
             cut < 0.3 * whole,
             "{name}: {cut:e} against the tree's {whole:e}"

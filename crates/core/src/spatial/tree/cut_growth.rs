@@ -242,7 +242,8 @@ fn split_into(
     // lights' representative light, for spots and ranges; for point lights its
     // representative light `Φ_c·G(c, x)`, of which the importance is `4π` times), and the
     // two mixed are the tree's branch masses there.
-    let importance_per_estimate = if tree.mapped(n).is_some() {
+    let mapped = tree.mapped(n).is_some();
+    let importance_per_estimate = if mapped {
         1.0
     } else {
         4.0 * std::f64::consts::PI
@@ -266,7 +267,7 @@ fn split_into(
         );
         // A subtree of point lights, which its representative light may misjudge.
         out.push(match child.get() {
-            Child::Node(k) if tree.mapped(n).is_none() => entry.bounded_by(
+            Child::Node(k) if !mapped => entry.bounded_by(
                 node.lane_bound(lane, &tree.nodes()[k], rect)
                     .min(ESTIMATE_CAP),
             ),

@@ -23,4 +23,11 @@ impl SplitMix {
     pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.next_f64()
     }
+
+    /// A normal deviate of mean 0 and standard deviation `sigma` (Box–Muller, from two
+    /// uniforms).
+    pub fn normal(&mut self, sigma: f64) -> f64 {
+        let (u, v) = (1.0 - self.next_f64(), self.next_f64());
+        sigma * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    }
 }

@@ -1,9 +1,11 @@
 //! Shared by the integration tests: the GPU context of the `gpu_*` modules, a tiny
-//! generator of test inputs ([`SplitMix`]), the fit of pick counts ([`fit`]) and the
-//! scenes several modules build ([`scenes`]). Each module uses a different subset.
+//! generator of test inputs ([`SplitMix`]), the fit of pick counts ([`fit`]), the
+//! scenes several modules build ([`scenes`]) and what the per-tile cuts' tests share
+//! ([`cuts`]). Each module uses a different subset.
 
 #![allow(dead_code)] // Each test module uses a different subset of the helpers.
 
+pub mod cuts;
 pub mod fit;
 #[cfg(feature = "gpu")]
 mod gpu;
