@@ -18,7 +18,7 @@ const LIGHTS: usize = 1_000_000;
 /// by construction: the scene's positions and powers (24 + 8; the edit shares them), the
 /// packed table (8) and its pmf (8), the light tree (leaf-order lights 32, scene indices 4,
 /// 87 381 nodes of 152 + 4 bytes, each node's 8-byte reach among them: 49.6), its per-tile cuts
-/// (at most 64 × 64 tiles, each a 24-byte cell and, once cut, a 4-byte column count, 64
+/// (64 × 64 tiles on its square receiver, each a 24-byte cell and, once cut, a 4-byte column count, 64
 /// alias columns of 4 bytes and 64 entries of 8: 3.26) and the histograms' chi-square cells
 /// (62 500 cells of 16 lights, 4 + 4 + 8 bytes each: 1.0); the CPU runs read the scene's
 /// arrays. In all 101.89.

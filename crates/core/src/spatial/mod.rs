@@ -157,7 +157,7 @@ pub use grid::{LaneGrid, MappedLanes};
 pub use tree::{
     CUT_LARGE_TREE, CUT_MAX_ENTRIES, CUT_MAX_ENTRIES_LARGE, CUT_MAX_SPREAD,
     CUT_MAX_SPREAD_PROFILES, CUT_TILES_PER_SIDE, CUT_TREE_SHARE, Child, ChildRef, LEAF_SIZE,
-    LightTree, TREE_WIDTH, TileCuts, TreeNode,
+    LightTree, TREE_WIDTH, TileCuts, TreeNode, tile_side_for,
 };
 
 use glam::{DVec2, DVec3};

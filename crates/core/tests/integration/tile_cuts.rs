@@ -466,3 +466,70 @@ fn cuts_weighed_by_estimates_have_well_below_the_trees_variance_on_point_lights(
         );
     }
 }
+
+/// Tiles are square in pixels and about `64²` whatever the receiver's aspect: the side
+/// chosen is the integer whose tile count `w·h/s²` lies nearest `64²` on a log scale, checked
+/// against every side from 1 up (a scan written apart from the rule's floor/ceil choice), on
+/// square, wide, tall, one-pixel-thin and huge receivers; and a receiver's cuts use it.
+#[test]
+fn tiles_number_about_64_squared_whatever_the_aspect() {
+    use lightpick_core::spatial::{CUT_TILES_PER_SIDE, tile_side_for};
+    let target = f64::from(CUT_TILES_PER_SIDE).powi(2);
+    // How far a side's tile count lies from the target, as a log ratio.
+    let off = |w: u32, h: u32, s: u32| {
+        (f64::from(w) * f64::from(h) / f64::from(s).powi(2) / target)
+            .ln()
+            .abs()
+    };
+    let sizes = [
+        (1, 1),
+        (64, 64),
+        (128, 128),
+        (256, 256),
+        (512, 512),
+        (256, 160),
+        (160, 256),
+        (1024, 768),
+        (1000, 1),
+        (1, 100_000),
+        (95, 95),
+        (97, 101),
+        (4095, 4097),
+        (65_535, 65_535),
+        (u32::MAX, 3),
+    ];
+    for (w, h) in sizes {
+        let side = tile_side_for(w, h, CUT_TILES_PER_SIDE);
+        assert!(side >= 1);
+        if f64::from(w) * f64::from(h) <= target {
+            assert_eq!(side, 1, "{w} × {h}: fewer pixels than tiles");
+            continue;
+        }
+        // The best side by scanning: the count falls as the side grows, so stop past it.
+        let best = (1..=u32::MAX)
+            .take_while(|&s| f64::from(s).powi(2) <= 4.0 * f64::from(w) * f64::from(h) / target)
+            .min_by(|&a, &b| off(w, h, a).total_cmp(&off(w, h, b)))
+            .expect("a side");
+        assert!(
+            (off(w, h, side) - off(w, h, best)).abs() <= 1e-12,
+            "{w} × {h}: side {side} against {best}"
+        );
+        // So the count lies within a factor 2 of 64² (before the edges' partial tiles).
+        assert!(
+            off(w, h, side) <= std::f64::consts::LN_2 + 1e-12,
+            "{w} × {h}"
+        );
+    }
+    // Square receivers of 64·k pixels a side keep tiles of k pixels: 64 × 64 tiles.
+    for k in [1, 2, 4, 8] {
+        assert_eq!(tile_side_for(64 * k, 64 * k, CUT_TILES_PER_SIDE), k);
+    }
+    // A 256 × 160 receiver: 3-pixel tiles, 86 × 54 of them (not 64 along its longer side).
+    let mut scene = points_scene(200, 5);
+    scene.plane.width = 256;
+    scene.plane.height = 160;
+    let tree = cut_tree(&scene);
+    let cuts = tree.tile_cuts().expect("cuts");
+    assert_eq!(cuts.tile_side(), 3);
+    assert_eq!(cuts.tiles(), [86, 54]);
+}

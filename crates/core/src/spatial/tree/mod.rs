@@ -65,7 +65,7 @@ mod tile_cut;
 pub use node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
 pub use tile_cut::{
     CUT_LARGE_TREE, CUT_MAX_ENTRIES, CUT_MAX_ENTRIES_LARGE, CUT_MAX_SPREAD,
-    CUT_MAX_SPREAD_PROFILES, CUT_TILES_PER_SIDE, CUT_TREE_SHARE, TileCuts,
+    CUT_MAX_SPREAD_PROFILES, CUT_TILES_PER_SIDE, CUT_TREE_SHARE, TileCuts, tile_side_for,
 };
 
 use glam::DVec2;

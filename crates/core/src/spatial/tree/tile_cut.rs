@@ -3,8 +3,8 @@
 //!
 //! # What a cut is
 //! The receiver is one plane with a known pixel grid ([`ReceiverPlane`]). It is split into
-//! square tiles of [`TileCuts::tile_side`] pixels (about [`CUT_TILES_PER_SIDE`] along the
-//! longer side). Each tile keeps a **cut** of the tree: at most [`CUT_MAX_ENTRIES`] subtrees
+//! square tiles of [`TileCuts::tile_side`] pixels, about [`CUT_TILES_PER_SIDE`]` ²` of them
+//! whatever the receiver's aspect ([`tile_side_for`]). Each tile keeps a **cut** of the tree: at most [`CUT_MAX_ENTRIES`] subtrees
 //! (internal nodes, leaf clusters, or single lights of a leaf cluster: a cluster of one)
 //! whose leaf-order ranges hold, between them, every light
 //! that can light the tile, each with a mass `m_e` on the `2^24` grid (`Σ_e m_e = 2^24`). A
@@ -125,8 +125,34 @@ use super::node::{Child, ChildRef, TREE_WIDTH};
 use crate::scene::ReceiverPlane;
 use crate::spatial::importance::{POWER_SHARE, grid_masses_into};
 
-/// Tiles along the longer side of the receiver (32 × 32 tiles on a square one).
+/// Tiles along each side of a square receiver (64 × 64); a receiver of another aspect gets
+/// about as many tiles ([`tile_side_for`]).
 pub const CUT_TILES_PER_SIDE: u32 = 64;
+
+/// The side, in pixels, of square tiles that split a receiver of `width × height` pixels into
+/// about `tiles_per_side²` tiles: `s = √(width·height) / tiles_per_side` rounded to the
+/// integer whose tile count `width·height / s²` lies nearest `tiles_per_side²` on a log scale
+/// (`⌊s⌋` when `s² < ⌊s⌋·⌈s⌉`), so between half and twice as many tiles (before the partial
+/// tiles at the edges); at least 1.
+///
+/// A tile's cut is weighed over its area, so its shape and size on the plane decide how
+/// well the cut fits every pixel of it: by pixel count, a `256 × 160` receiver gets tiles of
+/// 3 pixels (86 × 54 tiles), about the size a `128 × 128` rendering of the same floor gets
+/// (2 pixels, 64 × 64), where 64 along the longer side would give it 4 (64 × 40 tiles, a
+/// sixth larger each way: `gallery`'s exact variance 1.21× the 128 × 128 rendering's).
+pub fn tile_side_for(width: u32, height: u32, tiles_per_side: u32) -> u32 {
+    let s = (f64::from(width) * f64::from(height)).sqrt() / f64::from(tiles_per_side.max(1));
+    if s <= 1.0 {
+        return 1;
+    }
+    let (below, above) = (s.floor(), s.ceil());
+    // Both sides are `u32`: `s < 2^32`, an exact conversion.
+    if s * s < below * above {
+        below as u32
+    } else {
+        above as u32
+    }
+}
 
 /// The most entries of one tile's cut.
 pub const CUT_MAX_ENTRIES: usize = 128;
@@ -206,8 +232,7 @@ impl TileCuts {
         Self::build_sized(tree, plane, CUT_TILES_PER_SIDE, max_entries, max_spread)
     }
 
-    /// [`TileCuts::build`] with about `tiles_per_side` tiles along the receiver's longer
-    /// side, at most `max_entries` entries a cut (4 to 128) and a spread of at most
+    /// [`TileCuts::build`] with about `tiles_per_side²` tiles ([`tile_side_for`]), at most `max_entries` entries a cut (4 to 128) and a spread of at most
     /// `max_spread` (at least 1): for measuring alternatives (the `tile_cuts` example).
     pub fn build_sized(
         tree: &LightTree,
@@ -216,10 +241,7 @@ impl TileCuts {
         max_entries: usize,
         max_spread: f64,
     ) -> Option<Self> {
-        let tile_side = plane
-            .width
-            .max(plane.height)
-            .div_ceil(tiles_per_side.max(1));
+        let tile_side = tile_side_for(plane.width, plane.height, tiles_per_side);
         Self::build_with_side(tree, plane, tile_side, (max_entries, max_spread))
     }
 
