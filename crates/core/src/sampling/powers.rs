@@ -277,10 +277,26 @@ impl PmfScale {
         sum: 1.0,
     };
 
-    /// `p = Φ·2^-e / S` of a light of power `power`.
+    /// `p = Φ·2^-e / S` of a light of power `power`: its [`PmfScale::weight`] over
+    /// [`PmfScale::sum`].
     #[inline]
     pub fn of(&self, power: f64) -> f64 {
-        self.scale.apply(power) / self.sum
+        self.weight(power) / self.sum
+    }
+
+    /// `w = Φ·2^-e`, the power scaled exactly (by a power of two) so that the largest lies
+    /// in `[1, 2)`: what the pmf divides by [`PmfScale::sum`]. New powers that leave the
+    /// largest one's binary exponent alone leave every other light's `w` unchanged, bit for
+    /// bit, where its `p` changes with the sum.
+    #[inline]
+    pub fn weight(&self, power: f64) -> f64 {
+        self.scale.apply(power)
+    }
+
+    /// `S = Σ_i w_i`, the sum the pmf divides by.
+    #[inline]
+    pub fn sum(&self) -> f64 {
+        self.sum
     }
 }
 

@@ -63,6 +63,10 @@
 
 use glam::{DVec2, DVec3};
 
+mod mapped;
+
+pub use mapped::MappedLanes;
+
 use super::SpatialLight;
 use crate::scene::{Emission, geometry_term};
 
@@ -153,10 +157,23 @@ impl LaneGrid {
         emission: &[Emission],
         footprints: &[Option<[DVec2; 2]>],
     ) -> Self {
+        Self::of_weighted(lights, |j| lights[j].power, emission, footprints)
+    }
+
+    /// [`LaneGrid::of_lights`] with light `j` weighed by `weight(j)` instead of its
+    /// normalized power (the tree maps its lanes in the unnormalized weights of
+    /// [`crate::PmfScale::weight`], so that a lane whose lights keep their weights keeps its
+    /// map when other lights' powers change: [`MappedLanes::normalize`] divides by the sum).
+    pub fn of_weighted(
+        lights: &[SpatialLight],
+        weight: impl Fn(usize) -> f64,
+        emission: &[Emission],
+        footprints: &[Option<[DVec2; 2]>],
+    ) -> Self {
         let mut grid = LaneGrid::EMPTY;
         let (mut lo, mut hi) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
         let (mut intensity, mut weighted) = (0.0, DVec3::ZERO);
-        for ((l, e), f) in lights.iter().zip(emission).zip(footprints) {
+        for (j, ((l, e), f)) in lights.iter().zip(emission).zip(footprints).enumerate() {
             match f {
                 Some([a, b]) if a.cmplt(*b).all() => {
                     lo = lo.min(*a);
@@ -164,7 +181,7 @@ impl LaneGrid {
                 }
                 Some(_) => {}
                 None => {
-                    let w = l.power * e.gain();
+                    let w = weight(j) * e.gain();
                     intensity += w;
                     weighted += w * l.position_in_world;
                 }
@@ -180,12 +197,16 @@ impl LaneGrid {
         }
         let cell = size / GRID_SIDE as f64;
         let mut integral = [0.0f64; GRID_CELLS];
-        for ((l, e), f) in lights.iter().zip(emission).zip(footprints) {
+        for (j, ((l, e), f)) in lights.iter().zip(emission).zip(footprints).enumerate() {
             let Some([a, b]) = *f else { continue };
-            if l.power <= 0.0 || !a.cmplt(b).all() {
+            let weighted = SpatialLight {
+                power: weight(j),
+                ..*l
+            };
+            if weighted.power <= 0.0 || !a.cmplt(b).all() {
                 continue;
             }
-            add_light(&mut integral, lo, cell, l, e, [a, b]);
+            add_light(&mut integral, lo, cell, &weighted, e, [a, b]);
         }
         let area = cell.x * cell.y;
         let scale = integral.iter().fold(0.0f64, |m, &v| m.max(v)) / area;
@@ -223,119 +244,6 @@ impl LaneGrid {
             0.0
         };
         mapped + unbounded
-    }
-}
-
-/// A node's four lanes over spots and ranges as the descent reads them: each lane's
-/// footprint, map, peak intensity and unbounded lights side by side (by field, so the four
-/// lanes evaluate together, [`MappedLanes::weights`]), and the lanes' codes.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MappedLanes {
-    /// Each lane's footprint box ([`super::LaneBounds::footprint`]) as `lo.x, lo.y, hi.x,
-    /// hi.y` (infinite when some light of the lane reaches arbitrarily far).
-    pub footprint: [[f64; 4]; 4],
-    /// Each lane's map: `lo.x, lo.y`, cells per unit `x, y` and scale ([`LaneGrid`]).
-    pub map: [[f64; 4]; 5],
-    /// Each lane's `Σ p_i·g_i`, its share of the mixture.
-    pub intensity: [f64; 4],
-    /// Each lane's unbounded lights: `Σ p_i·g_i` and their centroid `x, y, z`.
-    pub unbounded: [[f64; 4]; 4],
-    /// Lanes (bits) whose footprint is unbounded: their range and cone tests
-    /// ([`super::LaneBounds::reach`]) run beside the footprint's.
-    pub unbounded_lanes: u8,
-    /// Each lane's cell codes.
-    pub codes: [[u8; GRID_CELLS]; 4],
-}
-
-impl MappedLanes {
-    /// Lanes that give nothing anywhere.
-    pub const EMPTY: MappedLanes = MappedLanes {
-        footprint: [
-            [f64::INFINITY; 4],
-            [f64::INFINITY; 4],
-            [f64::NEG_INFINITY; 4],
-            [f64::NEG_INFINITY; 4],
-        ],
-        map: [[0.0; 4]; 5],
-        intensity: [0.0; 4],
-        unbounded: [[0.0; 4], [0.0; 4], [0.0; 4], [1.0; 4]],
-        unbounded_lanes: 0,
-        codes: [[0; GRID_CELLS]; 4],
-    };
-
-    /// The lanes of `grids`, with their bounds `bounds`.
-    pub fn new(bounds: &[super::LaneBounds; 4], grids: &[LaneGrid; 4]) -> Self {
-        let mut m = MappedLanes::EMPTY;
-        for k in 0..4 {
-            let (b, g) = (&bounds[k], &grids[k]);
-            let [lo, hi] = b.footprint;
-            m.footprint[0][k] = lo.x;
-            m.footprint[1][k] = lo.y;
-            m.footprint[2][k] = hi.x;
-            m.footprint[3][k] = hi.y;
-            if b.intensity > 0.0 && !(lo.is_finite() && hi.is_finite()) {
-                m.unbounded_lanes |= 1 << k;
-            }
-            m.map[0][k] = g.lo.x;
-            m.map[1][k] = g.lo.y;
-            m.map[2][k] = g.cells_per_unit.x;
-            m.map[3][k] = g.cells_per_unit.y;
-            m.map[4][k] = g.scale;
-            m.intensity[k] = b.intensity;
-            m.unbounded[0][k] = g.unbounded_intensity;
-            let c = g.unbounded_centroid;
-            m.unbounded[1][k] = c.x;
-            m.unbounded[2][k] = c.y;
-            m.unbounded[3][k] = c.z;
-            m.codes[k] = g.codes;
-        }
-        m
-    }
-
-    /// Each lane's importance and share at `point_on_plane`: 0 and 0 for a lane whose
-    /// footprint (and, where it is unbounded, range and cones: `bounds`) excludes the point;
-    /// else its map's value plus its unbounded lights' representative light
-    /// ([`LaneGrid::importance`]), and its `Σ p_i·g_i`.
-    #[inline]
-    pub fn weights(
-        &self,
-        bounds: &[super::LaneBounds; 4],
-        point_on_plane: DVec2,
-    ) -> ([f64; 4], [f64; 4]) {
-        let (x, y) = (point_on_plane.x, point_on_plane.y);
-        let [lo_x, lo_y, hi_x, hi_y] = &self.footprint;
-        let [map_x, map_y, per_x, per_y, scale] = &self.map;
-        let side = GRID_SIDE as f64;
-        let mut importance = [0.0; 4];
-        let mut share = [0.0; 4];
-        let last = side - 1.0;
-        for k in 0..4 {
-            // Every index clamped into the map, so nothing below depends on a branch.
-            let inside = x >= lo_x[k] && x <= hi_x[k] && y >= lo_y[k] && y <= hi_y[k];
-            let cx = (x - map_x[k]) * per_x[k];
-            let cy = (y - map_y[k]) * per_y[k];
-            let in_map = cx >= 0.0 && cy >= 0.0 && cx < side && cy < side;
-            // Within 0..16 after the clamp (NaN gives 0): a 32-bit conversion is exact.
-            let cell = (cy.clamp(0.0, last) as i32 * GRID_SIDE as i32 + cx.clamp(0.0, last) as i32)
-                as usize;
-            let mapped = scale[k] * decode(self.codes[k][cell & (GRID_CELLS - 1)]);
-            importance[k] = if inside & in_map { mapped } else { 0.0 };
-            share[k] = if inside { self.intensity[k] } else { 0.0 };
-        }
-        if self.unbounded_lanes != 0 {
-            let [w, c_x, c_y, c_z] = &self.unbounded;
-            for k in 0..4 {
-                if w[k] > 0.0 && share[k] > 0.0 {
-                    importance[k] +=
-                        w[k] * geometry_term(DVec3::new(c_x[k], c_y[k], c_z[k]), point_on_plane);
-                }
-                if self.unbounded_lanes & (1 << k) != 0 && bounds[k].reach(point_on_plane) == 0.0 {
-                    importance[k] = 0.0;
-                    share[k] = 0.0;
-                }
-            }
-        }
-        (importance, share)
     }
 }
 
@@ -483,67 +391,6 @@ mod tests {
         let value = grid.importance(at);
         let wide_only = 2.0 * wide.contribution(at);
         assert!(value > 1e3 * wide_only, "{value} vs {wide_only}");
-    }
-
-    /// The descent's own cell lookup ([`MappedLanes::weights`], the production path) reads
-    /// the cell a point lies in, by an index computed here apart from the code: four lanes
-    /// whose maps differ in origin and cell size, every cell a different code, probed at cell
-    /// centres and a hair inside every cell edge, where an off-by-one cell would show.
-    #[test]
-    fn the_descent_reads_the_cell_each_point_lies_in() {
-        let origins = [(-3.0, -2.0), (0.5, -1.25), (-1.0, 0.75), (-4.0, -4.0)];
-        let sizes = [(6.0, 4.0), (2.0, 3.5), (1.0, 1.0), (8.0, 5.0)];
-        let grids: [LaneGrid; 4] = std::array::from_fn(|k| {
-            let mut grid = LaneGrid::EMPTY;
-            grid.lo = DVec2::new(origins[k].0, origins[k].1);
-            grid.cells_per_unit =
-                DVec2::splat(GRID_SIDE as f64) / DVec2::new(sizes[k].0, sizes[k].1);
-            grid.scale = 1.0 + k as f64;
-            for (c, code) in grid.codes.iter_mut().enumerate() {
-                // 255 different codes, none 0; cell 255 shares cell 0's, far away.
-                *code = 1 + ((c + 37 * k) % 255) as u8;
-            }
-            grid
-        });
-        let mut bounds = [super::super::LaneBounds::EMPTY; 4];
-        for (k, b) in bounds.iter_mut().enumerate() {
-            // Footprints holding the whole map, so only the map decides.
-            b.footprint = [DVec2::splat(-1e3), DVec2::splat(1e3)];
-            b.intensity = 1.0 + k as f64;
-        }
-        let lanes = MappedLanes::new(&bounds, &grids);
-        let side = GRID_SIDE as f64;
-        let mut probes = 0;
-        for k in 0..4 {
-            let (w, h) = (sizes[k].0 / side, sizes[k].1 / side);
-            for cy in 0..GRID_SIDE {
-                for cx in 0..GRID_SIDE {
-                    let x0 = origins[k].0 + cx as f64 * w;
-                    let y0 = origins[k].1 + cy as f64 * h;
-                    let hair = 1e-9;
-                    for (fx, fy) in [
-                        (0.5, 0.5),
-                        (hair, hair),
-                        (1.0 - hair, 1.0 - hair),
-                        (hair, 1.0 - hair),
-                    ] {
-                        let x = DVec2::new(x0 + fx * w, y0 + fy * h);
-                        let expected = grids[k].scale * decode(grids[k].codes[cy * GRID_SIDE + cx]);
-                        let (importance, share) = lanes.weights(&bounds, x);
-                        assert_eq!(
-                            importance[k], expected,
-                            "lane {k}, cell ({cx}, {cy}), point {x}"
-                        );
-                        assert_eq!(share[k], bounds[k].intensity);
-                        probes += 1;
-                    }
-                }
-            }
-        }
-        assert_eq!(probes, 4 * GRID_CELLS * 4);
-        // Outside a map: nothing from it, though the footprint holds the point.
-        let (importance, _) = lanes.weights(&bounds, DVec2::new(-3.5, 0.0));
-        assert_eq!(importance[0], 0.0);
     }
 
     #[test]

@@ -333,6 +333,38 @@ fn a_refit_equals_a_fresh_build() {
     }
 }
 
+/// A refit maps again only the lanes over lights whose weight changed: after each of a
+/// series of edits (one light's power, a light to 0 and back, the brightest light (every
+/// weight's scale changes), every power doubled (every weight changes, no share does)) the
+/// mapped sampler equals a fresh build over the new powers bit for bit.
+#[test]
+fn a_refit_after_a_few_changed_powers_equals_a_fresh_build() {
+    let scene = shaped(700, 9);
+    let mut sampler = SpatialSampler::for_scene(&scene);
+    let mut powers = scene.powers.as_slice().to_vec();
+    let brightest = (0..powers.len())
+        .max_by(|&a, &b| powers[a].total_cmp(&powers[b]))
+        .expect("lights");
+    let dim = (brightest + 1) % powers.len();
+    let other = (brightest + 18) % powers.len();
+    for k in 0..5 {
+        match k {
+            0 => powers[dim] *= 1.5,
+            1 => powers[other] = 0.0,
+            2 => powers[other] = 2.0,
+            3 => powers[brightest] *= 4.0,
+            _ => powers.iter_mut().for_each(|x| *x *= 2.0),
+        }
+        let mut edited = scene.clone();
+        edited.powers = lightpick_core::LightPowers::new(powers.clone()).expect("valid");
+        sampler.refit(&edited);
+        assert!(
+            sampler == SpatialSampler::for_scene(&edited),
+            "edit {k}: the refit differs from a fresh build"
+        );
+    }
+}
+
 /// pbrt-v4's `OneSpot`, for a tree: narrow spots aimed at their own marks leave most of the
 /// plane dark. Wherever no spot gives a point anything, the sampler says so: every pick is
 /// `None` and every pdf 0 (it never returns a light that gives nothing); wherever one does,

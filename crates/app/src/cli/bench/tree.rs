@@ -16,8 +16,10 @@ use super::timing::median_ns;
 /// The light tree at `N` lights spread over a unit square at heights `0.1 … 1`: `tree-build`
 /// (layout by positions and lanes, `O(N log N)`), `tree-refit` (new powers, same
 /// positions: [`lightpick_core::spatial::LightTree::refit`], `O(N)` bottom up, in `build_ns`),
-/// `tree-refit-cuts` (the same with the tiles' cuts cut again, [`time_refit_with_cuts`])
-/// and `app-repower` (the app's whole answer to a power drag, [`time_app_repower`]), each
+/// `tree-refit-cuts` (the same with the tiles' cuts cut again, [`time_refit_with_cuts`]),
+/// over spots `tree-refit-spots` (every power changed) and `tree-refit-spots-one` (one light's
+/// power changed, as a drag does: only the maps over it are integrated again), and
+/// `app-repower` (the app's whole answer to a power drag, [`time_app_repower`]), each
 /// with the time of one pick at a shading point.
 pub(super) fn time_tree(
     n: usize,
@@ -58,6 +60,10 @@ pub(super) fn time_tree(
         cases.push((
             "tree-refit-spots",
             time_spot_refit(&positions, powers, other, seed, reps),
+        ));
+        cases.push((
+            "tree-refit-spots-one",
+            time_spot_refit(&positions, powers, &one_changed(powers), seed, reps),
         ));
     }
     cases
@@ -105,10 +111,24 @@ fn time_refit_with_cuts(
 /// The most lights the spot tree's refit is timed at (its maps make it the dearest case).
 const SPOT_REFIT_MAX_LIGHTS: usize = 100_000;
 
-/// `tree-refit-spots`: the refit of a tree over the same positions as spots (each aimed down
+/// `powers` with one light's changed, as a drag changes it: the dimmest light's, to halfway
+/// towards the brightest (the largest power, and so every other light's weight, unchanged).
+fn one_changed(powers: &LightPowers) -> LightPowers {
+    let mut changed = powers.as_slice().to_vec();
+    let (dimmest, _) = changed
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))
+        .unwrap_or((0, &0.0));
+    changed[dimmest] = 0.5 * (changed[dimmest] + powers.max());
+    LightPowers::new(changed).unwrap_or_else(|_| powers.clone())
+}
+
+/// `tree-refit-spots` (and `tree-refit-spots-one`, with `other` the powers of
+/// [`one_changed`]): the refit of a tree over the same positions as spots (each aimed down
 /// within 0.6 rad, cones of 0.1–0.8 rad) mapped over the unit square, in `build_ns`: the
-/// lanes' bounds bottom up and every lane's map recomputed from its lights (see
-/// [`lightpick_core::spatial::LightTree::refit`]).
+/// lanes' bounds bottom up and the maps of the lanes over a light whose power changed
+/// integrated again from their lights (see [`lightpick_core::spatial::LightTree::refit`]).
 fn time_spot_refit(
     positions: &[DVec3],
     powers: &LightPowers,

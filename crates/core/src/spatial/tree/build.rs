@@ -4,7 +4,7 @@
 use glam::{DVec2, DVec3};
 
 use super::node::{ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
-use super::{LightTree, fill, footprint_split, layout};
+use super::{LightTree, MapWeights, fill, footprint_split, layout};
 use crate::powers::LightPowers;
 use crate::scene::Emission;
 use crate::spatial::bounds::LaneBounds;
@@ -58,12 +58,12 @@ impl LightTree {
         assert!(m < 1 << 27, "at most 2^27 lights");
         let (nodes, node_first, order, root) = lay_out(&contributing, emission);
         let node_count = nodes.len();
-        let pmf = powers.pmf();
+        let (raw, pmf) = (powers.as_slice(), powers.pmf_scale());
         let lights = order
             .iter()
             .map(|&i| SpatialLight {
                 position_in_world: positions[i as usize],
-                power: pmf[i as usize],
+                power: pmf.of(raw[i as usize]),
             })
             .collect();
         let mut tree = Self {
@@ -83,16 +83,24 @@ impl LightTree {
             footprints: emission
                 .map_or_else(Vec::new, |e| footprints_in(&order, positions, e, region)),
             mapped: Vec::new(),
+            weights: emission.map(|_| {
+                Box::new(MapWeights {
+                    weight: order.iter().map(|&i| pmf.weight(raw[i as usize])).collect(),
+                    reweighed: vec![0; m.div_ceil(64)],
+                })
+            }),
             cuts: None,
             order,
         };
         tree.depth = tree.deepest(tree.root);
-        tree.fill_lanes();
+        tree.fill_lanes(pmf.sum(), false);
         tree
     }
 
-    /// Recomputes every lane's power, centroid and bounds from the lights, bottom up.
-    fn fill_lanes(&mut self) {
+    /// Recomputes every lane's power, centroid and bounds from the lights, bottom up, and
+    /// over spots the lanes' maps: every lane's, or with `only_reweighed` those over a light
+    /// whose weight changed (the others keep theirs); `sum` is the weights' sum.
+    fn fill_lanes(&mut self, sum: f64, only_reweighed: bool) {
         if self.nodes.is_empty() {
             return;
         }
@@ -105,17 +113,20 @@ impl LightTree {
         };
         if emission.is_some() {
             fill::fill::<fill::Bounded>(job, &self.lights, emission);
-            self.fill_grids();
+            self.fill_grids(sum, only_reweighed);
         } else {
             fill::fill::<fill::Aggregate>(job, &self.lights, None);
         }
     }
 
-    /// Recomputes every lane's map ([`crate::spatial::grid`]) from its lights, nodes in parallel
-    /// (each map depends on its own lights only: the same bits on any thread count). Each
-    /// lane's lights are found by [`LightTree::span`] (`O(depth)` a lane), so nothing is
-    /// allocated once the maps are.
-    fn fill_grids(&mut self) {
+    /// Recomputes the lanes' maps ([`crate::spatial::grid`]) from their lights in their
+    /// weights, nodes in parallel (each map depends on its own lights only: the same bits on
+    /// any thread count): every lane's, or with `only_reweighed` only those over a light
+    /// whose bit in `reweighed` is set (a lane whose lights keep their weights would map to
+    /// the same bits). Then every map is normalized by `sum`, and every lane's footprint and
+    /// peak intensity taken from its bounds. Each lane's lights are found by
+    /// [`LightTree::span`] (`O(depth)` a lane), so nothing is allocated once the maps are.
+    fn fill_grids(&mut self, sum: f64, only_reweighed: bool) {
         use rayon::prelude::*;
         let mut mapped = std::mem::take(&mut self.mapped);
         mapped.resize(self.nodes.len(), MappedLanes::EMPTY);
@@ -126,16 +137,28 @@ impl LightTree {
             .zip(tree.bounds.par_iter())
             .with_max_len(1)
             .for_each(|((node_lanes, node), bounds)| {
-                let grids: [LaneGrid; TREE_WIDTH] = std::array::from_fn(|k| {
-                    tree.span(node.child[k]).map_or(LaneGrid::EMPTY, |r| {
-                        LaneGrid::of_lights(
+                let Some(w) = tree.weights.as_deref() else {
+                    return;
+                };
+                for (k, &child) in node.child.iter().enumerate() {
+                    let span = tree.span(child);
+                    if only_reweighed && !span.clone().is_some_and(|r| any_bit_in(&w.reweighed, r))
+                    {
+                        continue;
+                    }
+                    let grid = span.map_or(LaneGrid::EMPTY, |r| {
+                        let weights = &w.weight[r.clone()];
+                        LaneGrid::of_weighted(
                             &tree.lights[r.clone()],
+                            |j| weights[j],
                             &tree.emission[r.clone()],
                             &tree.footprints[r],
                         )
-                    })
-                });
-                *node_lanes = MappedLanes::new(bounds, &grids);
+                    });
+                    node_lanes.set_map(k, &grid);
+                }
+                node_lanes.set_bounds(bounds);
+                node_lanes.normalize(sum);
             });
         self.mapped = mapped;
     }
@@ -146,11 +169,16 @@ impl LightTree {
     /// depends on positions only, and both fill the lanes with the same pass).
     ///
     /// Its cost: for point lights `O(N)` with no allocation. For a tree with spots or ranges
-    /// mapped over a region, every lane's map ([`crate::spatial::grid`]) is recomputed from
-    /// its lights as a build does: each light is integrated into the maps of the lanes above
-    /// it, `O(N · depth)` footprint integrations, with no allocation either. `lightpick bench` times it as `tree-refit-spots`. A tree
-    /// with per-tile cuts ([`super::TileCuts`]) drops its tiles' cuts (nothing allocated):
-    /// each tile is cut again when a pick next needs it
+    /// mapped over a region, the lanes' maps ([`crate::spatial::grid`]) are integrated in the
+    /// lights' weights `w_i = Φ_i·2^-e` ([`crate::PmfScale::weight`]) and divided by their
+    /// sum: a light whose power changes changes its weight, the others keep theirs (unless
+    /// the largest power's binary exponent `e` changes), so only the lanes over a light whose
+    /// weight changed are integrated again, each light into the maps of the lanes above it,
+    /// and every other map is divided by the new sum. One light's new power costs the maps
+    /// on its path (`tree-refit-spots-one` in `lightpick bench`); new powers everywhere cost
+    /// `O(N · depth)` footprint integrations, as a build (`tree-refit-spots`). Nothing is
+    /// allocated either way. A tree with per-tile cuts ([`super::TileCuts`]) drops its
+    /// tiles' cuts (nothing allocated): each tile is cut again when a pick next needs it
     /// (`O(K · depth)` a tile; `tree-refit-cuts` times the refit with every tile cut).
     ///
     /// # Panics
@@ -161,16 +189,58 @@ impl LightTree {
         let raw = powers.as_slice();
         let pmf = powers.pmf_scale();
         // Each light's new share is a function of its own power: any split gives the same.
-        self.lights
-            .par_iter_mut()
-            .zip(self.order.par_iter())
-            .with_min_len(1 << 14)
-            .for_each(|(l, &i)| l.power = pmf.of(raw[i as usize]));
-        self.fill_lanes();
+        if let Some(w) = self.weights.as_deref_mut() {
+            // Over spots also each light's weight, and which weights changed: 64 lights a
+            // word of `reweighed`.
+            self.lights
+                .par_chunks_mut(64)
+                .zip(w.weight.par_chunks_mut(64))
+                .zip(self.order.par_chunks(64))
+                .zip(w.reweighed.par_iter_mut())
+                .with_min_len(1 << 8)
+                .for_each(|(((lights, weights), order), bits)| {
+                    *bits = 0;
+                    for (j, ((l, w), &i)) in lights.iter_mut().zip(weights).zip(order).enumerate() {
+                        let new = pmf.weight(raw[i as usize]);
+                        if new.to_bits() != w.to_bits() {
+                            *bits |= 1 << j;
+                            *w = new;
+                        }
+                        l.power = pmf.of(raw[i as usize]);
+                    }
+                });
+        } else {
+            self.lights
+                .par_iter_mut()
+                .zip(self.order.par_iter())
+                .with_min_len(1 << 14)
+                .for_each(|(l, &i)| l.power = pmf.of(raw[i as usize]));
+        }
+        self.fill_lanes(pmf.sum(), true);
+        // Read; cleared for the next refit (and so that the tree equals a fresh build).
+        if let Some(w) = self.weights.as_deref_mut() {
+            w.reweighed.fill(0);
+        }
         if let Some(cuts) = &mut self.cuts {
             cuts.clear();
         }
     }
+}
+
+/// Whether any bit of `bits` (bit `j % 64` of word `j / 64` for `j`) in `range` is set.
+fn any_bit_in(bits: &[u64], range: std::ops::Range<usize>) -> bool {
+    if range.is_empty() {
+        return false;
+    }
+    let (first, last) = (range.start / 64, (range.end - 1) / 64);
+    let head = u64::MAX << (range.start % 64);
+    let tail = u64::MAX >> (63 - (range.end - 1) % 64);
+    if first == last {
+        return bits[first] & head & tail != 0;
+    }
+    bits[first] & head != 0
+        || bits[first + 1..last].iter().any(|&w| w != 0)
+        || bits[last] & tail != 0
 }
 
 /// The layout of the contributing lights (scene index, light, profile): the internal nodes,
@@ -243,4 +313,32 @@ fn footprints_in(
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::any_bit_in;
+
+    /// Every range of a 200-bit set, against a bit-by-bit scan.
+    #[test]
+    fn any_bit_in_a_range_is_found_as_a_scan_finds_it() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        for density in [1u64, 8, 64] {
+            let mut bits = [0u64; 4];
+            for j in 0..200 {
+                state = state
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1);
+                if (state >> 33).is_multiple_of(density) {
+                    bits[j / 64] |= 1 << (j % 64);
+                }
+            }
+            for start in 0..=200 {
+                for end in start..=200 {
+                    let scanned = (start..end).any(|j| bits[j / 64] >> (j % 64) & 1 == 1);
+                    assert_eq!(any_bit_in(&bits, start..end), scanned, "{start}..{end}");
+                }
+            }
+        }
+    }
 }

@@ -75,6 +75,16 @@ use super::bounds::LaneBounds;
 use super::grid::MappedLanes;
 use crate::scene::{Emission, ReceiverPlane};
 
+/// What a tree over spots integrates its lanes' maps in, per light in leaf order.
+#[derive(Clone, Debug, PartialEq)]
+struct MapWeights {
+    /// Each light's weight `w_i = Φ_i·2^-e` ([`crate::PmfScale::weight`]).
+    weight: Vec<f64>,
+    /// One bit per light, set by [`LightTree::refit`] where the light's weight changed (only
+    /// the lanes over such lights are mapped again) and cleared once read.
+    reweighed: Vec<u64>,
+}
+
 /// A light tree over the contributing lights of a scene; see the module docs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LightTree {
@@ -103,6 +113,8 @@ pub struct LightTree {
     /// Each node's lanes as the descent over spots reads them ([`super::grid`]; empty for
     /// point lights).
     mapped: Vec<MappedLanes>,
+    /// The lights' weights the lanes' maps are integrated in (`None` for point lights).
+    weights: Option<Box<MapWeights>>,
     /// The per-tile cuts a pick starts from on the receiver's rectangle ([`TileCuts`];
     /// `None`: every pick descends from the root).
     cuts: Option<Box<TileCuts>>,
@@ -230,6 +242,11 @@ impl LightTree {
             + self.bounds.capacity() * size_of::<[LaneBounds; TREE_WIDTH]>()
             + self.footprints.capacity() * size_of::<Option<[DVec2; 2]>>()
             + self.mapped.capacity() * size_of::<MappedLanes>()
+            + self.weights.as_ref().map_or(0, |w| {
+                size_of::<MapWeights>()
+                    + w.weight.capacity() * size_of::<f64>()
+                    + w.reweighed.capacity() * size_of::<u64>()
+            })
             + self
                 .cuts
                 .as_ref()
