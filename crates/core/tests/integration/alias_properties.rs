@@ -97,6 +97,32 @@ proptest! {
         }
     }
 
+    /// A window of the realized pmf and the groups' probabilities, each from one pass with
+    /// memory for what it returns: the window equals the whole pmf's slice bit for bit, and a
+    /// group's probability is its lights' exact masses summed (in `u128`) over `N·2^32`.
+    #[test]
+    fn windows_and_groups_of_the_packed_pmf_match_the_whole(
+        powers in powers_strategy(),
+        a in 0usize..64,
+        b in 0usize..64,
+        per in 1usize..9,
+    ) {
+        let lp = LightPowers::new(powers).unwrap();
+        let table = AliasTable::build(&lp);
+        let n = table.len();
+        let whole = table.implied_pmf_packed();
+        let (a, b) = (a.min(n), b.min(n));
+        let range = a.min(b)..a.max(b);
+        prop_assert_eq!(table.implied_pmf_packed_of(range.clone()), whole[range].to_vec());
+        let masses = table.packed_masses();
+        let groups = table.packed_group_pmf(per);
+        prop_assert_eq!(groups.len(), n.div_ceil(per));
+        for (g, &p) in groups.iter().enumerate() {
+            let sum: u128 = masses[g * per..((g + 1) * per).min(n)].iter().map(|&m| u128::from(m)).sum();
+            prop_assert_eq!(p, sum as f64 / (n as f64 * 4_294_967_296.0), "group {}", g);
+        }
+    }
+
     #[test]
     fn integer_table_realizes_its_masses_within_the_bound(powers in powers_strategy()) {
         let lp = LightPowers::new(powers.clone()).unwrap();

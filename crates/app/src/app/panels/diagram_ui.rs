@@ -77,12 +77,10 @@ pub fn diagram_ui(ui: &mut Ui, state: &mut AppState, height: Option<f32>) {
         Stroke::new(1.0, colors::grid(dark)),
         StrokeKind::Inside,
     );
-    let pmf = built.pmf();
+    // The shown columns' lights' pmf (a window of a large table's).
+    let pmf = built.pmf_of(first..first + shown);
     let avg = 1.0 / n as f64;
-    let max_p = pmf[first..first + shown]
-        .iter()
-        .copied()
-        .fold(avg, f64::max);
+    let max_p = pmf.iter().copied().fold(avg, f64::max);
     let geometry = Geometry {
         plot,
         first,
@@ -93,7 +91,7 @@ pub fn diagram_ui(ui: &mut Ui, state: &mut AppState, height: Option<f32>) {
         y_max: max_p * 1.08,
     };
     for k in 0..shown {
-        column_ui(&painter, &geometry, &built, k, &font, state, dark);
+        column_ui(&painter, &geometry, (&built, pmf[k]), k, &font, state, dark);
     }
     axis_ui(&painter, &geometry, &font, dark);
     if let Some(draw) = state.sampling.last_draw
@@ -121,18 +119,18 @@ fn window_ui(ui: &mut Ui, state: &mut AppState, n: usize) {
 }
 
 /// The `k`-th column shown: its own light's share at the bottom and the alias's on top
-/// (numbered when there is room), the ghost of its pmf bar, the walkthrough's marks and its
-/// label under the axis.
+/// (numbered when there is room), the ghost of its pmf bar (`p`, its light's probability),
+/// the walkthrough's marks and its label under the axis.
 fn column_ui(
     painter: &egui::Painter,
     g: &Geometry,
-    built: &Built,
+    (built, p): (&Built, f64),
     k: usize,
     font: &FontId,
     state: &AppState,
     dark: bool,
 ) {
-    let (table, pmf) = (&built.table, built.pmf());
+    let table = &built.table;
     let (plot, col_w) = (g.plot, g.col_w);
     let fg = colors::foreground(dark);
     let muted = colors::muted(dark);
@@ -179,7 +177,7 @@ fn column_ui(
         );
     }
     // Ghost of the original pmf bar this column's light had.
-    let ghost = Rect::from_min_max(pos2(x0, g.y_of(pmf[i])), pos2(x1, plot.bottom()));
+    let ghost = Rect::from_min_max(pos2(x0, g.y_of(p)), pos2(x1, plot.bottom()));
     painter.rect_stroke(ghost, 0.0, Stroke::new(1.0, muted), StrokeKind::Middle);
     if let Some(h) = &state.table_highlight {
         let column = Rect::from_min_max(pos2(x0, g.y_top()), pos2(x1, plot.bottom()));
@@ -248,7 +246,8 @@ fn hover_ui(
         StrokeKind::Outside,
     );
     let sentence = column_sentence(state, i);
-    let p = built.pmf()[i];
+    // The window the columns were drawn with (kept: no pass over the table again).
+    let p = built.pmf_of(g.first..g.first + g.shown)[i - g.first];
     response.on_hover_ui_at_pointer(|ui| {
         ui.label(sentence);
         ui.label(format!(

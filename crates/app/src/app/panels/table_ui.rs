@@ -40,7 +40,6 @@ pub fn table_ui(ui: &mut Ui, state: &AppState) {
     let built = &state.built;
     let den = built.denominator;
     let powers = built.scene.powers.as_slice();
-    let pmf = built.pmf();
     let table = &built.table;
     let highlight = state.table_highlight.as_ref();
     // Column widths at full size, narrowed (down to 55 %) to fit a narrow panel so that the
@@ -77,6 +76,9 @@ pub fn table_ui(ui: &mut Ui, state: &AppState) {
         .max_height(max_height)
         .auto_shrink([false, true])
         .show_rows(ui, ROW_HEIGHT, n, |ui, rows| {
+            // The shown rows' pmf (a window of a large table's).
+            let pmf = built.pmf_of(rows.clone());
+            let first = rows.start;
             for i in rows {
                 ui.horizontal(|ui| {
                     let (swatch, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
@@ -97,9 +99,9 @@ pub fn table_ui(ui: &mut Ui, state: &AppState) {
                     let p = ui
                         .add_sized(
                             [widths[2], ROW_HEIGHT],
-                            egui::Label::new(numbers::show(pmf[i], den)),
+                            egui::Label::new(numbers::show(pmf[i - first], den)),
                         )
-                        .on_hover_text(format!("p = {:.12}", pmf[i]));
+                        .on_hover_text(format!("p = {:.12}", pmf[i - first]));
                     mark_cell(ui, highlight, i, TableField::Pmf, p.rect);
                     let t = ui
                         .add_sized(

@@ -1,6 +1,8 @@
 //! The last valid scene and what is built from it once per scene generation.
 
-use std::sync::Arc;
+use std::borrow::Cow;
+use std::ops::Range;
+use std::sync::{Arc, Mutex};
 
 use lightpick_core::scene::Scene;
 use lightpick_core::{AliasTable, Construction, SceneSamplers};
@@ -22,10 +24,13 @@ pub struct Built {
     pub denominator: Option<u64>,
     /// `Σ Φ` (for display).
     pub total_power: f64,
-    /// The integer-built table's pmf, kept here ([`Built::pmf`]); `None` for the exact
-    /// construction, which stores its own.
-    pmf: Option<Vec<f64>>,
+    /// The last two windows of an integer-built table's pmf computed for display
+    /// ([`Built::pmf_of`]); the exact construction stores its own pmf.
+    pmf_windows: Mutex<[Option<PmfWindow>; 2]>,
 }
+
+/// Lights of a table and their probabilities, as [`Built::pmf_of`] computed them.
+type PmfWindow = (Range<usize>, Vec<f64>);
 
 /// Up to this many lights the app shows the exact `f64` construction (exact seed
 /// fractions, replayed step by step by the stepper); beyond, the integer one, whose rebuild
@@ -39,12 +44,6 @@ pub fn construction_for(n: usize) -> Construction {
     } else {
         Construction::Integer
     }
-}
-
-/// The pmf the app keeps beside an integer-built table ([`Built::pmf`]); `None` for the
-/// exact construction, which stores its own.
-fn pmf_kept(table: &AliasTable) -> Option<Vec<f64>> {
-    (table.construction() == Construction::Integer).then(|| table.implied_pmf_packed())
 }
 
 impl Built {
@@ -77,21 +76,19 @@ impl Built {
         previous: &SceneSamplers,
         earlier: Option<SceneSamplers>,
     ) -> Self {
-        // The pmf needs only the table: it is computed while the tree is refitted.
-        let (samplers, pmf) = previous.repowered_then(Arc::new(scene), earlier, pmf_kept);
-        Self::with_parts(generation, samplers, pmf)
+        let (samplers, ()) = previous.repowered_then(Arc::new(scene), earlier, |_| ());
+        Self::with_parts(generation, samplers)
     }
 
     /// The state around samplers whose table is built: the spatial sampler built now (off
     /// the UI thread for large scenes), the display helpers derived from the scene.
     fn with_samplers(generation: u64, samplers: SceneSamplers) -> Self {
         samplers.spatial();
-        let pmf = pmf_kept(samplers.table());
-        Self::with_parts(generation, samplers, pmf)
+        Self::with_parts(generation, samplers)
     }
 
-    /// The state around built samplers and the pmf kept for them ([`pmf_kept`]).
-    fn with_parts(generation: u64, samplers: SceneSamplers, pmf: Option<Vec<f64>>) -> Self {
+    /// The state around built samplers.
+    fn with_parts(generation: u64, samplers: SceneSamplers) -> Self {
         let scene = Arc::clone(samplers.scene());
         let table = Arc::clone(samplers.table());
         let denominator = lightpick_core::draw::fraction_denominator(&scene.powers);
@@ -103,26 +100,61 @@ impl Built {
             samplers,
             denominator,
             total_power,
-            pmf,
+            pmf_windows: Mutex::new([None, None]),
         }
     }
 
-    /// The pmf the table realizes, every light's `p_i`: [`AliasTable::pmf_slice`] bit for
-    /// bit. An integer-built table would derive it with its thresholds and aliases (20 bytes
-    /// per light, [`AliasTable::heap_bytes`]); the app keeps the pmf alone (8 bytes), which
-    /// the histograms and the table panel need for every light, and reads thresholds and
-    /// aliases per shown column ([`AliasTable::threshold`], [`AliasTable::alias`]).
-    pub fn pmf(&self) -> &[f64] {
-        self.pmf
-            .as_deref()
-            .unwrap_or_else(|| self.table.pmf_slice())
+    /// The pmf the table realizes for the lights in `range`, each `p_i`
+    /// ([`AliasTable::pmf_slice`] bit for bit). The exact construction stores its pmf; for an
+    /// integer-built table (beyond [`EXACT_TABLE_MAX_LIGHTS`] lights) the window is computed
+    /// from the packed columns ([`AliasTable::implied_pmf_packed_of`]: one pass, `O(N)`)
+    /// and the last two windows kept, so the app holds no pmf of `N` (8 bytes per light)
+    /// for the few hundred lights a panel shows.
+    ///
+    /// # Panics
+    /// If `range` reaches past the last light.
+    pub fn pmf_of(&self, range: Range<usize>) -> Cow<'_, [f64]> {
+        if self.table.construction() == Construction::Exact {
+            return Cow::Borrowed(&self.table.pmf_slice()[range]);
+        }
+        let mut windows = self
+            .pmf_windows
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some((_, pmf)) = windows.iter().flatten().find(|(r, _)| *r == range) {
+            return Cow::Owned(pmf.clone());
+        }
+        let pmf = self.table.implied_pmf_packed_of(range.clone());
+        // The newer window first; the older one goes.
+        windows.swap(0, 1);
+        windows[0] = Some((range, pmf.clone()));
+        Cow::Owned(pmf)
     }
 
-    /// Heap bytes of the pmf kept here ([`Built::pmf`]; 0 for the exact construction).
-    pub fn pmf_heap_bytes(&self) -> usize {
-        self.pmf
-            .as_ref()
-            .map_or(0, |p| p.capacity() * std::mem::size_of::<f64>())
+    /// Heap bytes of the pmf windows kept ([`Built::pmf_of`]).
+    pub fn pmf_window_bytes(&self) -> usize {
+        self.pmf_windows
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .iter()
+            .flatten()
+            .map(|(_, pmf)| pmf.capacity() * std::mem::size_of::<f64>())
+            .sum()
+    }
+
+    /// The pmf the table realizes summed over groups of `per` consecutive lights (the last
+    /// group may hold fewer): the exact construction's stored pmf summed group by group, or
+    /// an integer-built table's exact group masses ([`AliasTable::packed_group_pmf`]).
+    pub fn pmf_by_group(&self, per: usize) -> Vec<f64> {
+        if self.table.construction() == Construction::Exact {
+            self.table
+                .pmf_slice()
+                .chunks(per)
+                .map(|c| c.iter().sum())
+                .collect()
+        } else {
+            self.table.packed_group_pmf(per)
+        }
     }
 
     /// [`Built::repowered`] when `scene` keeps `previous`'s geometry, else [`Built::new`].
@@ -147,5 +179,38 @@ impl Built {
     /// Always `false` (a valid scene has a light).
     pub fn is_empty(&self) -> bool {
         self.table.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lightpick_core::LightPowers;
+
+    /// An integer-built table (beyond the exact construction's limit): every window the
+    /// panels ask for, new or kept, is the table's realized pmf there bit for bit, in any
+    /// order of asking (two windows kept, a third evicts the older), and the groups are
+    /// their lights' exact masses.
+    #[test]
+    fn a_large_tables_pmf_windows_are_its_realized_pmf() {
+        let n = EXACT_TABLE_MAX_LIGHTS + 1000;
+        let powers: Vec<f64> = (0..n).map(|i| 1.0 + (i * 7919 % 1013) as f64).collect();
+        let positions = vec![glam::dvec3(0.0, 0.0, 1.0); n];
+        let plane = crate::app::scene_io::worked_example_scene().plane;
+        let scene = Scene::new("large", plane, positions, LightPowers::new(powers).unwrap());
+        let built = Built::new(1, scene);
+        assert_eq!(built.table.construction(), Construction::Integer);
+        let whole = built.table.implied_pmf_packed();
+        let windows = [0..30, 500..900, 0..30, n - 10..n, 500..900, 7..8, n - 10..n];
+        for w in windows {
+            assert_eq!(&*built.pmf_of(w.clone()), &whole[w.clone()], "{w:?}");
+        }
+        assert!(built.pmf_window_bytes() <= 2 * 400 * 8);
+        let masses = built.table.packed_masses();
+        let denom = n as f64 * 4_294_967_296.0;
+        for (g, p) in built.pmf_by_group(64).into_iter().enumerate() {
+            let m: u64 = masses[g * 64..((g + 1) * 64).min(n)].iter().sum();
+            assert_eq!(p, m as f64 / denom, "group {g}");
+        }
     }
 }

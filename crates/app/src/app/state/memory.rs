@@ -72,7 +72,10 @@ impl AppState {
             ("edit: profiles and names", edit_extras),
             ("edit: powers text", self.powers_text.capacity()),
             ("alias table", built.table.heap_bytes()),
-            ("alias table pmf (kept by the app)", built.pmf_heap_bytes()),
+            (
+                "alias table pmf (the windows shown)",
+                built.pmf_window_bytes(),
+            ),
             ("spatial sampler (light tree)", spatial),
             (
                 "earlier table, tree and powers (kept a second for the next power edit)",

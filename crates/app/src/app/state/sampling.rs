@@ -98,13 +98,12 @@ impl AppState {
         let n = self.built.len();
         let per_bin = n.div_ceil(MAX_BARS).max(1);
         let bars = n.div_ceil(per_bin);
-        let pmf = self.built.pmf();
-        let expected_bins = pmf.chunks(per_bin).map(|c| c.iter().sum()).collect();
+        let expected_bins = self.built.pmf_by_group(per_bin);
         let per_cell = n.div_ceil(MAX_CHI_CELLS).max(1);
         let alias_cell_pmf: Vec<f64> = if per_cell == 1 {
-            pmf.to_vec()
+            self.built.pmf_of(0..n).into_owned()
         } else {
-            pmf.chunks(per_cell).map(|c| c.iter().sum()).collect()
+            self.built.pmf_by_group(per_cell)
         };
         let cells = alias_cell_pmf.len();
         let flat_bins = (0..bars)
@@ -238,7 +237,7 @@ mod tests {
         let mut state = AppState::new(scene_io::worked_example_scene(), Settings::default());
         state.sample_picks(2000);
         assert_eq!(state.sampling.per_cell, 1);
-        assert_eq!(state.sampling.alias_cell_pmf, state.built.pmf());
+        assert_eq!(state.sampling.alias_cell_pmf, state.built.table.pmf_slice());
         let (u, a) = picks_per_light(&state, 2000);
         assert_eq!(state.sampling.uniform_counts.iter().collect::<Vec<_>>(), u);
         assert_eq!(state.sampling.alias_counts.iter().collect::<Vec<_>>(), a);
@@ -269,10 +268,12 @@ mod tests {
             state.sampling.alias_counts.iter().collect::<Vec<_>>(),
             grouped_a
         );
-        let pmf = state.built.pmf();
+        // The integer-built table's cells: its lights' exact masses over `N·2^32`.
+        let masses = state.built.table.packed_masses();
+        let denom = n as f64 * 4_294_967_296.0;
         for (c, &p) in state.sampling.alias_cell_pmf.iter().enumerate() {
-            let lights = &pmf[c * per_cell..((c + 1) * per_cell).min(n)];
-            assert_eq!(p, lights.iter().sum::<f64>(), "cell {c}");
+            let lights = &masses[c * per_cell..((c + 1) * per_cell).min(n)];
+            assert_eq!(p, lights.iter().sum::<u64>() as f64 / denom, "cell {c}");
         }
         // The tests run over the cells (dof below the cell count) and the samplers are right:
         // with these fixed seeds neither p-value is below 10^-3.

@@ -329,6 +329,50 @@ impl AliasTable {
         mass
     }
 
+    /// [`AliasTable::implied_pmf_packed`] of the lights in `range` alone, bit for bit, with
+    /// memory for those lights only: one pass over every column, `O(N)` time (a view of a
+    /// few hundred lights of a large table need not hold a pmf of `N`).
+    ///
+    /// # Panics
+    /// If `range` reaches past the last light.
+    pub fn implied_pmf_packed_of(&self, range: std::ops::Range<usize>) -> Vec<f64> {
+        assert!(
+            range.end <= self.len(),
+            "lights {range:?} of {}",
+            self.len()
+        );
+        let denom = self.len() as f64 * 4_294_967_296.0;
+        let mut mass = vec![0u64; range.len()];
+        for (j, e) in self.packed().iter().enumerate() {
+            if range.contains(&j) {
+                mass[j - range.start] += u64::from(e.threshold);
+            }
+            let alias = e.alias as usize;
+            if range.contains(&alias) {
+                mass[alias - range.start] += (1u64 << 32) - u64::from(e.threshold);
+            }
+        }
+        mass.into_iter().map(|m| m as f64 / denom).collect()
+    }
+
+    /// The packed table's probability of each group of `per` consecutive lights (the last
+    /// group may hold fewer): the exact integer mass of the group, `Σ` of
+    /// [`AliasTable::packed_masses`] over its lights (at most `N·2^32 ≤ 2^56`, exact in
+    /// `u64`), over `N·2^32`, rounded once; one pass, memory per group only.
+    ///
+    /// # Panics
+    /// If `per` is 0.
+    pub fn packed_group_pmf(&self, per: usize) -> Vec<f64> {
+        assert!(per > 0, "groups of at least one light");
+        let denom = self.len() as f64 * 4_294_967_296.0;
+        let mut mass = vec![0u64; self.len().div_ceil(per)];
+        for (j, e) in self.packed().iter().enumerate() {
+            mass[j / per] += u64::from(e.threshold);
+            mass[e.alias as usize / per] += (1u64 << 32) - u64::from(e.threshold);
+        }
+        mass.into_iter().map(|m| m as f64 / denom).collect()
+    }
+
     /// The exact column pick: draws from `rng` until one is accepted by Lemire's test and
     /// returns its column, each with probability exactly `1/N` ([`crate::Uniform::sample`]).
     #[inline]
