@@ -86,7 +86,7 @@ fn histogram_csv(state: &AppState) -> String {
         .uniform_counts
         .iter()
         .zip(run.alias_counts.iter())
-        .zip(&run.alias_cell_pmf)
+        .zip(run.alias_cell_pmf.iter())
         .enumerate()
     {
         let first = cell * per;

@@ -112,12 +112,12 @@ fn histogram_data(state: &AppState) -> Result<HistogramData, String> {
         SchemeCounts::new(
             Scheme::Alias,
             counts(&run.alias_counts),
-            run.alias_cell_pmf.clone(),
+            run.alias_cell_pmf.to_vec(),
         )
         .map_err(|e| e.to_string())?,
     ];
     Ok(HistogramData {
-        pmf: run.alias_cell_pmf.clone(),
+        pmf: run.alias_cell_pmf.to_vec(),
         schemes,
     })
 }

@@ -7,6 +7,8 @@ use std::sync::{Arc, Mutex};
 use lightpick_core::scene::Scene;
 use lightpick_core::{AliasTable, Construction, SceneSamplers};
 
+use super::sampling::HistogramPmf;
+
 /// The last valid state: the scene, its alias table and display helpers.
 #[derive(Debug)]
 pub struct Built {
@@ -27,6 +29,8 @@ pub struct Built {
     /// The last two windows of an integer-built table's pmf computed for display
     /// ([`Built::pmf_of`]); the exact construction stores its own pmf.
     pmf_windows: Mutex<[Option<PmfWindow>; 2]>,
+    /// What the histograms expect of the table, computed with it.
+    pub histogram_pmf: HistogramPmf,
 }
 
 /// Lights of a table and their probabilities, as [`Built::pmf_of`] computed them.
@@ -76,19 +80,22 @@ impl Built {
         previous: &SceneSamplers,
         earlier: Option<SceneSamplers>,
     ) -> Self {
-        let (samplers, ()) = previous.repowered_then(Arc::new(scene), earlier, |_| ());
-        Self::with_parts(generation, samplers)
+        // The histograms' groups need only the table: computed while the tree is refitted.
+        let (samplers, groups) =
+            previous.repowered_then(Arc::new(scene), earlier, HistogramPmf::of);
+        Self::with_parts(generation, samplers, groups)
     }
 
     /// The state around samplers whose table is built: the spatial sampler built now (off
     /// the UI thread for large scenes), the display helpers derived from the scene.
     fn with_samplers(generation: u64, samplers: SceneSamplers) -> Self {
         samplers.spatial();
-        Self::with_parts(generation, samplers)
+        let groups = HistogramPmf::of(samplers.table());
+        Self::with_parts(generation, samplers, groups)
     }
 
-    /// The state around built samplers.
-    fn with_parts(generation: u64, samplers: SceneSamplers) -> Self {
+    /// The state around built samplers and what the histograms expect of their table.
+    fn with_parts(generation: u64, samplers: SceneSamplers, histogram_pmf: HistogramPmf) -> Self {
         let scene = Arc::clone(samplers.scene());
         let table = Arc::clone(samplers.table());
         let denominator = lightpick_core::draw::fraction_denominator(&scene.powers);
@@ -101,6 +108,7 @@ impl Built {
             denominator,
             total_power,
             pmf_windows: Mutex::new([None, None]),
+            histogram_pmf,
         }
     }
 
@@ -140,21 +148,6 @@ impl Built {
             .flatten()
             .map(|(_, pmf)| pmf.capacity() * std::mem::size_of::<f64>())
             .sum()
-    }
-
-    /// The pmf the table realizes summed over groups of `per` consecutive lights (the last
-    /// group may hold fewer): the exact construction's stored pmf summed group by group, or
-    /// an integer-built table's exact group masses ([`AliasTable::packed_group_pmf`]).
-    pub fn pmf_by_group(&self, per: usize) -> Vec<f64> {
-        if self.table.construction() == Construction::Exact {
-            self.table
-                .pmf_slice()
-                .chunks(per)
-                .map(|c| c.iter().sum())
-                .collect()
-        } else {
-            self.table.packed_group_pmf(per)
-        }
     }
 
     /// [`Built::repowered`] when `scene` keeps `previous`'s geometry, else [`Built::new`].
@@ -208,9 +201,17 @@ mod tests {
         assert!(built.pmf_window_bytes() <= 2 * 400 * 8);
         let masses = built.table.packed_masses();
         let denom = n as f64 * 4_294_967_296.0;
-        for (g, p) in built.pmf_by_group(64).into_iter().enumerate() {
-            let m: u64 = masses[g * 64..((g + 1) * 64).min(n)].iter().sum();
-            assert_eq!(p, m as f64 / denom, "group {g}");
+        let groups = &built.histogram_pmf;
+        assert!(groups.per_bar > 1 && groups.per_cell > 1);
+        for (per, pmf) in [
+            (groups.per_bar, &groups.bars),
+            (groups.per_cell, &groups.cells),
+        ] {
+            assert_eq!(pmf.len(), n.div_ceil(per));
+            for (g, &p) in pmf.iter().enumerate() {
+                let m: u64 = masses[g * per..((g + 1) * per).min(n)].iter().sum();
+                assert_eq!(p, m as f64 / denom, "groups of {per}: {g}");
+            }
         }
     }
 }

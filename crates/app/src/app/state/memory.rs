@@ -39,10 +39,10 @@ impl AppState {
         let sampling = &self.sampling;
         let histograms = sampling.uniform_counts.heap_bytes()
             + sampling.alias_counts.heap_bytes()
-            + vec_bytes(&sampling.alias_cell_pmf)
+            + std::mem::size_of_val(&*sampling.alias_cell_pmf)
             + vec_bytes(&sampling.uniform_bins)
             + vec_bytes(&sampling.alias_bins)
-            + vec_bytes(&sampling.expected_bins)
+            + std::mem::size_of_val(&*sampling.expected_bins)
             + vec_bytes(&sampling.flat_bins);
         let spatial = built
             .samplers

@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use lightpick_core::{ChiSquare, Rng, Uniform, chi_square_cells};
+use lightpick_core::{AliasTable, ChiSquare, Construction, Rng, Uniform, chi_square_cells};
 
 use super::AppState;
 use super::counts::PickCounts;
@@ -42,8 +42,8 @@ pub struct SamplingRun {
     /// Picks per cell by the alias table.
     pub alias_counts: PickCounts,
     /// Each cell's probability under the alias table, `Σ p_i` over its lights (the table's
-    /// pmf itself when a cell is one light).
-    pub alias_cell_pmf: Vec<f64>,
+    /// pmf itself when a cell is one light): the table's [`super::HistogramPmf`], shared.
+    pub alias_cell_pmf: Arc<[f64]>,
     /// Picks so far (each scheme).
     pub picks: u64,
     /// Chi-square of the uniform counts against `1/N`.
@@ -60,8 +60,9 @@ pub struct SamplingRun {
     pub uniform_bins: Vec<u64>,
     /// Alias picks per bar.
     pub alias_bins: Vec<u64>,
-    /// Expected alias frequency per bar (`Σ p_i` over its lights).
-    pub expected_bins: Vec<f64>,
+    /// Expected alias frequency per bar (`Σ p_i` over its lights), shared with the table's
+    /// [`super::HistogramPmf`].
+    pub expected_bins: Arc<[f64]>,
     /// Expected uniform frequency per bar (its share of the lights).
     pub flat_bins: Vec<f64>,
 }
@@ -92,19 +93,61 @@ pub const MAX_BARS: usize = 48;
 /// counts cost 8 bytes per cell instead of per light.
 pub const MAX_CHI_CELLS: usize = 1 << 16;
 
+/// What the histograms expect of a table: the probability of each bar's lights and of each
+/// chi-square cell's, computed once per table (beside the tree's refit when the powers
+/// change) and shared by every restart of the histograms.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct HistogramPmf {
+    /// Lights per bar ([`MAX_BARS`] bars at most).
+    pub per_bar: usize,
+    /// Each bar's `Σ p_i`.
+    pub bars: Arc<[f64]>,
+    /// Lights per chi-square cell ([`MAX_CHI_CELLS`] cells at most).
+    pub per_cell: usize,
+    /// Each cell's `Σ p_i` (the pmf itself when a cell is one light).
+    pub cells: Arc<[f64]>,
+}
+
+impl HistogramPmf {
+    /// The bars' and cells' probabilities under `table`: its stored pmf summed group by
+    /// group for the exact construction, the groups' exact masses for an integer-built one
+    /// ([`AliasTable::packed_group_pmf`], one pass each and no pmf of `N`).
+    pub fn of(table: &AliasTable) -> Self {
+        let n = table.len();
+        let (per_bar, per_cell) = (
+            n.div_ceil(MAX_BARS).max(1),
+            n.div_ceil(MAX_CHI_CELLS).max(1),
+        );
+        let groups = |per: usize| -> Arc<[f64]> {
+            if table.construction() == Construction::Integer {
+                table.packed_group_pmf(per).into()
+            } else if per == 1 {
+                table.pmf_slice().into()
+            } else {
+                table
+                    .pmf_slice()
+                    .chunks(per)
+                    .map(|c| c.iter().sum())
+                    .collect()
+            }
+        };
+        Self {
+            per_bar,
+            bars: groups(per_bar),
+            per_cell,
+            cells: groups(per_cell),
+        }
+    }
+}
+
 impl AppState {
     /// Clears the histograms for the current table.
     pub fn restart_sampling(&mut self) {
         let n = self.built.len();
-        let per_bin = n.div_ceil(MAX_BARS).max(1);
+        let groups = &self.built.histogram_pmf;
+        let (per_bin, per_cell) = (groups.per_bar, groups.per_cell);
         let bars = n.div_ceil(per_bin);
-        let expected_bins = self.built.pmf_by_group(per_bin);
-        let per_cell = n.div_ceil(MAX_CHI_CELLS).max(1);
-        let alias_cell_pmf: Vec<f64> = if per_cell == 1 {
-            self.built.pmf_of(0..n).into_owned()
-        } else {
-            self.built.pmf_by_group(per_cell)
-        };
+        let (expected_bins, alias_cell_pmf) = (Arc::clone(&groups.bars), Arc::clone(&groups.cells));
         let cells = alias_cell_pmf.len();
         let flat_bins = (0..bars)
             .map(|b| (((b + 1) * per_bin).min(n) - b * per_bin) as f64 / n as f64)
@@ -237,7 +280,10 @@ mod tests {
         let mut state = AppState::new(scene_io::worked_example_scene(), Settings::default());
         state.sample_picks(2000);
         assert_eq!(state.sampling.per_cell, 1);
-        assert_eq!(state.sampling.alias_cell_pmf, state.built.table.pmf_slice());
+        assert_eq!(
+            &*state.sampling.alias_cell_pmf,
+            state.built.table.pmf_slice()
+        );
         let (u, a) = picks_per_light(&state, 2000);
         assert_eq!(state.sampling.uniform_counts.iter().collect::<Vec<_>>(), u);
         assert_eq!(state.sampling.alias_counts.iter().collect::<Vec<_>>(), a);
