@@ -30,6 +30,20 @@
 //! value `s`: code `c > 0` stands for `s·2^((c − 255)/8)` (8 codes an octave, 31 octaves),
 //! code 0 for nothing. 256 bytes a lane; the GPU reads the same codes.
 //!
+//! # New powers
+//! A map is linear in its lights' powers, and the light tree integrates it in their
+//! weights `w_i = Φ_i·2^-e` ([`crate::PmfScale::weight`], exact), keeping the scale and the
+//! unbounded lights' intensity in those weights beside the codes
+//! ([`MappedLanes::weighted`]), and divides by the weights' sum `S` (`p_i = w_i/S`) for the
+//! descent. New powers change the sum but leave a light's weight alone unless its own power
+//! (or the largest power's binary exponent `e`) changes, so a refit integrates again only
+//! the lanes over a light whose weight changed and divides every other lane's by the new
+//! sum: the same bits as a fresh build. Measured at 10^5 spots over the unit square
+//! (`lightpick bench`'s `tree-refit-spots-one`): one light's new power costs 170 ms on two
+//! threads, a ninth of a refit of every power (1.5 s); the lanes above the light hold 72 000
+//! lights (the footprint layout is unbalanced: its root's largest lane holds half of them),
+//! integrated over 5.2 million cell parts with 11.6 million evaluations, 23 ns each.
+//!
 //! # Measured: importances and splits for spots
 //! Exact variances `Σ c_i²/P_i − E²` (mean over 37 × 37 shading points, over power
 //! sampling's mean: how many times fewer samples the tree needs for the same noise), 4-wide
