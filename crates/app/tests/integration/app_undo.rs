@@ -205,3 +205,40 @@ fn a_power_drag_on_a_large_scene_keeps_only_the_powers_it_changed() {
     let grown = history.heap_bytes() - before;
     assert_eq!(grown, 24, "the step keeps {grown} bytes");
 }
+
+/// Randomize on a large scene changes every power: the step keeps the powers before and
+/// after (shared with the scenes, 8 bytes a light each) instead of 24 bytes per changed
+/// light, and undo and redo put each set back bit for bit, with the same geometry.
+#[test]
+fn randomizing_a_large_scene_keeps_the_powers_not_every_change() {
+    let mut harness = window(LightpickApp::for_tests(), [1560.0, 960.0]);
+    harness.run();
+    let n = 100_000;
+    harness.state_mut().state.generate(n);
+    let deadline = std::time::Instant::now() + crate::common::HANG_GUARD;
+    let settle = |harness: &mut Harness<'_, LightpickApp>, done: &dyn Fn(&Scene) -> bool| {
+        while harness.state().state.is_building() || !done(&harness.state().state.built.scene) {
+            assert!(
+                std::time::Instant::now() < deadline,
+                "the build never landed"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(20));
+            harness.step();
+        }
+    };
+    settle(&mut harness, &|s| s.light_count() == n);
+    let generated = scene_bits(&harness);
+    let before = harness.state().state.history.heap_bytes();
+    harness.state_mut().state.randomize();
+    settle(&mut harness, &|s| light_bits(s).0 != generated.0);
+    let randomized = scene_bits(&harness);
+    assert_eq!(harness.state().state.history.undo_name(), Some("Randomize"));
+    let grown = harness.state().state.history.heap_bytes() - before;
+    assert_eq!(grown, 2 * 8 * n, "the step keeps {grown} bytes");
+    harness.state_mut().state.undo();
+    settle(&mut harness, &|s| light_bits(s).0 == generated.0);
+    assert_eq!(scene_bits(&harness), generated);
+    harness.state_mut().state.redo();
+    settle(&mut harness, &|s| light_bits(s).0 == randomized.0);
+    assert_eq!(scene_bits(&harness), randomized);
+}

@@ -122,7 +122,10 @@ fn bench_json_has_every_case_and_the_peers() {
         "tree-build",
         "tree-refit",
         "tree-refit-cuts",
+        "tree-refit-spots",
+        "tree-refit-spots-one",
         "app-repower",
+        "app-repower-one",
     ] {
         assert!(methods.contains(&m), "{m} missing from {methods:?}");
     }
@@ -132,7 +135,9 @@ fn bench_json_has_every_case_and_the_peers() {
         // Builds on rayon's pool: the light tree and the integer table (whose one-thread
         // twin is `alias-1t`); the rest run on one thread.
         let parallel = c["method"].as_str().is_some_and(|m| {
-            m.starts_with("tree-") || ["alias", "alias-batch", "app-repower"].contains(&m)
+            m.starts_with("tree-")
+                || m.starts_with("app-repower")
+                || ["alias", "alias-batch"].contains(&m)
         });
         assert!(threads >= 1 && (parallel || threads == 1), "{c}");
         if c["method"] == "alias-1t" {

@@ -1,5 +1,6 @@
 //! The light tree's cases (`tree-build`, `tree-refit`) and the app's whole answer to a power
-//! drag (`app-repower`), each beside the time of one pick of the tree at a shading point.
+//! edit (`app-repower`, `app-repower-one`), each beside the time of one pick of the tree at a
+//! shading point.
 
 // The app's state, driven as a power drag drives it (kept here, one place to re-point).
 use crate::app::scene_io;
@@ -19,8 +20,9 @@ use super::timing::median_ns;
 /// `tree-refit-cuts` (the same with the tiles' cuts cut again, [`time_refit_with_cuts`]),
 /// over spots `tree-refit-spots` (every power changed) and `tree-refit-spots-one` (one light's
 /// power changed, as a drag does: only the maps over it are integrated again), and
-/// `app-repower` (the app's whole answer to a power drag, [`time_app_repower`]), each
-/// with the time of one pick at a shading point.
+/// the app's whole answer to a power edit ([`time_app_repower`]): `app-repower` with every
+/// power changed (Randomize, a typed list) and `app-repower-one` with one light's (a drag),
+/// each with the time of one pick at a shading point.
 pub(super) fn time_tree(
     n: usize,
     powers: &LightPowers,
@@ -50,11 +52,13 @@ pub(super) fn time_tree(
     });
     let refit_cut_ns = time_refit_with_cuts(&positions, powers, other, reps);
     let repower_ns = time_app_repower(&positions, powers, other, reps);
+    let repower_one_ns = time_app_repower(&positions, powers, &one_changed(powers), reps);
     let mut cases = vec![
         ("tree-build", build_ns),
         ("tree-refit", refit_ns),
         ("tree-refit-cuts", refit_cut_ns),
         ("app-repower", repower_ns),
+        ("app-repower-one", repower_one_ns),
     ];
     if n <= SPOT_REFIT_MAX_LIGHTS {
         cases.push((
@@ -165,11 +169,12 @@ fn time_spot_refit(
     })
 }
 
-/// The app's answer to a power drag, in `build_ns`: from `AppState::powers_changed` (new
-/// powers, same positions) until the rebuilt samplers are installed (validation, the
-/// scene's assembly, the table's rebuild and the tree's refit, on the worker thread for
-/// large scenes, polled every 0.1 ms as a frame would). The images restart on the next
-/// frame.
+/// The app's answer to a power edit from `powers` to `other` and back, in `build_ns`: from
+/// writing the new powers into the edit and `AppState::powers_changed` (same positions)
+/// until the rebuilt samplers are installed (validation, the scene's assembly, the table's
+/// rebuild and the tree's refit, on the worker thread for large scenes, polled every 0.1 ms
+/// as a frame would, then the undo step and the histograms' restart). The images restart on
+/// the next frame.
 fn time_app_repower(
     positions: &[DVec3],
     powers: &LightPowers,

@@ -366,9 +366,15 @@ impl AliasTable {
         assert!(per > 0, "groups of at least one light");
         let denom = self.len() as f64 * 4_294_967_296.0;
         let mut mass = vec![0u64; self.len().div_ceil(per)];
-        for (j, e) in self.packed().iter().enumerate() {
-            mass[j / per] += u64::from(e.threshold);
-            mass[e.alias as usize / per] += (1u64 << 32) - u64::from(e.threshold);
+        // A column's own light is in the group being walked; its alias's group takes a
+        // division, by multiplication (a hardware division per column cost as much as the
+        // rest of the pass).
+        let group_of = GroupOf::new(per);
+        for (g, columns) in self.packed().chunks(per).enumerate() {
+            for e in columns {
+                mass[g] += u64::from(e.threshold);
+                mass[group_of.index(e.alias)] += (1u64 << 32) - u64::from(e.threshold);
+            }
         }
         mass.into_iter().map(|m| m as f64 / denom).collect()
     }
@@ -439,6 +445,36 @@ impl AliasTable {
         let product = u64::from(r) * self.words.len() as u64;
         let column = (product >> 32) as usize;
         self.resolve(column, product as u32)
+    }
+}
+
+/// `⌊i / d⌋` for `i < 2^32` by one multiplication: `⌊c·i / 2^64⌋` with `c = ⌈2^64 / d⌉`,
+/// exact for every `i < 2^32` when `2 ≤ d < 2^32` (Lemire, Kaser & Kurz, "Faster remainder by
+/// direct computation", 2019, with `N = 32` and `F = 64`); `d = 1` is the identity.
+#[derive(Clone, Copy, Debug)]
+struct GroupOf {
+    /// `⌈2^64 / d⌉`, or 0 for `d = 1`.
+    c: u64,
+}
+
+impl GroupOf {
+    /// The division by `d` (`1 ≤ d < 2^32`; a larger `d` is clamped to `2^32 − 1`, which
+    /// puts every index below it in group 0).
+    fn new(d: usize) -> Self {
+        let d = d.min(u32::MAX as usize) as u64;
+        Self {
+            c: if d <= 1 { 0 } else { u64::MAX / d + 1 },
+        }
+    }
+
+    /// `⌊i / d⌋`.
+    #[inline]
+    fn index(self, i: u32) -> usize {
+        if self.c == 0 {
+            i as usize
+        } else {
+            ((u128::from(self.c) * u128::from(i)) >> 64) as usize
+        }
     }
 }
 

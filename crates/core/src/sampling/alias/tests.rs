@@ -264,3 +264,38 @@ fn constructions_parse_and_name_themselves() {
     }
     assert!("fast".parse::<Construction>().is_err());
 }
+
+/// The division by multiplication that groups columns equals `/` for every divisor shape
+/// (1, 2, odd, powers of two and their neighbours, up to `2^32 − 1`) at indices where it
+/// could break: 0, each multiple of the divisor and its neighbours, and the top of `u32`.
+#[test]
+fn group_of_divides_as_the_hardware_does() {
+    use super::GroupOf;
+    let divisors: [u64; 14] = [
+        1,
+        2,
+        3,
+        7,
+        16,
+        48,
+        15_259,
+        65_535,
+        65_536,
+        65_537,
+        (1 << 24) - 1,
+        (1 << 31) + 1,
+        u32::MAX as u64 - 1,
+        u32::MAX as u64,
+    ];
+    for d in divisors {
+        let g = GroupOf::new(d as usize);
+        let mut probes: Vec<u64> = vec![0, 1, u32::MAX as u64 - 1, u32::MAX as u64];
+        for k in [1u64, 2, 3, 1000, 65_535] {
+            let m = k * d;
+            probes.extend([m.saturating_sub(1), m, m + 1]);
+        }
+        for i in probes.into_iter().filter_map(|i| u32::try_from(i).ok()) {
+            assert_eq!(g.index(i) as u64, u64::from(i) / d, "{i} / {d}");
+        }
+    }
+}
