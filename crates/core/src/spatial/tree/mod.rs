@@ -229,9 +229,10 @@ impl LightTree {
     /// Heap bytes the tree holds, by capacity: per contributing light its position and
     /// normalized power in leaf order (32 bytes) and its scene index (4), per internal node
     /// 152 bytes (its lanes' representative lights and children, its reach) and its first
-    /// light (4), and for lights with emission profiles those profiles and each node's lane
-    /// bounds: for 10^6 point lights (87 381 nodes of mostly two to four leaf clusters)
-    /// about 50 bytes per light.
+    /// light (4), and for lights with emission profiles those profiles, their footprints and
+    /// weights (8 bytes, [`crate::PmfScale::weight`]) and each node's lane bounds and maps:
+    /// for 10^6 point lights (87 381 nodes of mostly two to four leaf clusters) about 50
+    /// bytes per light, for 10^5 spots over the unit square about 445.
     pub fn heap_bytes(&self) -> usize {
         use std::mem::size_of;
         self.nodes.capacity() * size_of::<TreeNode>()
