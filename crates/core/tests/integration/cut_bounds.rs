@@ -5,10 +5,10 @@
 
 use glam::{DVec2, DVec3, dvec2, dvec3};
 use lightpick_core::scene::{ReceiverPlane, Scene};
-use lightpick_core::spatial::{Child, LightTree, SpatialSampler, TREE_WIDTH};
+use lightpick_core::spatial::{Child, LightTree, TREE_WIDTH};
 
 use crate::common::SplitMix;
-use crate::common::cuts::{cut_tree, mean_variance};
+use crate::common::cuts::cut_and_root_variances;
 
 /// `clusters` clusters of `per_cluster` lights (σ = 0.3 m across) `heights` above the
 /// plane `[-half, half]²` of 128 × 128 pixels, powers over two decades.
@@ -148,10 +148,8 @@ fn off_centre_raster(plane: &ReceiverPlane, grid: u32) -> Vec<DVec2> {
 fn cuts_split_the_groups_hanging_just_above_their_tiles() {
     for seed in [21, 43, 44, 45, 46, 47] {
         let scene = clusters(seed, 8.0, 24, 400, (0.05, 0.3));
-        let tree = cut_tree(&scene);
         let points = off_centre_raster(&scene.plane, 24);
-        let cut = mean_variance(&scene, &SpatialSampler::Tree(tree.clone()), &points);
-        let whole = mean_variance(&scene, &SpatialSampler::Tree(tree.with_cuts(None)), &points);
+        let (cut, whole) = cut_and_root_variances(&scene, &points);
         assert!(
             cut < 0.1 * whole,
             "seed {seed}: {cut:e} against the tree's {whole:e}"

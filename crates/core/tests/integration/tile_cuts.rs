@@ -8,10 +8,10 @@ use glam::{DVec2, dvec2, dvec3};
 use lightpick_core::Rng;
 use lightpick_core::scene::{Emission, ReceiverPlane, Scene, pixel_center};
 use lightpick_core::spatial::importance::{GRID, GRID_CELL};
-use lightpick_core::spatial::{Child, ChildRef, LightTree, SpatialSampler};
+use lightpick_core::spatial::{Child, ChildRef, LightTree};
 
 use crate::common::SplitMix;
-use crate::common::cuts::{cut_tree, mean_variance};
+use crate::common::cuts::{cut_and_root_variances, cut_tree};
 use crate::common::fit::assert_picks_fit;
 use crate::common::scenes::{
     preset_at, random_powers, scattered_positions, square_plane, tilted_spot,
@@ -456,10 +456,8 @@ fn pixel_raster(plane: &ReceiverPlane, grid: u32) -> Vec<DVec2> {
 fn cuts_weighed_by_estimates_have_well_below_the_trees_variance_on_point_lights() {
     for name in ["equal", "heavy-tail"] {
         let scene = preset_at(name, 128, 128);
-        let tree = cut_tree(&scene);
         let points = pixel_raster(&scene.plane, 12);
-        let cut = mean_variance(&scene, &SpatialSampler::Tree(tree.clone()), &points);
-        let whole = mean_variance(&scene, &SpatialSampler::Tree(tree.with_cuts(None)), &points);
+        let (cut, whole) = cut_and_root_variances(&scene, &points);
         assert!(
             cut < 0.3 * whole,
             "{name}: {cut:e} against the tree's {whole:e}"

@@ -324,16 +324,15 @@ fn change_between(before: SceneState, after: SceneState) -> Option<Change> {
                 after: Arc::clone(b.powers.shared()),
             });
         }
-        let mut changes: Vec<(u32, f64, f64)> = a
-            .powers
-            .as_slice()
-            .iter()
-            .zip(b.powers.as_slice())
-            .enumerate()
-            .filter(|(_, (x, y))| x.to_bits() != y.to_bits())
-            .map(|(i, (x, y))| (i as u32, *x, *y))
-            .collect();
-        changes.shrink_to_fit();
+        // Counted above: the changes fill their allocation exactly.
+        let mut changes: Vec<(u32, f64, f64)> = Vec::with_capacity(changed);
+        changes.extend(
+            old.iter()
+                .zip(new)
+                .enumerate()
+                .filter(|(_, (x, y))| x.to_bits() != y.to_bits())
+                .map(|(i, (x, y))| (i as u32, *x, *y)),
+        );
         return (!changes.is_empty()).then_some(Change::Powers(changes));
     }
     Some(Change::Scene { before, after })

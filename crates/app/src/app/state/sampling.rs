@@ -146,9 +146,8 @@ impl AppState {
         let n = self.built.len();
         let groups = &self.built.histogram_pmf;
         let (per_bin, per_cell) = (groups.per_bar, groups.per_cell);
-        let bars = n.div_ceil(per_bin);
         let (expected_bins, alias_cell_pmf) = (Arc::clone(&groups.bars), Arc::clone(&groups.cells));
-        let cells = alias_cell_pmf.len();
+        let (bars, cells) = (expected_bins.len(), alias_cell_pmf.len());
         let flat_bins = (0..bars)
             .map(|b| (((b + 1) * per_bin).min(n) - b * per_bin) as f64 / n as f64)
             .collect();

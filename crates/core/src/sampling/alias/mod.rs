@@ -309,12 +309,13 @@ impl AliasTable {
     /// The pmf the packed `u32` table realizes, exactly as a rational `count / (N·2^32)`
     /// evaluated in `f64`: `P(i) = (t_i + Σ_{alias_j = i} (2^32 − t_j)) / (N·2^32)`.
     pub fn implied_pmf_packed(&self) -> Vec<f64> {
-        let n = self.len();
-        let denom = n as f64 * 4_294_967_296.0;
-        self.packed_masses()
-            .into_iter()
-            .map(|m| m as f64 / denom)
-            .collect()
+        self.packed_probabilities(self.packed_masses())
+    }
+
+    /// Masses out of `N·2^32` as probabilities, each rounded once.
+    fn packed_probabilities(&self, masses: Vec<u64>) -> Vec<f64> {
+        let denom = self.len() as f64 * 4_294_967_296.0;
+        masses.into_iter().map(|m| m as f64 / denom).collect()
     }
 
     /// The exact integer mass each light receives from the packed table, out of `N·2^32`:
@@ -323,8 +324,9 @@ impl AliasTable {
     pub fn packed_masses(&self) -> Vec<u64> {
         let mut mass = vec![0u64; self.len()];
         for (i, e) in self.packed().iter().enumerate() {
-            mass[i] += u64::from(e.threshold);
-            mass[e.alias as usize] += (1u64 << 32) - u64::from(e.threshold);
+            let (kept, given) = e.masses();
+            mass[i] += kept;
+            mass[e.alias as usize] += given;
         }
         mass
     }
@@ -341,18 +343,18 @@ impl AliasTable {
             "lights {range:?} of {}",
             self.len()
         );
-        let denom = self.len() as f64 * 4_294_967_296.0;
         let mut mass = vec![0u64; range.len()];
         for (j, e) in self.packed().iter().enumerate() {
+            let (kept, given) = e.masses();
             if range.contains(&j) {
-                mass[j - range.start] += u64::from(e.threshold);
+                mass[j - range.start] += kept;
             }
             let alias = e.alias as usize;
             if range.contains(&alias) {
-                mass[alias - range.start] += (1u64 << 32) - u64::from(e.threshold);
+                mass[alias - range.start] += given;
             }
         }
-        mass.into_iter().map(|m| m as f64 / denom).collect()
+        self.packed_probabilities(mass)
     }
 
     /// The packed table's probability of each group of `per` consecutive lights (the last
@@ -364,7 +366,6 @@ impl AliasTable {
     /// If `per` is 0.
     pub fn packed_group_pmf(&self, per: usize) -> Vec<f64> {
         assert!(per > 0, "groups of at least one light");
-        let denom = self.len() as f64 * 4_294_967_296.0;
         let mut mass = vec![0u64; self.len().div_ceil(per)];
         // A column's own light is in the group being walked; its alias's group takes a
         // division, by multiplication (a hardware division per column cost as much as the
@@ -372,11 +373,12 @@ impl AliasTable {
         let group_of = GroupOf::new(per);
         for (g, columns) in self.packed().chunks(per).enumerate() {
             for e in columns {
-                mass[g] += u64::from(e.threshold);
-                mass[group_of.index(e.alias)] += (1u64 << 32) - u64::from(e.threshold);
+                let (kept, given) = e.masses();
+                mass[g] += kept;
+                mass[group_of.index(e.alias)] += given;
             }
         }
-        mass.into_iter().map(|m| m as f64 / denom).collect()
+        self.packed_probabilities(mass)
     }
 
     /// The exact column pick: draws from `rng` until one is accepted by Lemire's test and

@@ -13,6 +13,16 @@ pub struct PackedAliasEntry {
     pub alias: u32,
 }
 
+impl PackedAliasEntry {
+    /// How the column's `2^32` values of the keep draw `r2` split: `t` keep its own light
+    /// (`r2 < t`), `2^32 − t` go to its alias.
+    #[inline]
+    pub(crate) fn masses(self) -> (u64, u64) {
+        let kept = u64::from(self.threshold);
+        (kept, (1u64 << 32) - kept)
+    }
+}
+
 /// `entry` as one `u64` word: its 8 bytes, as the table stores them.
 #[inline]
 pub(crate) fn packed_word(threshold: u32, alias: u32) -> u64 {

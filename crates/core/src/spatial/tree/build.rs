@@ -131,15 +131,17 @@ impl LightTree {
         let mut mapped = std::mem::take(&mut self.mapped);
         mapped.resize(self.nodes.len(), MappedLanes::EMPTY);
         let tree = &*self;
+        // Every tree over spots has weights.
+        let Some(w) = tree.weights.as_deref() else {
+            self.mapped = mapped;
+            return;
+        };
         mapped
             .par_iter_mut()
             .zip(tree.nodes.par_iter())
             .zip(tree.bounds.par_iter())
             .with_max_len(1)
             .for_each(|((node_lanes, node), bounds)| {
-                let Some(w) = tree.weights.as_deref() else {
-                    return;
-                };
                 for (k, &child) in node.child.iter().enumerate() {
                     let span = tree.span(child);
                     if only_reweighed && !span.clone().is_some_and(|r| any_bit_in(&w.reweighed, r))

@@ -1,5 +1,6 @@
 //! What the per-tile cuts' tests share: a scene's light tree with its cuts, and the exact
-//! mean variance of one sample of a spatial sampler over a set of points.
+//! mean variance of one sample of a spatial sampler over a set of points (of the cut tree
+//! against the same tree from its root, too).
 
 use glam::DVec2;
 use lightpick_core::scene::Scene;
@@ -36,4 +37,13 @@ pub fn mean_variance(scene: &Scene, sampler: &SpatialSampler, points: &[DVec2]) 
         sum += second - e * e;
     }
     sum / points.len() as f64
+}
+
+/// The mean exact variance over `points` of `scene`'s cut tree ([`cut_tree`]) with its
+/// per-tile cuts, and of the same tree descended from its root.
+pub fn cut_and_root_variances(scene: &Scene, points: &[DVec2]) -> (f64, f64) {
+    let tree = cut_tree(scene);
+    let cut = mean_variance(scene, &SpatialSampler::Tree(tree.clone()), points);
+    let root = mean_variance(scene, &SpatialSampler::Tree(tree.with_cuts(None)), points);
+    (cut, root)
 }
