@@ -250,7 +250,7 @@ fn single_lights(tree: &LightTree) -> Vec<(usize, usize)> {
 }
 
 #[test]
-fn cuts_take_single_lights_and_single_spots_only_where_their_cone_stays_on_the_tile() {
+fn cuts_take_single_spots_only_where_each_is_lit_across_its_tile() {
     // Point lights: a tile far from its lights takes them one by one (a pick then
     // evaluates only the light it takes).
     let scene = preset_at("equal", 64, 64);
@@ -262,10 +262,11 @@ fn cuts_take_single_lights_and_single_spots_only_where_their_cone_stays_on_the_t
         "equal: {singles} single lights over {} tiles",
         tx * ty
     );
-    // Spots: a cluster is split only where no light's cone or range edge crosses the
-    // tile, so each spot taken alone keeps its emission factor within half of its largest
-    // over the whole tile: checked by brute force over a raster of the tile, pixel
-    // corners included.
+    // Spots: a light enters a cut alone only where it lights each centre of the tile's
+    // 3 × 3 ninths with at least a tenth of the most it gives any of them. A cone's lit
+    // region on the plane and a range's disc are convex, so such a spot lights the whole
+    // square those nine points span: checked by brute force over a raster of it, and the
+    // nine points' rule over the tile's own pixel frame.
     let scene = spots_scene(400, 2);
     let tree = cut_tree(&scene);
     let cuts = tree.tile_cuts().expect("cuts");
@@ -273,24 +274,39 @@ fn cuts_take_single_lights_and_single_spots_only_where_their_cone_stays_on_the_t
     assert!(singles.len() > 50, "{} single spots", singles.len());
     for (tile, first) in singles {
         let light = tree.order()[first] as usize;
-        let emission = scene.emission_of(light).expect("spots");
-        let at = scene.positions[light];
         let [[x0, y0], [x1, y1]] = cuts.tile_pixels(tile);
-        let (mut least, mut most) = (f64::INFINITY, 0.0f64);
+        let at = |fx: f64, fy: f64| {
+            let pixel = dvec2(
+                f64::from(x0) + fx * f64::from(x1 - x0),
+                f64::from(y0) + fy * f64::from(y1 - y0),
+            );
+            scene.light_term(light, scene.plane.point_at(pixel))
+        };
+        let ninths: Vec<f64> = (0..9)
+            .map(|k| {
+                at(
+                    (f64::from(k % 3) + 0.5) / 3.0,
+                    (f64::from(k / 3) + 0.5) / 3.0,
+                )
+            })
+            .collect();
+        let most = ninths.iter().fold(0.0f64, |m, &g| m.max(g));
+        assert!(
+            most > 0.0 && ninths.iter().all(|&g| g >= 0.1 * most),
+            "tile {tile}: spot {light} taken alone gives its ninths {ninths:?}"
+        );
         for a in 0..=8 {
             for b in 0..=8 {
-                let pixel = dvec2(
-                    f64::from(x0) + f64::from(a) / 8.0 * f64::from(x1 - x0),
-                    f64::from(y0) + f64::from(b) / 8.0 * f64::from(y1 - y0),
+                let (fx, fy) = (
+                    (1.0 + 4.0 * f64::from(a) / 8.0) / 6.0,
+                    (1.0 + 4.0 * f64::from(b) / 8.0) / 6.0,
                 );
-                let factor = emission.factor(at, scene.plane.point_at(pixel));
-                (least, most) = (least.min(factor), most.max(factor));
+                assert!(
+                    at(fx, fy) > 0.0,
+                    "tile {tile}: spot {light} taken alone is dark at ({fx}, {fy}) of it"
+                );
             }
         }
-        assert!(
-            least >= 0.5 * most && most > 0.0,
-            "tile {tile}: spot {light} taken alone varies {least}..{most} over it"
-        );
     }
 }
 

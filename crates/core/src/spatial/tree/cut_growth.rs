@@ -34,10 +34,15 @@ const TOTALS_DRIFT: f64 = 1.0 / 16.0;
 const ESTIMATE_CAP: f64 = IMPORTANCE_CAP / 256.0;
 
 /// A cut splits a leaf cluster into its lights only where each light's contribution at
-/// every weighing point is at least this fraction of its largest there (whatever the cut
-/// grows by), and each spot's emission factor over the whole tile at least this fraction
-/// of its peak ([`super::TileCuts`]).
-const LEAF_FLATNESS: f64 = 0.5;
+/// every weighing point is positive and at least this fraction of its largest there
+/// (whatever the cut grows by; [`flat_on_tile`]). Measured by exact variances over the
+/// tree's (the module docs of `tile_cut`): at `1/2`, which also kept a cluster whole
+/// wherever a spot's cone or range edge might cross the tile, `grid` had 0.64× and its
+/// picks cost 4.6 alias picks; at `1/10` 0.19× and 2.5, `stage` 0.56× and 3.6 (0.58× and
+/// 4.2), `arena` 0.43× and 5.3 (0.44× and 5.7), every other scene as before; at 0 a
+/// spot lit at every point but fading fast across the tile enters alone, weighed a tenth
+/// of what its brightest pixel needs (`arena` 9.7×).
+const LEAF_FLATNESS: f64 = 0.1;
 
 /// A subtree of point lights is split ahead of its largest share when its bound
 /// ([`super::TreeNode::lane_bound`]), as a share of the cut's largest total, is
@@ -160,12 +165,14 @@ fn splits(at: ChildRef, split_leaves: bool) -> bool {
 }
 
 /// Whether a leaf cluster's lights, as [`split_into`] gave them, may enter the cut one by
-/// one: each light's estimate at every weighing point at least [`LEAF_FLATNESS`] of its
-/// largest.
+/// one: each light's estimate at every weighing point positive and at least
+/// [`LEAF_FLATNESS`] of its largest. A spot whose cone or range edge crosses the tile
+/// between the points (dark at all of them, lit between) keeps its cluster whole, whose
+/// pick weighs it at the pixel itself.
 fn flat_on_tile(lights: &[Candidate]) -> bool {
     let flat = |c: &Candidate| {
         let largest = c.estimate.iter().fold(0.0f64, |m, &r| m.max(r));
-        c.estimate.iter().all(|&r| r >= LEAF_FLATNESS * largest)
+        largest > 0.0 && c.estimate.iter().all(|&r| r >= LEAF_FLATNESS * largest)
     };
     lights.iter().all(flat)
 }
@@ -184,11 +191,7 @@ fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
 /// footprint misses the tile's box is left out: none of its lights gives the tile anything,
 /// and a pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
 /// Returns whether the cut may take them: always a node's lanes; a leaf cluster's lights
-/// where each keeps its emission factor within [`LEAF_FLATNESS`] of its peak over the whole
-/// tile ([`Emission::factor_floor_over`]: always for point lights) and [`flat_on_tile`]
-/// holds for their estimates (else the cluster stays whole).
-///
-/// [`Emission::factor_floor_over`]: crate::scene::Emission::factor_floor_over
+/// where [`flat_on_tile`] holds for their estimates (else the cluster stays whole).
 fn split_into(
     tree: &LightTree,
     at: ChildRef,
@@ -204,18 +207,6 @@ fn split_into(
             // made); none for point lights, which reach every tile.
             let footprints = tree.footprints.get(lights.clone());
             let lights_tile = |j: usize| footprints.is_none_or(|f| meets(f[j], rect));
-            if let Some(emission) = tree.emission.get(lights.clone()) {
-                // A cone's or range's edge that may cross the tile keeps the cluster whole,
-                // before its lights' shares are weighed.
-                let lit = tree.lights[lights.clone()].iter().zip(emission).enumerate();
-                for (j, (light, e)) in lit {
-                    if lights_tile(j)
-                        && e.factor_floor_over(light.position_in_world, rect) < LEAF_FLATNESS
-                    {
-                        return false;
-                    }
-                }
-            }
             let masses = points.map(|x| tree.leaf_masses_at(first, count, x));
             let start = out.len();
             for (j, light) in tree.lights[lights].iter().enumerate() {
