@@ -38,8 +38,8 @@
 //! largest total (`B_e / max_k Ê(x_k)`), is more than 64 times its `q̄_e` is split first,
 //! in the order of those bound shares. A node splits into its lanes, leaving out a lane
 //! whose footprint box misses the tile (none of its lights gives the tile anything); a leaf
-//! cluster into its lights, leaving out a light whose footprint misses the tile, when each
-//! other light's contribution at every weighing point is positive and at least a tenth of
+//! cluster into its lights, leaving out a light whose footprint misses the tile or whose
+//! cone or range provably misses all of it, when each other light's contribution at every weighing point is positive and at least a tenth of
 //! its largest (else the cluster stays whole and the cut goes on with the others). A pick
 //! that takes a single light evaluates that light alone. A spot dark at every weighing
 //! point but lit between them (its cone's edge crossing the tile) keeps its cluster whole,
@@ -103,7 +103,8 @@
 //! | --- | ---: | ---: | ---: | ---: | ---: |
 //! | each light within ½ of its largest at the points, no cone edge across the tile | 0.64×, 4.6 | 0.58×, 4.2 | 1.71×, 3.8 | 0.44×, 5.7 | 0.93×, 6.8 |
 //! | within ¼, no cone edge | 0.27×, 2.7 | 0.58×, 4.1 | 1.71×, 3.7 | 0.44×, 5.6 | 0.93×, 5.9 |
-//! | within a tenth, positive (edges may cross) | **0.19×, 2.5** | **0.56×, 3.6** | **1.72×, 3.4** | **0.43×, 5.3** | **0.93×, 5.3** |
+//! | within a tenth, positive (edges may cross) | 0.19×, 2.5 | 0.56×, 3.6 | 1.72×, 3.4 | 0.43×, 5.3 | 0.93×, 5.3 |
+//! | the same, a spot whose cone or range misses the tile left out of the rule | **0.19×, 2.5** | **0.37×, 3.2** | **1.71×, 3.3** | **0.42×, 4.6** | **0.59×, 4.9** |
 //! | within a tenth, a light dark at every point too | 0.19×, 2.5 | 0.35×, 2.9 | 2.56×, 3.1 | 0.41×, 4.4 | 0.55×, 5.2 |
 //! | positive, any spread | 0.19×, 2.5 | 0.56×, 4.4 | 1.73×, 3.2 | 9.74×, 4.4 | 0.93×, 5.6 |
 //! | every cluster, dark lights too | 0.19×, 2.5 | 0.35×, 1.6 | 2.66×, 3.0 | 9.82×, 2.9 | – |
@@ -113,7 +114,12 @@
 //! (`heavy-tail`, `clusters-low`, `chandeliers`, `strips`) the tile's mass lies mostly on
 //! groups and each rule keeps their variance (0.16×, 0.04×, 0.11×, 0.07–0.08×) within the
 //! times' noise. A light dark at every weighing point is the one to keep whole: where it
-//! is lit between them the cut gave it only its share of power. Letting lights in where
+//! is lit between them the cut gave it only its share of power. Most of those lights are
+//! dark on the whole tile, though (a cone's footprint box meets the tile where its ellipse
+//! does not): such a light gives the tile nothing and is left out of the cut like a light
+//! whose box misses it, by a bound of the angle between its axis and every direction to
+//! the tile (and the tile's nearest point to a range), and no longer keeps its cluster
+//! whole. Letting lights in where
 //! they fade more than tenfold across the tile costs `arena` its gain (a spot's falloff
 //! between two points); weighing a crossing edge by its unshadowed bound spends the cut on
 //! dark pixels.
