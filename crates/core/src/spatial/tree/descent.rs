@@ -171,6 +171,18 @@ impl LightTree {
         let Child::Leaf { first, count } = at.get() else {
             return None;
         };
+        if count == 1 {
+            // A single light of a tile's cut: the whole grid where its contribution is
+            // finite and positive (as `leaf_masses` gives it, so `pdf` times exactly 1),
+            // nothing elsewhere; the draw is spent all the same, as the GPU spends it.
+            rng.next_u32();
+            let c = self.lights[first].contribution_with(self.emission.get(first), x);
+            return (c > 0.0 && c.is_finite() && pdf > 0.0).then(|| SpatialPick {
+                light: self.order[first],
+                pdf,
+                estimate: c / pdf,
+            });
+        }
         let (masses, c) = self.leaf_masses(first, count, x);
         let j = pick_on_grid(&masses[..count], rng.next_u32() >> 8);
         let pdf = pdf * (f64::from(masses[j]) * GRID_CELL);
