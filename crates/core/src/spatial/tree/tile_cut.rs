@@ -119,10 +119,9 @@
 //! does not): such a light gives the tile nothing and is left out of the cut like a light
 //! whose box misses it, by a bound of the angle between its axis and every direction to
 //! the tile (and the tile's nearest point to a range), and no longer keeps its cluster
-//! whole. Letting lights in where
-//! they fade more than tenfold across the tile costs `arena` its gain (a spot's falloff
-//! between two points); weighing a crossing edge by its unshadowed bound spends the cut on
-//! dark pixels.
+//! whole. Letting lights in where they fade more than tenfold across the tile costs `arena`
+//! its gain (a spot's falloff between two points); weighing a crossing edge by its
+//! unshadowed bound spends the cut on dark pixels.
 //!
 //! # The draw: Walker's alias columns on the grid, exact
 //! A tile of `n` entries keeps `K = n` rounded up to a power of two columns of `C = 2^24/K`
