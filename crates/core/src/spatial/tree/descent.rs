@@ -37,6 +37,16 @@ impl LightTree {
         }
     }
 
+    /// Light `first`'s contribution at `x` and whether, alone in its leaf (a single light of
+    /// a tile's cut), it takes the whole grid there: where that contribution is finite and
+    /// positive, as the rule of a cluster gives it (`c·(1/c)` rounds to the grid's `2^24`
+    /// after its correction; `∞·0` is NaN), none elsewhere.
+    #[inline]
+    fn single_light(&self, first: usize, x: DVec2) -> (f64, bool) {
+        let c = self.lights[first].contribution_with(self.emission.get(first), x);
+        (c, c > 0.0 && c.is_finite())
+    }
+
     /// The grid masses of the lights `first .. first + count` of a leaf cluster at `x`, by
     /// their contributions `c_j = p_j·G_j(x)`, and the contributions themselves.
     #[inline]
@@ -48,15 +58,8 @@ impl LightTree {
     ) -> ([u32; LEAF_SIZE], [f64; LEAF_SIZE]) {
         let (mut masses, mut c) = ([0; LEAF_SIZE], [0.0; LEAF_SIZE]);
         if count == 1 {
-            // One light (a single light of a tile's cut): the whole grid where it gives a
-            // finite positive contribution, none elsewhere, as the rule below gives it
-            // (`c·(1/c)` rounds to the grid's `2^24` after its correction; `∞·0` is NaN).
-            c[0] = self.lights[first].contribution_with(self.emission.get(first), x);
-            masses[0] = if c[0] > 0.0 && c[0].is_finite() {
-                GRID
-            } else {
-                0
-            };
+            let (c0, whole) = self.single_light(first, x);
+            (c[0], masses[0]) = (c0, if whole { GRID } else { 0 });
             return (masses, c);
         }
         let lights = &self.lights[first..first + count];
@@ -172,12 +175,12 @@ impl LightTree {
             return None;
         };
         if count == 1 {
-            // A single light of a tile's cut: the whole grid where its contribution is
-            // finite and positive (as `leaf_masses` gives it, so `pdf` times exactly 1),
-            // nothing elsewhere; the draw is spent all the same, as the GPU spends it.
+            // A single light of a tile's cut, without a leaf's arrays: `pdf` times exactly 1
+            // where it takes the whole grid, as `leaf_masses` gives it; the draw is spent all
+            // the same, as the GPU spends it.
             rng.next_u32();
-            let c = self.lights[first].contribution_with(self.emission.get(first), x);
-            return (c > 0.0 && c.is_finite() && pdf > 0.0).then(|| SpatialPick {
+            let (c, whole) = self.single_light(first, x);
+            return (whole && pdf > 0.0).then(|| SpatialPick {
                 light: self.order[first],
                 pdf,
                 estimate: c / pdf,
