@@ -28,6 +28,7 @@ mod presets;
 pub use emission::{Emission, EmissionError, Spot};
 pub use error::SceneError;
 pub use generator::{Dominant, Generator, MAX_LIGHTS, Placement, PowerDistribution};
+pub(crate) use geometry::light_term_culled;
 pub(crate) use geometry::{distance_squared, four_pi_r_cubed};
 pub use geometry::{geometry_term, light_term, pixel_center};
 pub use import::{

@@ -547,3 +547,50 @@ fn tiles_number_about_64_squared_whatever_the_aspect() {
     assert_eq!(cuts.tile_side(), 3);
     assert_eq!(cuts.tiles(), [86, 54]);
 }
+
+/// A pick finds its tile without a division ([`TileCuts::tile_at`] from scales computed
+/// once); at every pixel centre that is the pixel's own tile, `(px / s, py / s)` in
+/// integers (what the GPU takes from the pixel's index), on receivers whose sides are not
+/// multiples of the tile side, off-centre rectangles, thin, wide and tall ones.
+///
+/// [`TileCuts::tile_at`]: lightpick_core::spatial::TileCuts::tile_at
+#[test]
+fn every_pixel_centre_falls_in_its_pixels_tile() {
+    let planes = [
+        (dvec2(-1.0, -0.6), dvec2(1.0, 0.6), 40, 24),
+        (dvec2(-3.7, 0.1), dvec2(12.3, 0.35), 1001, 7),
+        (dvec2(1e6, -1e-3), dvec2(1e6 + 3.0, 1e-3), 97, 131),
+        (dvec2(-0.3, -0.3), dvec2(0.3, 0.3), 256, 160),
+        (dvec2(0.0, 0.0), dvec2(1.0, 1.0), 4099, 3),
+    ];
+    for (min, max, width, height) in planes {
+        let mut scene = points_scene(300, 11);
+        scene.plane = ReceiverPlane {
+            min,
+            max,
+            width,
+            height,
+        };
+        let tree = cut_tree(&scene);
+        let cuts = tree.tile_cuts().expect("cuts");
+        let side = cuts.tile_side();
+        for py in 0..height {
+            for px in 0..width {
+                let x = pixel_center(&scene.plane, px, py);
+                assert_eq!(
+                    cuts.tile_at(x),
+                    Some(cuts.tile_of_pixel(px, py)),
+                    "{width} × {height} over {min}–{max}, tiles of {side}: pixel ({px}, {py})"
+                );
+            }
+        }
+        // The rectangle's corners fall in the corner tiles, and a point off it in none.
+        let [tx, ty] = cuts.tiles();
+        assert_eq!(cuts.tile_at(dvec2(min.x, max.y)), Some(0));
+        assert_eq!(
+            cuts.tile_at(dvec2(max.x, min.y)),
+            Some((tx * ty - 1) as usize)
+        );
+        assert_eq!(cuts.tile_at(dvec2(max.x + (max.x - min.x), min.y)), None);
+    }
+}

@@ -225,6 +225,10 @@ pub struct TileCuts {
     tiles_x: u32,
     /// Tiles along `y` (rows, from the plane's top row of pixels).
     tiles_y: u32,
+    /// Tiles per unit length of the plane along `x` and `y`, `w / ((max.x − min.x)·s)` and
+    /// `h / ((max.y − min.y)·s)` for a receiver of `w × h` pixels and tiles of side `s`
+    /// ([`TileCuts::tile_at`]).
+    tiles_per_unit: DVec2,
     /// Each tile's cut once made, as [`TileCut`]'s words.
     cuts: Vec<OnceLock<TileCut>>,
 }
@@ -303,6 +307,8 @@ impl TileCuts {
             },
             tiles_x,
             tiles_y,
+            tiles_per_unit: DVec2::new(f64::from(plane.width), f64::from(plane.height))
+                / ((plane.max - plane.min) * f64::from(tile_side)),
             cuts: (0..tiles_x * tiles_y).map(|_| OnceLock::new()).collect(),
         })
     }
@@ -387,14 +393,21 @@ impl TileCuts {
     }
 
     /// The tile holding `point_on_plane`, `None` off the plane's rectangle (then the
-    /// descent starts at the root).
+    /// descent starts at the root): `⌊(x − min.x)·w/((max.x − min.x)·s)⌋` across and
+    /// `⌊(max.y − y)·h/((max.y − min.y)·s)⌋` down, each clamped to the last tile, with the
+    /// scales computed once (no division a pick). At a pixel's centre that is the pixel's
+    /// tile ([`TileCuts::tile_of_pixel`], what the GPU takes from the pixel's index): the
+    /// centre lies half a pixel from any tile's edge, `1/(2s)` in tiles, and the few
+    /// roundings move it by `~2^-50` of the receiver's width in tiles.
     #[inline]
     pub fn tile_at(&self, point_on_plane: DVec2) -> Option<usize> {
         let (lo, hi) = (self.plane.min, self.plane.max);
         let inside = point_on_plane.cmpge(lo).all() && point_on_plane.cmple(hi).all();
         inside.then(|| {
-            let [px, py] = self.plane.pixel_at(point_on_plane);
-            self.tile_of_pixel(px, py)
+            // `as u32` truncates (the floor, for the offsets `≥ 0` inside) and saturates.
+            let tx = ((point_on_plane.x - lo.x) * self.tiles_per_unit.x) as u32;
+            let ty = ((hi.y - point_on_plane.y) * self.tiles_per_unit.y) as u32;
+            (ty.min(self.tiles_y - 1) * self.tiles_x + tx.min(self.tiles_x - 1)) as usize
         })
     }
 
