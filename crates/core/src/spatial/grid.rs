@@ -82,7 +82,7 @@ mod mapped;
 pub use mapped::MappedLanes;
 
 use super::SpatialLight;
-use crate::scene::{Emission, geometry_term};
+use crate::scene::{Emission, geometry_term, light_term_culled};
 
 /// Cells along each side of a lane's map.
 pub const GRID_SIDE: usize = 16;
@@ -269,6 +269,23 @@ const SAMPLES_PER_SIDE: usize = 4;
 /// 4 up to 27 % below.
 const POINTS_PER_SCALE: f64 = 8.0;
 
+/// `⌈v⌉` clamped to `1 ..=` [`SAMPLES_PER_SIDE`] (1 for NaN), without a call to `ceil`
+/// (the baseline x86-64 target has no rounding instruction, and this runs once a cell
+/// part).
+#[inline]
+fn points_per_side(v: f64) -> usize {
+    const _: () = assert!(SAMPLES_PER_SIDE == 4);
+    if v.is_nan() || v <= 1.0 {
+        1
+    } else if v <= 2.0 {
+        2
+    } else if v <= 3.0 {
+        3
+    } else {
+        4
+    }
+}
+
 /// Adds light `l`'s integral over each cell of the map (from `lo`, cells of size `cell`)
 /// that its mapped area `[a, b]` overlaps: a midpoint rule over the overlap, with points
 /// spaced by at most an eighth ([`POINTS_PER_SCALE`]) of the length on which the light's
@@ -292,9 +309,7 @@ fn add_light(
     let extent = b - a;
     let foot = l.position_in_world.truncate();
     let height = l.position_in_world.z;
-    let per_side = |overlap: f64, scale: f64| {
-        ((POINTS_PER_SCALE * overlap / scale).ceil() as usize).clamp(1, SAMPLES_PER_SIDE)
-    };
+    let per_side = |overlap: f64, scale: f64| points_per_side(POINTS_PER_SCALE * overlap / scale);
     for cy in first_cell.y as usize..=last_cell.y as usize {
         for cx in first_cell.x as usize..=last_cell.x as usize {
             let cell_lo = lo + cell * DVec2::new(cx as f64, cy as f64);
@@ -316,7 +331,10 @@ fn add_light(
             for j in 0..ny {
                 for i in 0..nx {
                     let y = o_lo + step * DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
-                    sum += l.contribution_with(Some(e), y);
+                    // `l.contribution_with(Some(e), y)`, without the square root and the
+                    // divisions where the cone or the range leaves `y` dark (a footprint's
+                    // box holds a fifth or more that its ellipse does not).
+                    sum += l.power * light_term_culled(l.position_in_world, e, y);
                 }
             }
             integral[cy * GRID_SIDE + cx] += sum * step.x * step.y;
@@ -327,6 +345,31 @@ fn add_light(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The points a side takes are the written rule `⌈v⌉` clamped to `1 ..= 4` (NaN to 1,
+    /// as `as usize` saturates it to 0), at every integer and its neighbours an ulp away,
+    /// zeros, negatives, infinities and values far past the clamp.
+    #[test]
+    fn points_per_side_is_the_clamped_ceiling() {
+        let written = |v: f64| (v.ceil() as usize).clamp(1, SAMPLES_PER_SIDE);
+        let mut values = vec![
+            0.0,
+            -0.0,
+            -1.0,
+            1e-300,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            1e300,
+        ];
+        for k in 0..=6 {
+            let v = f64::from(k);
+            values.extend([v, v.next_up(), v.next_down(), v + 0.5]);
+        }
+        for v in values {
+            assert_eq!(points_per_side(v), written(v), "v = {v:e}");
+        }
+    }
 
     /// A point light 10 above a 4 × 3 region, mapped over it: each cell's value is its mean
     /// of `p·G`, within the midpoint rule's error and half an eighth octave of rounding.
