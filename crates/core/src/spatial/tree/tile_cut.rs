@@ -39,13 +39,13 @@
 //! in the order of those bound shares. A node splits into its lanes, leaving out a lane
 //! whose footprint box misses the tile (none of its lights gives the tile anything); a leaf
 //! cluster into its lights, leaving out a light whose footprint misses the tile or whose
-//! cone or range provably misses all of it, when each other light's contribution at every weighing point is positive and at least a tenth of
-//! its largest (else the cluster stays whole and the cut goes on with the others). A pick
-//! that takes a single light evaluates that light alone. A spot dark at every weighing
-//! point but lit between them (its cone's edge crossing the tile) keeps its cluster whole,
-//! whose pick weighs it at the pixel; one lit at every point enters alone even where an
-//! edge crosses a corner of the tile (see "Which clusters split" below). Its entries are
-//! weighed
+//! cone or range provably misses all of it, when each other light's contribution at every
+//! weighing point is positive and at least a tenth of its largest (else the cluster stays
+//! whole and the cut goes on with the others). A pick that takes a single light evaluates
+//! that light alone. A spot dark at every weighing point but lit between them (its cone's
+//! edge crossing the tile) keeps its cluster whole, whose pick weighs it at the pixel; one
+//! lit at every point enters alone even where an edge crosses a corner of the tile (see
+//! "Which clusters split" below). Its entries are weighed
 //!
 //! `w_e = (1 − ε)·((1 − β)·q̃_e / Σ q̃ + β·t̃_e / Σ t̃) + ε·Φ_e / Σ Φ`,  `ε =` [`POWER_SHARE`],
 //! `β =` [`CUT_TREE_SHARE`] `= 0`,
