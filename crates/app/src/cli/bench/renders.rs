@@ -17,7 +17,7 @@ use serde::Serialize;
 use super::args::NamedScene;
 
 /// Runs of each render; the fastest is kept.
-const RENDER_RUNS: usize = 3;
+pub(super) const RENDER_RUNS: usize = 3;
 /// The schemes rendered.
 const RENDER_SCHEMES: [Scheme; 5] = [
     Scheme::Uniform,

@@ -8,7 +8,7 @@ use lightpick_core::Scaled;
 use super::app_renders::{AppPresetRender, GpuPresetRender};
 use super::case::Case;
 use super::plot::PlotInfo;
-use super::renders::PresetRender;
+use super::renders::{PresetRender, RENDER_RUNS};
 
 /// The header and one row per table case.
 pub(super) fn cases_text(cases: &[Case], quick: bool) -> String {
@@ -174,8 +174,8 @@ pub(super) fn app_renders_text(renders: &[AppPresetRender]) -> String {
         let _ = writeln!(
             out,
             "\nCPU preset {} as the app renders it ({}×{} px, passes of 1 spp; T = core time \
-             per pixel sample: the {} render threads' CPU time)",
-            r.preset, r.size[0], r.size[1], r.threads
+             per pixel sample: the {} render threads' CPU time, the fastest of {} runs)",
+            r.preset, r.size[0], r.size[1], r.threads, RENDER_RUNS
         );
         let _ = writeln!(
             out,
