@@ -12,6 +12,7 @@ mod gpu_emission;
 mod alias_guarantees;
 mod alias_properties;
 mod cut_bounds;
+mod cut_clusters;
 mod determinism;
 mod extremes;
 #[cfg(feature = "gpu")]

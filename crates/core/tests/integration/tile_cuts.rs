@@ -33,7 +33,7 @@ fn points_scene(n: usize, seed: u64) -> Scene {
 }
 
 /// Narrow and wide spots, some ranged, over `[-2, 2]²` on a 30 × 30 pixel plane.
-fn spots_scene(n: usize, seed: u64) -> Scene {
+pub(crate) fn spots_scene(n: usize, seed: u64) -> Scene {
     let mut d = SplitMix(seed);
     let (mut positions, mut powers, mut emission) = (Vec::new(), Vec::new(), Vec::new());
     for i in 0..n {
@@ -214,99 +214,6 @@ fn presets_are_cut_with_fewer_draws_than_the_tree_needs_from_its_root() {
             "{name}: {deeper} of {} tiles start below the root",
             tx * ty
         );
-    }
-}
-
-/// Every leaf cluster of `tree`, as its nodes' lanes hold it (the root too when it is one).
-fn leaf_clusters(tree: &LightTree) -> std::collections::HashSet<ChildRef> {
-    let lanes = tree.nodes().iter().flat_map(|n| (0..4).map(|l| n.child(l)));
-    std::iter::once(tree.root())
-        .chain(lanes)
-        .filter(|c| matches!(c.get(), Child::Leaf { .. }))
-        .collect()
-}
-
-/// The single lights that `tree`'s cuts took out of their leaf clusters, with their tiles:
-/// each one sits one level below its cluster.
-fn single_lights(tree: &LightTree) -> Vec<(usize, usize)> {
-    let (cuts, clusters) = (tree.tile_cuts().expect("cuts"), leaf_clusters(tree));
-    let [tx, ty] = cuts.tiles();
-    let mut singles = Vec::new();
-    for tile in 0..(tx * ty) as usize {
-        for (entry, _) in cuts.entries(tree, tile) {
-            if let Child::Leaf { first, count: 1 } = entry.get()
-                && !clusters.contains(&entry)
-            {
-                let cluster = clusters
-                    .iter()
-                    .find(|c| tree.span(**c).is_some_and(|s| s.contains(&first)))
-                    .expect("a cluster holds the light");
-                assert_eq!(tree.depth_of(entry), tree.depth_of(*cluster).map(|d| d + 1));
-                singles.push((tile, first));
-            }
-        }
-    }
-    singles
-}
-
-#[test]
-fn cuts_take_single_spots_only_where_each_is_lit_across_its_tile() {
-    // Point lights: a tile far from its lights takes them one by one (a pick then
-    // evaluates only the light it takes).
-    let scene = preset_at("equal", 64, 64);
-    let tree = cut_tree(&scene);
-    let [tx, ty] = tree.tile_cuts().expect("cuts").tiles();
-    let singles = single_lights(&tree).len();
-    assert!(
-        singles > (tx * ty) as usize,
-        "equal: {singles} single lights over {} tiles",
-        tx * ty
-    );
-    // Spots: a light enters a cut alone only where it lights each centre of the tile's
-    // 3 × 3 ninths with at least a tenth of the most it gives any of them. A cone's lit
-    // region on the plane and a range's disc are convex, so such a spot lights the whole
-    // square those nine points span: checked by brute force over a raster of it, and the
-    // nine points' rule over the tile's own pixel frame.
-    let scene = spots_scene(400, 2);
-    let tree = cut_tree(&scene);
-    let cuts = tree.tile_cuts().expect("cuts");
-    let singles = single_lights(&tree);
-    assert!(singles.len() > 50, "{} single spots", singles.len());
-    for (tile, first) in singles {
-        let light = tree.order()[first] as usize;
-        let [[x0, y0], [x1, y1]] = cuts.tile_pixels(tile);
-        let at = |fx: f64, fy: f64| {
-            let pixel = dvec2(
-                f64::from(x0) + fx * f64::from(x1 - x0),
-                f64::from(y0) + fy * f64::from(y1 - y0),
-            );
-            scene.light_term(light, scene.plane.point_at(pixel))
-        };
-        let ninths: Vec<f64> = (0..9)
-            .map(|k| {
-                at(
-                    (f64::from(k % 3) + 0.5) / 3.0,
-                    (f64::from(k / 3) + 0.5) / 3.0,
-                )
-            })
-            .collect();
-        let most = ninths.iter().fold(0.0f64, |m, &g| m.max(g));
-        assert!(
-            most > 0.0 && ninths.iter().all(|&g| g >= 0.1 * most),
-            "tile {tile}: spot {light} taken alone gives its ninths {ninths:?}"
-        );
-        for a in 0..=8 {
-            for b in 0..=8 {
-                let (fx, fy) = (
-                    (1.0 + 4.0 * f64::from(a) / 8.0) / 6.0,
-                    (1.0 + 4.0 * f64::from(b) / 8.0) / 6.0,
-                );
-                assert!(
-                    at(fx, fy) > 0.0,
-                    "tile {tile}: spot {light} taken alone is dark at ({fx}, {fy}) of it"
-                );
-            }
-        }
     }
 }
 

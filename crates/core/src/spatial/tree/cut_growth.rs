@@ -2,12 +2,12 @@
 //! rule and what it guarantees): the splits, what each entry is estimated to give the
 //! tile's weighing points, and when a cut is done.
 
-use glam::{DVec2, DVec3};
+use glam::DVec2;
 
 use super::LightTree;
 use super::cut_candidate::{Candidate, WEIGHING_POINTS, Weighing};
+use super::dark_over::dark_over;
 use super::node::{Child, ChildRef, TREE_WIDTH};
-use crate::scene::Emission;
 use crate::spatial::importance::{GRID_CELL, IMPORTANCE_CAP, branch_probabilities, grid_masses};
 
 /// How a tile's cut grows.
@@ -88,8 +88,10 @@ pub(super) fn grow(
         .map(|(k, _)| k)
     {
         children.clear();
-        if !split_into(tree, cut[k].at, cut[k].tree_probability, tile, children) {
-            cut[k].whole = true;
+        if let Split::Whole(narrowed) =
+            split_into(tree, cut[k].at, cut[k].tree_probability, tile, children)
+        {
+            (cut[k].at, cut[k].whole) = (narrowed, true);
             continue;
         }
         let mut grown = total;
@@ -137,6 +139,10 @@ pub(super) fn grow(
     );
     for c in cut.iter_mut() {
         c.weigh(&estimated, &by_tree);
+        if !c.whole {
+            // A leaf cluster the cut did not come to split.
+            c.at = narrowed(tree, c.at, tile.1);
+        }
     }
 }
 
@@ -178,37 +184,42 @@ fn flat_on_tile(lights: &[Candidate]) -> bool {
     lights.iter().all(flat)
 }
 
-/// Whether the light at `light_in_world` with the profile `emission` gives no point of the
-/// rectangle `[lo, hi]` of the plane anything (`S = 0` over all of it), by two conservative
-/// tests that may say `false` of a dark rectangle but never `true` of a lit one:
-/// - its range `r` ends before the rectangle's nearest point (`d_min ≥ r`, where the
-///   window `1 − (d/r)⁴` is 0), with `10^-9` of `r` to spare;
-/// - its cone misses the cone of directions from the light to the rectangle: with `w` the
-///   direction to the rectangle's centre and `θ_R` the largest angle between `w` and the
-///   direction to a corner (the rectangle, convex, lies in that cone when `θ_R < π/2`),
-///   every point's angle to the axis is at least `∠(a, w) − θ_R` (the triangle inequality
-///   on the sphere), so the spot is dark there where that exceeds `θo` (with `10^-6` rad
-///   to spare against the rounding of `acos`).
-fn dark_over(emission: &Emission, light_in_world: DVec3, [lo, hi]: [DVec2; 2]) -> bool {
-    if let Some(range) = emission.range() {
-        let nearest = light_in_world.truncate().clamp(lo, hi);
-        let d_min = (nearest.extend(0.0) - light_in_world).length();
-        if d_min >= range * (1.0 + 1e-9) {
-            return true;
-        }
-    }
-    let Some(spot) = emission.spot() else {
-        return false;
+/// Whether light `i` (leaf order) of `tree` can light any point of the rectangle `rect`:
+/// its footprint (where it is mapped on the plane, within the receiver where picks are
+/// made; none for point lights, which reach every tile) meets it, and its cone or range
+/// does not provably miss all of it ([`dark_over`]; a footprint's box may meet a tile
+/// that its ellipse misses).
+fn lights_tile(tree: &LightTree, i: usize, rect: [DVec2; 2]) -> bool {
+    tree.footprints.get(i).is_none_or(|&f| meets(f, rect))
+        && tree
+            .emission
+            .get(i)
+            .is_none_or(|e| !dark_over(e, tree.lights[i].position_in_world, rect))
+}
+
+/// Leaf cluster `at` narrowed to its lights from the first that can light `rect` to the
+/// last ([`lights_tile`]; `at` itself where none can): the lights beyond give every point
+/// of the rectangle exactly 0, so a pick by the lights' grid masses takes the same light
+/// with the same probability over the shorter range, for less work.
+fn narrowed(tree: &LightTree, at: ChildRef, rect: [DVec2; 2]) -> ChildRef {
+    let Child::Leaf { first, count } = at.get() else {
+        return at;
     };
-    let angle = |a: DVec3, b: DVec3| a.normalize().dot(b.normalize()).clamp(-1.0, 1.0).acos();
-    let centre = ((lo + hi) * 0.5).extend(0.0) - light_in_world;
-    let corners = [lo, DVec2::new(hi.x, lo.y), DVec2::new(lo.x, hi.y), hi];
-    let spread = corners
-        .iter()
-        .map(|c| angle(centre, c.extend(0.0) - light_in_world))
-        .fold(0.0f64, f64::max);
-    spread < std::f64::consts::FRAC_PI_2 - 1e-6
-        && angle(emission.axis(), centre) - spread > spot.outer_cone + 1e-6
+    let lit = |i: &usize| lights_tile(tree, *i, rect);
+    let lights = first..first + count;
+    match (lights.clone().find(lit), lights.rev().find(lit)) {
+        (Some(from), Some(to)) => ChildRef::leaf(from, to + 1 - from),
+        _ => at,
+    }
+}
+
+/// What [`split_into`] makes of an entry.
+enum Split {
+    /// The entry's children (a node's lanes, a leaf cluster's lights) replace it.
+    Children,
+    /// A leaf cluster stays whole, as this range of its lights: from the first that can
+    /// light the tile to the last.
+    Whole(ChildRef),
 }
 
 /// Whether the footprint box `footprint` (`None`: unbounded) meets the box `rect`.
@@ -225,31 +236,21 @@ fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
 /// footprint misses the tile's box is left out, and so is a light whose cone or range
 /// misses the whole box ([`dark_over`]): none of its lights gives the tile anything, and a
 /// pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
-/// Returns whether the cut may take them: always a node's lanes; a leaf cluster's lights
-/// where [`flat_on_tile`] holds for their estimates (else the cluster stays whole).
+/// Returns whether the cut may take them ([`Split`]): always a node's lanes; a leaf
+/// cluster's lights where [`flat_on_tile`] holds for their estimates, else the cluster
+/// stays whole, narrowed to the lights that can light the tile.
 fn split_into(
     tree: &LightTree,
     at: ChildRef,
     tree_probability: [f64; WEIGHING_POINTS.len()],
     (points, rect): ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]),
     out: &mut Vec<Candidate>,
-) -> bool {
+) -> Split {
     let n = match at.get() {
         Child::Node(n) => n,
         Child::Leaf { first, count } => {
             let lights = first..first + count;
-            // Where each light is mapped on the plane (within the receiver, where picks are
-            // made); none for point lights, which reach every tile.
-            // A spot whose cone or range misses the whole tile (its footprint box may still
-            // meet it) is left out as well.
-            let footprints = tree.footprints.get(lights.clone());
-            let emission = tree.emission.get(lights.clone());
-            let lights_tile = |j: usize| {
-                footprints.is_none_or(|f| meets(f[j], rect))
-                    && emission.is_none_or(|e| {
-                        !dark_over(&e[j], tree.lights[first + j].position_in_world, rect)
-                    })
-            };
+            let lights_tile = |j: usize| lights_tile(tree, first + j, rect);
             let masses = points.map(|x| tree.leaf_masses_at(first, count, x));
             let start = out.len();
             for (j, light) in tree.lights[lights].iter().enumerate() {
@@ -265,9 +266,13 @@ fn split_into(
                     ));
                 }
             }
-            return flat_on_tile(&out[start..]);
+            if flat_on_tile(&out[start..]) {
+                return Split::Children;
+            }
+            out.truncate(start);
+            return Split::Whole(narrowed(tree, at, rect));
         }
-        Child::Empty => return true,
+        Child::Empty => return Split::Children,
     };
     let node = &tree.nodes()[n];
     let bounds = tree.bounds(n);
@@ -308,73 +313,5 @@ fn split_into(
             _ => entry,
         });
     }
-    true
-}
-
-#[cfg(test)]
-mod tests {
-    use glam::{DVec2, dvec2, dvec3};
-
-    use super::dark_over;
-    use crate::scene::{Emission, Spot};
-
-    /// Spots and ranges at random, over random rectangles of the plane: wherever
-    /// [`dark_over`] calls a rectangle dark, every point of a 33 × 33 raster over it (its
-    /// edges and corners included) gets `S = 0`; and the test is not vacuous: it calls many
-    /// rectangles dark, and none that the spot's axis meets.
-    #[test]
-    fn a_rectangle_called_dark_gets_nothing_from_the_light_anywhere() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut uniform = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
-        let (mut dark, mut cases) = (0, 0);
-        for _ in 0..4000 {
-            let light = dvec3(
-                4.0 * uniform() - 2.0,
-                4.0 * uniform() - 2.0,
-                0.05 + 2.0 * uniform(),
-            );
-            let outer = 0.05 + 1.4 * uniform();
-            let spot = (uniform() < 0.8).then(|| Spot {
-                direction: dvec3(uniform() - 0.5, uniform() - 0.5, -uniform()),
-                inner_cone: outer * uniform(),
-                outer_cone: outer,
-            });
-            let range = (uniform() < 0.4).then(|| light.z + 3.0 * uniform());
-            let Ok(emission) = Emission::new(spot, range) else {
-                continue;
-            };
-            let lo = dvec2(4.0 * uniform() - 2.0, 4.0 * uniform() - 2.0);
-            let hi = lo + dvec2(0.01 + uniform(), 0.01 + uniform());
-            cases += 1;
-            if !dark_over(&emission, light, [lo, hi]) {
-                continue;
-            }
-            dark += 1;
-            for a in 0..=32 {
-                for b in 0..=32 {
-                    let x = lo + (hi - lo) * dvec2(f64::from(a), f64::from(b)) / 32.0;
-                    assert_eq!(
-                        emission.factor(light, x),
-                        0.0,
-                        "{emission:?} at {light} lights {x} of [{lo}, {hi}]"
-                    );
-                }
-            }
-            // The axis's foot on the plane, where it reaches the plane inside the rectangle.
-            let axis = emission.axis();
-            if axis.z < 0.0 {
-                let foot: DVec2 = (light + axis * (light.z / -axis.z)).truncate();
-                assert!(
-                    foot.cmplt(lo).any() || foot.cmpgt(hi).any(),
-                    "the axis of {emission:?} at {light} meets [{lo}, {hi}], called dark"
-                );
-            }
-        }
-        assert!(dark * 5 > cases, "{dark} of {cases} rectangles called dark");
-    }
+    Split::Children
 }

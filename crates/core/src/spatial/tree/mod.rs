@@ -55,6 +55,7 @@ mod build;
 mod cut_candidate;
 mod cut_columns;
 mod cut_growth;
+mod dark_over;
 mod descent;
 mod fill;
 mod footprint_split;
@@ -181,16 +182,18 @@ impl LightTree {
     }
 
     /// The depth of subtree `at` in the tree (the root's is 0): the lanes followed from the
-    /// root down to it, by its first light. `None` for an empty lane.
+    /// root down to it, by its first light. A tile's cut may hold part of a leaf cluster: a
+    /// single light of it lies one below the cluster, a narrower range of its lights at the
+    /// cluster's depth. `None` for an empty lane or a range no cluster holds.
     pub fn depth_of(&self, at: ChildRef) -> Option<usize> {
         let first = self.first_of(at)?;
         let (mut here, mut depth) = (self.root, 0);
         while here != at {
-            match here.get() {
-                Child::Node(k) => here = self.nodes[k].child[self.lane_holding(k, first)],
-                // A single light of a leaf cluster (an entry of a tile's cut): one below it.
-                Child::Leaf { first: f, count } if count > 1 && at == ChildRef::leaf(first, 1) => {
-                    return (f..f + count).contains(&first).then_some(depth + 1);
+            match (here.get(), at.get()) {
+                (Child::Node(k), _) => here = self.nodes[k].child[self.lane_holding(k, first)],
+                (Child::Leaf { first: f, count }, Child::Leaf { count: c, .. }) => {
+                    let within = f <= first && first + c <= f + count;
+                    return within.then_some(depth + usize::from(c == 1));
                 }
                 _ => return None,
             }
