@@ -139,10 +139,6 @@ pub(super) fn grow(
     );
     for c in cut.iter_mut() {
         c.weigh(&estimated, &by_tree);
-        if !c.whole {
-            // A leaf cluster the cut did not come to split.
-            c.at = narrowed(tree, c.at, tile.1);
-        }
     }
 }
 
@@ -197,28 +193,14 @@ fn lights_tile(tree: &LightTree, i: usize, rect: [DVec2; 2]) -> bool {
             .is_none_or(|e| !dark_over(e, tree.lights[i].position_in_world, rect))
 }
 
-/// Leaf cluster `at` narrowed to its lights from the first that can light `rect` to the
-/// last ([`lights_tile`]; `at` itself where none can): the lights beyond give every point
-/// of the rectangle exactly 0, so a pick by the lights' grid masses takes the same light
-/// with the same probability over the shorter range, for less work.
-fn narrowed(tree: &LightTree, at: ChildRef, rect: [DVec2; 2]) -> ChildRef {
-    let Child::Leaf { first, count } = at.get() else {
-        return at;
-    };
-    let lit = |i: &usize| lights_tile(tree, *i, rect);
-    let lights = first..first + count;
-    match (lights.clone().find(lit), lights.rev().find(lit)) {
-        (Some(from), Some(to)) => ChildRef::leaf(from, to + 1 - from),
-        _ => at,
-    }
-}
-
 /// What [`split_into`] makes of an entry.
 enum Split {
     /// The entry's children (a node's lanes, a leaf cluster's lights) replace it.
     Children,
-    /// A leaf cluster stays whole, as this range of its lights: from the first that can
-    /// light the tile to the last.
+    /// A leaf cluster stays whole, narrowed to this range of its lights: from the first
+    /// that can light the tile to the last. The lights beyond give every point of the tile
+    /// exactly 0, so a pick by the lights' grid masses takes the same light with the same
+    /// probability over the shorter range, for less work.
     Whole(ChildRef),
 }
 
@@ -253,9 +235,12 @@ fn split_into(
             let lights_tile = |j: usize| lights_tile(tree, first + j, rect);
             let masses = points.map(|x| tree.leaf_masses_at(first, count, x));
             let start = out.len();
+            // The first and the last light that can light the tile.
+            let mut lit: Option<(usize, usize)> = None;
             for (j, light) in tree.lights[lights].iter().enumerate() {
                 // A light that gives the tile nothing is left out.
                 if lights_tile(j) {
+                    lit = Some((lit.map_or(j, |(from, _)| from), j));
                     out.push(Candidate::new(
                         ChildRef::leaf(first + j, 1),
                         std::array::from_fn(|k| masses[k].1[j].min(ESTIMATE_CAP)),
@@ -266,11 +251,13 @@ fn split_into(
                     ));
                 }
             }
-            if flat_on_tile(&out[start..]) {
-                return Split::Children;
-            }
-            out.truncate(start);
-            return Split::Whole(narrowed(tree, at, rect));
+            return match lit {
+                Some((from, to)) if !flat_on_tile(&out[start..]) => {
+                    out.truncate(start);
+                    Split::Whole(ChildRef::leaf(first + from, to + 1 - from))
+                }
+                _ => Split::Children,
+            };
         }
         Child::Empty => return Split::Children,
     };

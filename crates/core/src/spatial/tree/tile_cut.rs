@@ -41,8 +41,8 @@
 //! cluster into its lights, leaving out a light whose footprint misses the tile or whose
 //! cone or range provably misses all of it, when each other light's contribution at every
 //! weighing point is positive and at least a tenth of its largest (else the cluster stays
-//! whole, narrowed to its lights from the first that can light the tile to the last, as is
-//! every cluster the cut ends with). A pick that takes a single light evaluates it alone. A spot dark at every weighing point but lit between them (its cone's
+//! whole, narrowed to its lights from the first that can light the tile to the last). A
+//! pick that takes a single light evaluates that light alone. A spot dark at every weighing point but lit between them (its cone's
 //! edge crossing the tile) keeps its cluster whole, whose pick weighs it at the pixel; one
 //! lit at every point enters alone even where an edge crosses a corner of the tile (see
 //! "Which clusters split" below). Its entries are weighed
