@@ -58,7 +58,12 @@ fn four_pi_r2_times(r2: f64, r: f64) -> f64 {
 /// The one definition of a light's contribution (`Φ_i` times this): every scheme, the
 /// reference, the inspector, the light tree and the GPU kernels evaluate it or its WGSL
 /// twin. Zero wherever `G` is (a light on or below the plane).
-#[inline]
+// Always inlined: the light tree's single-light pick called it (8 % of a `stage` render).
+#[allow(
+    clippy::inline_always,
+    reason = "measured: inlined, a spatial sample on `stage` takes 34.5 ns, not 34.7"
+)]
+#[inline(always)]
 pub fn light_term(
     light_in_world: DVec3,
     emission: Option<&Emission>,
