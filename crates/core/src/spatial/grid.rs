@@ -93,7 +93,7 @@ mod mapped;
 pub use mapped::MappedLanes;
 
 use super::SpatialLight;
-use crate::scene::{Emission, geometry_term, light_term_culled};
+use crate::scene::{Emission, geometry_term};
 
 /// Cells along each side of a lane's map.
 pub const GRID_SIDE: usize = 16;
@@ -342,10 +342,9 @@ fn add_light(
             for j in 0..ny {
                 for i in 0..nx {
                     let y = o_lo + step * DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
-                    // `l.contribution_with(Some(e), y)`, without the square root and the
-                    // divisions where the cone or the range leaves `y` dark (a footprint's
-                    // box holds a fifth or more that its ellipse does not).
-                    sum += l.power * light_term_culled(l.position_in_world, e, y);
+                    // Dark points skipped cheaply: a footprint's box holds a fifth or more
+                    // that its ellipse does not.
+                    sum += l.contribution_culled(e, y);
                 }
             }
             integral[cy * GRID_SIDE + cx] += sum * step.x * step.y;

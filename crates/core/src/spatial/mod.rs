@@ -181,7 +181,7 @@ use glam::{DVec2, DVec3};
 use crate::light_sampler::{LightSampler, Pick, ShadingContext};
 use crate::powers::LightPowers;
 use crate::rng::Rng;
-use crate::scene::{Emission, Scene, geometry_term, light_term};
+use crate::scene::{Emission, Scene, geometry_term, light_term, light_term_culled};
 
 /// Up to this many lights [`SpatialSampler::build`] uses the exact sampler, beyond it the
 /// tree. The exact pick evaluates all `N` contributions; the tree evaluates two importances
@@ -230,6 +230,14 @@ impl SpatialLight {
     #[inline]
     pub fn contribution_with(&self, emission: Option<&Emission>, point_on_plane: DVec2) -> f64 {
         self.power * light_term(self.position_in_world, emission, point_on_plane)
+    }
+
+    /// [`SpatialLight::contribution_with`] for a light with a profile, the same bits, without
+    /// the square root and the divisions where its cone or range leaves the point dark
+    /// (`crate::scene::light_term_culled`): what the tree's leaves and maps evaluate.
+    #[inline]
+    pub(crate) fn contribution_culled(&self, emission: &Emission, point_on_plane: DVec2) -> f64 {
+        self.power * light_term_culled(self.position_in_world, emission, point_on_plane)
     }
 }
 

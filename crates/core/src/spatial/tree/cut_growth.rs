@@ -232,14 +232,13 @@ fn split_into(
         Child::Node(n) => n,
         Child::Leaf { first, count } => {
             let lights = first..first + count;
-            let lights_tile = |j: usize| lights_tile(tree, first + j, rect);
             let masses = points.map(|x| tree.leaf_masses_at(first, count, x));
             let start = out.len();
             // The first and the last light that can light the tile.
             let mut lit: Option<(usize, usize)> = None;
             for (j, light) in tree.lights[lights].iter().enumerate() {
                 // A light that gives the tile nothing is left out.
-                if lights_tile(j) {
+                if lights_tile(tree, first + j, rect) {
                     lit = Some((lit.map_or(j, |(from, _)| from), j));
                     out.push(Candidate::new(
                         ChildRef::leaf(first + j, 1),

@@ -6,7 +6,7 @@ use glam::DVec2;
 use super::LightTree;
 use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
 use crate::rng::Rng;
-use crate::scene::{distance_squared, four_pi_r_cubed, light_term_culled};
+use crate::scene::{distance_squared, four_pi_r_cubed};
 use crate::spatial::importance::{GRID, GRID_CELL, grid_masses, pick_on_grid};
 use crate::spatial::{SpatialLight, SpatialPick};
 
@@ -68,9 +68,7 @@ impl LightTree {
         } else {
             let emission = &self.emission[first..first + count];
             for ((cj, light), e) in c.iter_mut().zip(lights).zip(emission) {
-                // Exactly `light.contribution_with(Some(e), x)`, without the square root and
-                // the divisions for a light whose cone or range leaves `x` dark.
-                *cj = light.power * light_term_culled(light.position_in_world, e, x);
+                *cj = light.contribution_culled(e, x);
             }
         }
         let mut total = 0.0;
