@@ -96,8 +96,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 Some(built.clone()),
             ),
             (
-                format!("cut ≤ {}, spread ≤ {spread}", 192 - k),
-                Some(sized(64, 192 - k, spread)),
+                format!("cut ≤ {}, spread ≤ {spread}", k / 2),
+                Some(sized(64, k / 2, spread)),
             ),
             (
                 format!("cut ≤ {k}, spread ≤ 1.25"),

@@ -127,9 +127,10 @@ fn scale_pow2(v: f32, e: i32) -> f32 {
 // top 24 bits u, as (child word, mass); mass 0 when no entry of the tile has power (the
 // pick ends with ê = 0). The cuts' words (spatial.rs, cut_words): tile side (0: no cuts),
 // tiles along x, tile count T, T + 1 offsets of the tiles' words (after these), then per
-// tile: its column count K (a power of two; 0: no power), K columns (threshold t in bits
-// 0-24, alias above), per entry (mass, child word). Column u / C of C = 2^24 / K cells
-// takes its own entry below t and its alias from there on.
+// tile: its column count K (a power of two; 0: no power), K columns (threshold t < C in
+// the low log2(C) bits, alias above; a full column is its own alias, threshold 0), per
+// entry (mass, child word). Column u / C of C = 2^24 / K cells takes its own entry below t
+// and its alias from there on.
 fn spatial_cut_entry(px: u32, py: u32, state: ptr<function, u32>) -> vec2<u32> {
     let side = spatial_cuts_at(0u);
     let tile = (py / side) * spatial_cuts_at(1u) + px / side;
@@ -142,8 +143,8 @@ fn spatial_cut_entry(px: u32, py: u32, state: ptr<function, u32>) -> vec2<u32> {
     let shift = 24u - countTrailingZeros(k);
     let column = u >> shift;
     let word = spatial_cuts_at(at + 1u + column);
-    let cell = u & ((1u << shift) - 1u);
-    let entry = select(word >> 25u, column, cell < (word & 0x1ffffffu));
+    let cells = (1u << shift) - 1u;
+    let entry = select(word >> shift, column, (u & cells) < (word & cells));
     let pair = at + 1u + k + 2u * entry;
     return vec2<u32>(spatial_cuts_at(pair + 1u), spatial_cuts_at(pair));
 }

@@ -4,11 +4,12 @@
 
 use crate::spatial::importance::GRID;
 
-/// Bits of a column word below its alias: the threshold `t_c ≤ 2^24`.
-const THRESHOLD_BITS: u32 = 25;
-
-/// The most entries a cut may have: an alias fits the 7 bits above the threshold.
-pub(super) const MOST_ENTRIES: usize = 1 << (32 - THRESHOLD_BITS);
+/// The most entries a cut may have. A column word holds its threshold `t_c < C` in the
+/// low `log2 C` bits and its alias `a_c < K` above them: `t_c | a_c·C < K·C = 2^24`, so
+/// any `K` fits; a full column (`t_c = C`) is its own alias and keeps 0 there, every cell
+/// taking the column's entry either way. The limit is what a tile's cut may cost, not the
+/// word.
+pub(super) const MOST_ENTRIES: usize = 1 << 10;
 
 /// The entry column `column` of a cut whose columns are `C = 2^shift` cells wide takes for
 /// the draw `u < 2^24`: its own below the threshold, its alias from there on.
@@ -16,11 +17,11 @@ pub(super) const MOST_ENTRIES: usize = 1 << (32 - THRESHOLD_BITS);
 pub(super) fn alias_pick(columns: &[u32], shift: u32, u: u32) -> usize {
     let column = (u >> shift) as usize;
     let word = columns[column];
-    let cell = u & ((1 << shift) - 1);
-    if cell < word & ((1 << THRESHOLD_BITS) - 1) {
+    let cells = (1 << shift) - 1;
+    if u & cells < word & cells {
         column
     } else {
-        (word >> THRESHOLD_BITS) as usize
+        (word >> shift) as usize
     }
 }
 
@@ -30,6 +31,7 @@ pub(super) fn alias_pick(columns: &[u32], shift: u32, u: u32) -> usize {
 pub(super) fn alias_columns_into(masses: &[u32], work: &mut AliasWork, out: &mut Vec<u32>) {
     let k = masses.len().next_power_of_two();
     let width = GRID / k as u32;
+    let shift = width.trailing_zeros();
     let start = out.len();
     out.resize(start + k, 0);
     let AliasWork { left, small, large } = work;
@@ -48,7 +50,7 @@ pub(super) fn alias_columns_into(masses: &[u32], work: &mut AliasWork, out: &mut
     while let (Some(&s), Some(&l)) = (small.last(), large.last()) {
         small.pop();
         let own = left[s];
-        out[start + s] = own | (l as u32) << THRESHOLD_BITS;
+        out[start + s] = own | (l as u32) << shift;
         left[l] -= width - own;
         if left[l] < width {
             large.pop();
@@ -58,7 +60,7 @@ pub(super) fn alias_columns_into(masses: &[u32], work: &mut AliasWork, out: &mut
     // What is left holds exactly a column each (the masses sum to K·C).
     for &i in large.iter().chain(small.iter()) {
         debug_assert_eq!(left[i], width, "alias columns: a column left unfilled");
-        out[start + i] = width | (i as u32) << THRESHOLD_BITS;
+        out[start + i] = (i as u32) << shift;
     }
 }
 
@@ -68,4 +70,45 @@ pub(super) struct AliasWork {
     left: Vec<u32>,
     small: Vec<usize>,
     large: Vec<usize>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Masses of `n` entries summing to `2^24`, uneven (from a hash), each at least 1.
+    fn masses(n: usize, salt: u32) -> Vec<u32> {
+        let raw: Vec<u64> = (0..n as u32)
+            .map(|i| u64::from(crate::pcg_hash(i ^ salt.rotate_left(16)) % 1000 + 1))
+            .collect();
+        let sum: u64 = raw.iter().sum();
+        let mut m: Vec<u32> = raw
+            .iter()
+            .map(|&r| ((r * u64::from(GRID)) / sum).max(1) as u32)
+            .collect();
+        let placed: u32 = m.iter().sum();
+        m[0] += GRID - placed;
+        m
+    }
+
+    #[test]
+    fn every_draw_counted_gives_each_entry_exactly_its_mass() {
+        // Brute force over all 2^24 draws, at counts from one entry (its one column full,
+        // `C = 2^24`) through empty columns (3, 129) to the most a cut may hold.
+        let mut work = AliasWork::default();
+        for (n, salt) in [(1, 1), (3, 2), (129, 3), (MOST_ENTRIES, 4)] {
+            let m = masses(n, salt);
+            let mut words = Vec::new();
+            alias_columns_into(&m, &mut work, &mut words);
+            let k = n.next_power_of_two();
+            assert_eq!(words.len(), k);
+            let shift = (GRID / k as u32).trailing_zeros();
+            let mut counts = vec![0u32; k];
+            for u in 0..GRID {
+                counts[alias_pick(&words, shift, u)] += 1;
+            }
+            assert_eq!(&counts[..n], &m[..], "{n} entries");
+            assert!(counts[n..].iter().all(|&c| c == 0), "{n} entries");
+        }
+    }
 }

@@ -6,8 +6,9 @@ use glam::DVec2;
 
 use super::LightTree;
 use super::cut_candidate::{Candidate, WEIGHING_POINTS, Weighing};
+use super::cut_columns::MOST_ENTRIES;
 use super::dark_over::dark_over;
-use super::node::{Child, ChildRef, TREE_WIDTH};
+use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH};
 use crate::spatial::importance::{GRID_CELL, IMPORTANCE_CAP, branch_probabilities, grid_masses};
 
 /// How a tile's cut grows.
@@ -30,9 +31,9 @@ pub(super) struct Rules {
 const TOTALS_DRIFT: f64 = 1.0 / 16.0;
 
 /// Each estimate is capped here, so that the cut's sum of at most
-/// [`super::CUT_MAX_ENTRIES`] of them stays finite (a light `10^-150` above the plane gives
-/// `~10^298`).
-const ESTIMATE_CAP: f64 = IMPORTANCE_CAP / 256.0;
+/// [`super::cut_columns::MOST_ENTRIES`] of them stays finite (a light `10^-150` above the
+/// plane gives `~10^298`).
+const ESTIMATE_CAP: f64 = IMPORTANCE_CAP / MOST_ENTRIES as f64;
 
 /// A cut splits a leaf cluster into its lights only where each light's contribution at
 /// every weighing point is positive and at least this fraction of its largest there
@@ -54,7 +55,8 @@ const BOUND_OVER_SHARE: f64 = 64.0;
 /// share `max_k s_e(x_k)`, or a subtree's bound where that share may be far off:
 /// [`urgency`]) while the cut keeps at most `rules.max_entries` entries and a
 /// spread `Σ_e max_k s_e(x_k)` of at most `rules.max_spread`, then weighs each entry by
-/// its shares and by its probabilities under the tree (`Candidate::weigh`).
+/// its shares and by its probabilities under the tree (`Candidate::weigh`), and leaves
+/// the cut in leaf order.
 ///
 /// The shares `s_e(x_k) = Ê_e(x_k) / Σ_f Ê_f(x_k)` are taken against the totals of the
 /// cut as it stands; every split changes those totals a little, so the entries' largest
@@ -66,10 +68,21 @@ pub(super) fn grow(
     tree: &LightTree,
     tile: ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]),
     cut: &mut Vec<Candidate>,
-    children: &mut Vec<Candidate>,
+    growth: &mut Growth,
     rules: Rules,
 ) {
     const W: usize = WEIGHING_POINTS.len();
+    let Growth { children, keys } = growth;
+    // The tree's probabilities, only where the weights or the growth read them (else 0,
+    // and a cut whose estimates say nothing is weighed by power).
+    let with_tree = rules.tree_share > 0.0 || rules.weighing == Weighing::TreeProbabilities;
+    let key = |c: &Candidate, bound_scale: f64| {
+        if c.whole || !splits(c.at, rules.split_leaves) {
+            NOT_SPLIT
+        } else {
+            ordered_key(urgency(c, bound_scale))
+        }
+    };
     let by = rules.weighing;
     let reciprocal = |t: [f64; W]| t.map(|t| if t > 0.0 { 1.0 / t } else { 0.0 });
     let mut total = [1.0; W];
@@ -80,18 +93,20 @@ pub(super) fn grow(
     // `1 / max_k Ê(x_k)`: the entries' bounds as shares of the cut's largest total (none
     // when the cut grows by the tree's probabilities).
     let mut bound_scale = 0.0;
-    while let Some(k) = cut
-        .iter()
-        .enumerate()
-        .filter(|(_, c)| !c.whole && splits(c.at, rules.split_leaves))
-        .max_by(|a, b| urgency(a.1, bound_scale).total_cmp(&urgency(b.1, bound_scale)))
-        .map(|(k, _)| k)
-    {
+    keys.clear();
+    keys.extend(cut.iter().map(|c| key(c, bound_scale)));
+    while let Some(k) = most_urgent(keys) {
         children.clear();
-        if let Split::Whole(narrowed) =
-            split_into(tree, cut[k].at, cut[k].tree_probability, tile, children)
-        {
+        if let Split::Whole(narrowed) = split_into(
+            tree,
+            cut[k].at,
+            cut[k].tree_probability,
+            tile,
+            with_tree,
+            children,
+        ) {
             (cut[k].at, cut[k].whole) = (narrowed, true);
+            keys[k] = NOT_SPLIT;
             continue;
         }
         let mut grown = total;
@@ -107,8 +122,9 @@ pub(super) fn grow(
             if by == Weighing::Estimates {
                 bound_scale = taken_at.iter().fold(f64::INFINITY, |m, &r| m.min(r));
             }
-            for c in cut.iter_mut() {
+            for (c, key_of) in cut.iter_mut().zip(keys.iter_mut()) {
                 c.peak = c.largest_share(by, &taken_at);
+                *key_of = key(c, bound_scale);
             }
             spread = cut.iter().map(|c| c.peak).sum();
         }
@@ -124,6 +140,8 @@ pub(super) fn grow(
         total = grown;
         spread = grown_spread;
         cut.swap_remove(k);
+        keys.swap_remove(k);
+        keys.extend(children.iter().map(|c| key(c, bound_scale)));
         cut.append(children);
     }
     // Both weights of every entry, against the final cut's totals of each.
@@ -140,6 +158,57 @@ pub(super) fn grow(
     for c in cut.iter_mut() {
         c.weigh(&estimated, &by_tree);
     }
+    // In leaf order (the subtrees' ranges are disjoint): sorted as integers, first light
+    // above entry, then moved once.
+    keys.clear();
+    keys.extend(cut.iter().enumerate().map(|(e, c)| {
+        let first = tree.first_of(c.at).map_or(0, |f| f as i64 + 1);
+        first << ENTRY_BITS | e as i64
+    }));
+    keys.sort_unstable();
+    children.clear();
+    children.extend(
+        keys.iter()
+            .map(|&key| cut[(key & ((1 << ENTRY_BITS) - 1)) as usize]),
+    );
+    std::mem::swap(cut, children);
+}
+
+/// Bits of an entry's index in a cut (at most [`MOST_ENTRIES`], `2^10`) below its first
+/// light's in a sort key.
+const ENTRY_BITS: u32 = 16;
+
+/// What a tile's cut grows in besides the cut, kept from tile to tile on a thread.
+#[derive(Default)]
+pub(super) struct Growth {
+    /// The entry being split's children.
+    children: Vec<Candidate>,
+    /// Each entry's urgency ([`urgency`]) as an ordered integer ([`ordered_key`]), or
+    /// [`NOT_SPLIT`], by position in the cut (so that finding the next split reads a word
+    /// an entry, not its estimates); once grown, the entries' sort keys in leaf order.
+    keys: Vec<i64>,
+}
+
+/// The key of an entry the cut cannot split (below every urgency's [`ordered_key`] but a
+/// negative NaN's, which no urgency is).
+const NOT_SPLIT: i64 = i64::MIN;
+
+/// `x` as an integer in the order of [`f64::total_cmp`].
+fn ordered_key(x: f64) -> i64 {
+    let bits = x.to_bits() as i64;
+    bits ^ (((bits >> 63) as u64) >> 1) as i64
+}
+
+/// The entry of largest key that the cut can split (the last of equal ones, as
+/// [`Iterator::max_by`] takes), `None` when none can.
+fn most_urgent(keys: &[i64]) -> Option<usize> {
+    let (mut most, mut at) = (NOT_SPLIT, None);
+    for (k, &key) in keys.iter().enumerate() {
+        if key >= most && key != NOT_SPLIT {
+            (most, at) = (key, Some(k));
+        }
+    }
+    at
 }
 
 /// How urgently a cut splits `c`: its largest share `max_k s_e(x_k)`, or its bound as a
@@ -214,7 +283,8 @@ fn meets(footprint: Option<[DVec2; 2]>, [lo, hi]: [DVec2; 2]) -> bool {
 /// representative light) and its probability under the tree there (`at`'s,
 /// `tree_probability[k]` at weighing point `k`, times the node's grid probability of the
 /// lane); or the lights of leaf cluster `at`, each with its exact contribution and the
-/// cluster's probability times its grid mass by contribution. A lane or a light whose
+/// cluster's probability times its grid mass by contribution (those probabilities 0 unless
+/// `with_tree`: no grid masses taken). A lane or a light whose
 /// footprint misses the tile's box is left out, and so is a light whose cone or range
 /// misses the whole box ([`dark_over`]): none of its lights gives the tile anything, and a
 /// pick there never takes it (`P(i | x) = 0` where `c_i(x) = 0`).
@@ -226,13 +296,21 @@ fn split_into(
     at: ChildRef,
     tree_probability: [f64; WEIGHING_POINTS.len()],
     (points, rect): ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]),
+    with_tree: bool,
     out: &mut Vec<Candidate>,
 ) -> Split {
     let n = match at.get() {
         Child::Node(n) => n,
         Child::Leaf { first, count } => {
             let lights = first..first + count;
-            let masses = points.map(|x| tree.leaf_masses_at(first, count, x));
+            // The grid masses only where the tree's probabilities are wanted.
+            let masses = points.map(|x| {
+                if with_tree {
+                    tree.leaf_masses_at(first, count, x)
+                } else {
+                    ([0; LEAF_SIZE], tree.leaf_contributions(first, count, x))
+                }
+            });
             let start = out.len();
             // The first and the last light that can light the tile.
             let mut lit: Option<(usize, usize)> = None;
@@ -276,8 +354,13 @@ fn split_into(
     let weights = points.map(|x| tree.node_weights(n, x));
     let estimates = weights
         .map(|(importance, _)| importance.map(|i| (i / importance_per_estimate).min(ESTIMATE_CAP)));
-    let masses =
-        weights.map(|(importance, share)| grid_masses(branch_probabilities(importance, share)));
+    let masses = weights.map(|(importance, share)| {
+        if with_tree {
+            grid_masses(branch_probabilities(importance, share))
+        } else {
+            [0; TREE_WIDTH]
+        }
+    });
     for lane in 0..TREE_WIDTH {
         let child = node.child[lane];
         let footprint = bounds.map(|b| b[lane].footprint);

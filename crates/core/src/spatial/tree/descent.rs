@@ -56,21 +56,15 @@ impl LightTree {
         count: usize,
         x: DVec2,
     ) -> ([u32; LEAF_SIZE], [f64; LEAF_SIZE]) {
-        let (mut masses, mut c) = ([0; LEAF_SIZE], [0.0; LEAF_SIZE]);
+        let mut masses = [0; LEAF_SIZE];
         if count == 1 {
             let (c0, whole) = self.single_light(first, x);
-            (c[0], masses[0]) = (c0, if whole { GRID } else { 0 });
+            masses[0] = if whole { GRID } else { 0 };
+            let mut c = [0.0; LEAF_SIZE];
+            c[0] = c0;
             return (masses, c);
         }
-        let lights = &self.lights[first..first + count];
-        if self.emission.is_empty() {
-            point_contributions(lights, x, &mut c);
-        } else {
-            let emission = &self.emission[first..first + count];
-            for ((cj, light), e) in c.iter_mut().zip(lights).zip(emission) {
-                *cj = light.contribution_culled(e, x);
-            }
-        }
+        let c = self.leaf_contributions(first, count, x);
         let mut total = 0.0;
         for &cj in &c[..count] {
             total += cj;
@@ -83,6 +77,28 @@ impl LightTree {
             }
         }
         (grid_masses(p), c)
+    }
+
+    /// The contributions `c_j = p_j·G_j(x)·S_j(x)` of the lights `first .. first + count` of
+    /// a leaf cluster at `x` (0 beyond `count`).
+    #[inline]
+    pub(super) fn leaf_contributions(
+        &self,
+        first: usize,
+        count: usize,
+        x: DVec2,
+    ) -> [f64; LEAF_SIZE] {
+        let mut c = [0.0; LEAF_SIZE];
+        let lights = &self.lights[first..first + count];
+        if self.emission.is_empty() {
+            point_contributions(lights, x, &mut c);
+        } else {
+            let emission = &self.emission[first..first + count];
+            for ((cj, light), e) in c.iter_mut().zip(lights).zip(emission) {
+                *cj = light.contribution_culled(e, x);
+            }
+        }
+        c
     }
 
     /// Where a pick at `x` starts and with what probability: on a tile of the per-tile cuts

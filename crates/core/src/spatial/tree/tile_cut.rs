@@ -148,7 +148,7 @@ use glam::DVec2;
 use super::LightTree;
 use super::cut_candidate::{Candidate, WEIGHING_POINTS, Weighing};
 use super::cut_columns::{AliasWork, MOST_ENTRIES, alias_columns_into, alias_pick};
-use super::cut_growth::{Rules, grow};
+use super::cut_growth::{Growth, Rules, grow};
 use super::node::{Child, ChildRef, TREE_WIDTH};
 use crate::scene::ReceiverPlane;
 use crate::spatial::importance::{POWER_SHARE, grid_masses_into};
@@ -183,7 +183,7 @@ pub fn tile_side_for(width: u32, height: u32, tiles_per_side: u32) -> u32 {
 }
 
 /// The most entries of one tile's cut.
-pub const CUT_MAX_ENTRIES: usize = 128;
+pub const CUT_MAX_ENTRIES: usize = 256;
 
 /// The most a cut may spread its entries' shares, `Σ_e max_k s_e(x_k)` over the tile's
 /// weighing points `x_k` (module docs), in a tree of point lights.
@@ -234,8 +234,8 @@ pub struct TileCuts {
 }
 
 /// One tile's cut in the words the GPU reads too: the column count `K` (0 when no entry of
-/// the tile has power), the `K` alias columns (module docs: threshold `t_c` in bits 0–24,
-/// alias `a_c` from bit 25), then per entry, in leaf order, its mass `m_e` and its child
+/// the tile has power), the `K` alias columns (module docs: threshold `t_c` in bits 0–23,
+/// alias `a_c` from bit 24), then per entry, in leaf order, its mass `m_e` and its child
 /// word.
 type TileCut = Box<[u32]>;
 
@@ -264,7 +264,7 @@ impl TileCuts {
         Self::build_sized(tree, plane, CUT_TILES_PER_SIDE, max_entries, max_spread)
     }
 
-    /// [`TileCuts::build`] with about `tiles_per_side²` tiles ([`tile_side_for`]), at most `max_entries` entries a cut (4 to 128) and a spread of at most
+    /// [`TileCuts::build`] with about `tiles_per_side²` tiles ([`tile_side_for`]), at most `max_entries` entries a cut (4 to 1024) and a spread of at most
     /// `max_spread` (at least 1): for measuring alternatives (the `tile_cuts` example).
     pub fn build_sized(
         tree: &LightTree,
@@ -510,7 +510,7 @@ impl TileCuts {
     /// order with their alias columns, as [`TileCut`]'s words in `scratch.words`.
     fn cut_tile(&self, tree: &LightTree, tile: u32, scratch: &mut Scratch) {
         let tile = self.tile_geometry(tile);
-        let Scratch { cut, children, .. } = scratch;
+        let Scratch { cut, growth, .. } = scratch;
         cut.clear();
         // The root alone: its estimate is a placeholder, replaced by its lanes' at once.
         cut.push(Candidate::new(
@@ -519,20 +519,18 @@ impl TileCuts {
             [1.0; WEIGHING_POINTS.len()],
             1.0,
         ));
-        grow(tree, tile, cut, children, self.rules);
-        Self::finish(tree, scratch, self.rules.tree_share);
+        grow(tree, tile, cut, growth, self.rules);
+        Self::finish(scratch, self.rules.tree_share);
     }
 
     /// The grown cut's masses and alias columns, in `scratch.words`.
-    fn finish(tree: &LightTree, scratch: &mut Scratch, tree_share: f64) {
+    fn finish(scratch: &mut Scratch, tree_share: f64) {
         let Scratch {
             cut,
             weights,
             masses,
             ..
         } = scratch;
-        // In leaf order (the subtrees' ranges are disjoint).
-        cut.sort_unstable_by_key(|c| tree.first_of(c.at));
         let (estimated, by_tree, power) = cut.iter().fold((0.0, 0.0, 0.0), |(e, t, p), c| {
             (e + c.weight, t + c.tree_weight, p + c.power)
         });
@@ -590,7 +588,7 @@ thread_local! {
 #[derive(Default)]
 struct Scratch {
     cut: Vec<Candidate>,
-    children: Vec<Candidate>,
+    growth: Growth,
     weights: Vec<f64>,
     masses: Vec<u32>,
     columns: AliasWork,
