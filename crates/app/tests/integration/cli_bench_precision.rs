@@ -165,7 +165,26 @@ fn bench_json_has_every_case_and_the_peers() {
         if let Some(r) = c.get("rebuild_ns") {
             assert!(num(r) > 0.0, "{c}");
         }
+        // The light trees say what they hold per light; nothing else does.
+        assert_eq!(
+            c.get("bytes_per_light").is_some(),
+            ["tree-build", "tree-refit-spots"].contains(&method),
+            "{c}"
+        );
     }
+    let bytes = |method: &str| {
+        let case = cases.iter().find(|c| c["method"] == method).unwrap();
+        num(&case["bytes_per_light"])
+    };
+    // By construction: each light's position and power in leaf order (32 bytes) and its
+    // scene index (4), and for spots their profiles and each node's maps on top.
+    assert!(bytes("tree-build") >= 36.0, "{}", bytes("tree-build"));
+    assert!(
+        bytes("tree-refit-spots") > bytes("tree-build") + 128.0,
+        "{} against {}",
+        bytes("tree-refit-spots"),
+        bytes("tree-build")
+    );
     let memory = &v["memory_bandwidth"];
     assert!(num(&memory["copy_gb_per_s"]) > 0.0, "{memory}");
     assert_eq!(memory["build_floors"][0]["n"], 1000);

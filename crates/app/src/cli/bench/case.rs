@@ -34,6 +34,12 @@ pub struct Case {
     /// Minor page faults per in-place rebuild (`alias`, `alias-1t`; Linux).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rebuild_faults: Option<f64>,
+    /// Heap bytes per light of the structure built, by capacity
+    /// ([`lightpick_core::spatial::LightTree::heap_bytes`]): `tree-build` the light tree
+    /// over points, `tree-refit-spots` the tree over spots with its lanes' bounds and maps;
+    /// neither with tile cuts (those belong to a receiver's pixel grid).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bytes_per_light: Option<f64>,
 }
 
 impl Case {

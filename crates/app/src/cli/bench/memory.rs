@@ -103,6 +103,12 @@ impl MemoryFloors {
                 c.build_faults.unwrap_or(f64::NAN)
             );
         }
+        out.push_str("heap bytes per light of the light trees (without tile cuts):\n");
+        for c in cases {
+            if let Some(bytes) = c.bytes_per_light {
+                let _ = writeln!(out, "{:>9}  {:<31} {bytes:>9.1}", c.n, c.method);
+            }
+        }
         out
     }
 }

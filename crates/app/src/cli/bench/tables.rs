@@ -69,6 +69,7 @@ impl Rows {
             threads,
             build_faults: None,
             rebuild_faults: None,
+            bytes_per_light: None,
         });
         let last = self.cases.len() - 1;
         &mut self.cases[last]

@@ -41,6 +41,7 @@ pub(super) fn time_tree(
     let threads = rayon::current_num_threads();
     let build_ns = median_ns(reps.min(3), 1, |_| LightTree::build(&positions, powers));
     let mut tree = LightTree::build(&positions, powers);
+    let tree_bytes = tree.heap_bytes() as f64 / n as f64;
     let refit_ns = median_ns(reps, 1, |rep| {
         tree.refit(if rep % 2 == 0 { other } else { powers });
     });
@@ -54,25 +55,21 @@ pub(super) fn time_tree(
     let repower_ns = time_app_repower(&positions, powers, other, reps);
     let repower_one_ns = time_app_repower(&positions, powers, &one_changed(powers), reps);
     let mut cases = vec![
-        ("tree-build", build_ns),
-        ("tree-refit", refit_ns),
-        ("tree-refit-cuts", refit_cut_ns),
-        ("app-repower", repower_ns),
-        ("app-repower-one", repower_one_ns),
+        ("tree-build", build_ns, Some(tree_bytes)),
+        ("tree-refit", refit_ns, None),
+        ("tree-refit-cuts", refit_cut_ns, None),
+        ("app-repower", repower_ns, None),
+        ("app-repower-one", repower_one_ns, None),
     ];
     if n <= SPOT_REFIT_MAX_LIGHTS {
-        cases.push((
-            "tree-refit-spots",
-            time_spot_refit(&positions, powers, other, seed, reps),
-        ));
-        cases.push((
-            "tree-refit-spots-one",
-            time_spot_refit(&positions, powers, &one_changed(powers), seed, reps),
-        ));
+        let (all_ns, spot_bytes) = time_spot_refit(&positions, powers, other, seed, reps);
+        cases.push(("tree-refit-spots", all_ns, Some(spot_bytes)));
+        let (one_ns, _) = time_spot_refit(&positions, powers, &one_changed(powers), seed, reps);
+        cases.push(("tree-refit-spots-one", one_ns, None));
     }
     cases
         .into_iter()
-        .map(|(method, build_ns)| Case {
+        .map(|(method, build_ns, bytes_per_light)| Case {
             n,
             method,
             rng: "pcg",
@@ -82,6 +79,7 @@ pub(super) fn time_tree(
             threads,
             build_faults: None,
             rebuild_faults: None,
+            bytes_per_light,
         })
         .collect()
 }
@@ -132,14 +130,15 @@ fn one_changed(powers: &LightPowers) -> LightPowers {
 /// [`one_changed`]): the refit of a tree over the same positions as spots (each aimed down
 /// within 0.6 rad, cones of 0.1–0.8 rad) mapped over the unit square, in `build_ns`: the
 /// lanes' bounds bottom up and the maps of the lanes over a light whose power changed
-/// integrated again from their lights (see [`lightpick_core::spatial::LightTree::refit`]).
+/// integrated again from their lights (see [`lightpick_core::spatial::LightTree::refit`]);
+/// and the tree's heap bytes per light.
 fn time_spot_refit(
     positions: &[DVec3],
     powers: &LightPowers,
     other: &LightPowers,
     seed: u64,
     reps: usize,
-) -> f64 {
+) -> (f64, f64) {
     use lightpick_core::scene::{Emission, Spot};
     let unit = |i: usize, salt: u64| {
         f64::from(lightpick_core::pcg_hash(
@@ -164,9 +163,13 @@ fn time_spot_refit(
         .collect();
     let region = Some([glam::dvec2(0.0, 0.0), glam::dvec2(1.0, 1.0)]);
     let mut tree = LightTree::build_over(positions, powers, Some(&emission), region);
-    median_ns(reps.min(5), 1, |rep| {
+    let refit_ns = median_ns(reps.min(5), 1, |rep| {
         tree.refit(if rep % 2 == 0 { other } else { powers });
-    })
+    });
+    (
+        refit_ns,
+        tree.heap_bytes() as f64 / positions.len().max(1) as f64,
+    )
 }
 
 /// The app's answer to a power edit from `powers` to `other` and back, in `build_ns`: from
