@@ -42,7 +42,7 @@
 //! A descent from the root costs 10–22 alias picks: one importance per lane and level, then
 //! every light of a leaf. The receiver is one plane with a known pixel grid, so
 //! [`SpatialSampler::for_scene`] cuts the tree once per tile of pixels (lightcuts and
-//! stochastic lightcuts cut a tree once per region): [`TileCuts`] keeps, per tile, up to 128
+//! stochastic lightcuts cut a tree once per region): [`TileCuts`] keeps, per tile, up to 256
 //! entries (subtrees, and single lights taken out of their leaf clusters: a spot only where
 //! its cone's edge does not cross the tile) weighed once for the whole tile by what each is
 //! estimated to give the tile's nine weighing points (a single light or a leaf cluster
@@ -69,7 +69,9 @@
 //! | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |
 //! | the tree from its root | 60× (1.00), 8.4× | 177× (1.00), 17.1× | 251× (1.00), 13.5× | 151× (1.00), 12.6× | 4366× (1.00), 9.0× | 156× (1.00), 18.9× | 195× (1.00), 19.2× | 11× (1.00), 17.1× | 46× (1.00), 17.0× | 16× (1.00), 17.0× |
 //! | cuts as first built: ≤ 64 entries, spread ≤ 1.25, weighed by the tree's probabilities alone | 60× (1.00), 2.0× | 173× (1.02), 9.1× | 236× (1.06), 6.0× | 158× (0.96), 3.3× | 3048× (1.43), 4.6× | 151× (1.03), 6.8× | 198× (0.98), 6.6× | 11× (0.97), 9.8× | 45× (1.01), 8.7× | 13× (1.25), 10.3× |
-//! | **built: ≤ 128 entries, spread ≤ 4 (point lights) or 1.6 (spots), weighed by estimates, groups above the tile split by their bounds, a leaf cluster split where each of its lights that reaches the tile lights its nine weighing points within a tenth of its brightest** | **891× (0.07), 2.0×** | **1139× (0.16), 7.6×** | **1323× (0.19), 2.6×** | **406× (0.37), 3.2×** | **2548× (1.71), 3.3×** | **262× (0.59), 4.9×** | **463× (0.42), 4.6×** | **291× (0.04), 7.3×** | **411× (0.11), 7.0×** | **232× (0.07), 6.0×** |
+//! | **built: ≤ 256 entries, the rest as the row below** | **891× (0.07), 1.2×** | **1233× (0.14), 6.9×** | **1317× (0.19), 2.0×** | **416× (0.36), 2.7×** | **2551× (1.71), 2.9×** | **288× (0.54), 3.4×** | **512× (0.38), 4.8×** | **291× (0.04), 6.1×** | **610× (0.08), 6.2×** | **298× (0.05), 5.4×** |
+//! | the same, ≤ 128 entries (in the same run) | 891× (0.07), 1.2× | 1139× (0.16), 7.6× | 1323× (0.19), 1.9× | 416× (0.36), 2.7× | 2551× (1.71), 2.9× | 263× (0.59), 4.6× | 465× (0.42), 4.3× | 291× (0.04), 7.2× | 411× (0.11), 7.6× | 232× (0.07), 6.0× |
+//! | built before, the rows below its variants: ≤ 128 entries, spread ≤ 4 (point lights) or 1.6 (spots), weighed by estimates, groups above the tile split by their bounds, a leaf cluster split where each of its lights that reaches the tile lights its nine weighing points within a tenth of its brightest | 891× (0.07), 2.0× | 1139× (0.16), 7.6× | 1323× (0.19), 2.6× | 406× (0.37), 3.2× | 2548× (1.71), 3.3× | 262× (0.59), 4.9× | 463× (0.42), 4.6× | 291× (0.04), 7.3× | 411× (0.11), 7.0× | 232× (0.07), 6.0× |
 //! | the same, ≤ 64 entries | 891× (0.07), 2.0× | 1042× (0.17), 8.9× | 860× (0.29), 2.9× | 401× (0.38), 3.2× | 2548× (1.71), 3.3× | 213× (0.73), 6.5× | 445× (0.44), 5.4× | 347× (0.03), 9.0× | 221× (0.21), 8.3× | 31× (0.53), 7.8× |
 //! | the same, spread ≤ 1.25 | 891× (0.07), 2.0× | 1139× (0.16), 7.7× | 382× (0.66), 6.2× | 276× (0.55), 3.6× | 3762× (1.16), 5.0× | 206× (0.76), 5.0× | 238× (0.82), 6.9× | 9× (1.20), 9.3× | 409× (0.11), 6.9× | 9× (1.90), 10.1× |
 //! | the same, spread ≤ 1.6 | 891× (0.07), 2.1× | 1139× (0.16), 7.8× | 1317× (0.19), 2.5× | 406× (0.37), 3.2× | 2548× (1.71), 3.3× | 262× (0.59), 5.0× | 463× (0.42), 4.5× | 43× (0.25), 7.8× | 411× (0.11), 6.9× | 9× (1.80), 7.7× |
@@ -78,6 +80,21 @@
 //! | the same, the tree's share ¼ | 425× (0.14), 2.0× | 868× (0.20), 7.7× | 925× (0.27), 2.7× | 364× (0.42), 3.2× | 2466× (1.77), 3.3× | 254× (0.61), 5.0× | 428× (0.46), 4.6× | 229× (0.05), 7.5× | 277× (0.17), 7.2× | 225× (0.07), 6.4× |
 //! | the same, the tree's share 0.5 | 198× (0.30), 2.0× | 509× (0.35), 7.7× | 583× (0.43), 2.9× | 294× (0.51), 3.2× | 2365× (1.85), 3.4× | 234× (0.66), 5.1× | 359× (0.54), 4.6× | 162× (0.07), 7.7× | 158× (0.29), 7.4× | 187× (0.09), 6.8× |
 //! | the same, leaf clusters kept whole | 54× (1.11), 4.8× | 1069× (0.17), 7.8× | 402× (0.62), 4.7× | 259× (0.58), 4.5× | 2548× (1.71), 3.8× | 166× (0.94), 5.5× | 449× (0.43), 6.0× | 296× (0.04), 7.1× | 484× (0.09), 6.8× | 231× (0.07), 6.1× |
+//!
+//! The first two rows are this version's, from one run of the command without `million`
+//! (whose cuts keep 64 entries); the rows below them come from earlier runs of earlier
+//! versions, whose single-light picks cost more. Where a tile's lights reach past 128
+//! entries the cut now grows to 256, and its picks (every tile cut beforehand) cost less
+//! with less variance: `random` 4.6 → 3.4 alias picks (0.39 → 0.59 of its cuts' mass on
+//! single lights, 0.59× → 0.54× the tree's variance), `chandeliers` 7.6 → 6.2 (0.11× →
+//! 0.08×), `clusters-low` 7.2 → 6.1, `heavy-tail` 7.6 → 6.9, `strips` 6.0 → 5.4; `stage`
+//! and `gallery`, whose spread ends their cuts at 41 and 6 entries a tile, do not change.
+//! Cutting costs more, once per tree and receiver: every tile of those sets in 92–280 ms
+//! on two threads against 40–99 ms (`random` 280 against 99); at `lightpick bench`'s 1024
+//! samples a pixel the picks' saving outweighs it (`docs/numbers.md`). At 512 entries
+//! `random` reached 2.8 alias picks, but its cuts took 1.2 s: each split looks for the next
+//! among all the entries. An alias column keeps its threshold in the low `log2 C` bits and
+//! its alias above them (`C = 2^24/K` cells a column), so a word holds any count.
 //!
 //! On `million` (10^6 lights, cuts of at most 64 entries above 2^18 lights, 6 × 6 points)
 //! the built cuts give 1443× below power (0.11× the tree's variance) at 3.6× alias's time

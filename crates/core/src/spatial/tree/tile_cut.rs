@@ -182,7 +182,8 @@ pub fn tile_side_for(width: u32, height: u32, tiles_per_side: u32) -> u32 {
     }
 }
 
-/// The most entries of one tile's cut.
+/// The most entries of one tile's cut (measured against 128 in the module docs of
+/// [`crate::spatial`]).
 pub const CUT_MAX_ENTRIES: usize = 256;
 
 /// The most a cut may spread its entries' shares, `Σ_e max_k s_e(x_k)` over the tile's
