@@ -7,6 +7,7 @@ use glam::DVec2;
 use super::LightTree;
 use super::cut_candidate::{Candidate, WEIGHING_POINTS, Weighing};
 use super::cut_columns::MOST_ENTRIES;
+use super::cut_order::{NOT_SPLIT, Tournament, ordered_key};
 use super::dark_over::dark_over;
 use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH};
 use crate::spatial::importance::{GRID_CELL, IMPORTANCE_CAP, branch_probabilities, grid_masses};
@@ -62,8 +63,10 @@ const BOUND_OVER_SHARE: f64 = 64.0;
 /// cut as it stands; every split changes those totals a little, so the entries' largest
 /// shares are kept against the totals they were last taken against and taken again,
 /// all of them, only when a total has moved by more than [`TOTALS_DRIFT`] since: the
-/// cut then costs `O(n)` a split instead of `O(9n)`, and the order of its splits and
-/// its spread are those of the current totals within that drift.
+/// order of its splits and its spread are those of the current totals within that drift.
+/// The next split is the winner of a tournament over the entries' urgencies
+/// ([`Tournament`], the same entry a scan of all of them takes), so that a split costs
+/// its children's estimates and `O(log n)` beside them.
 pub(super) fn grow(
     tree: &LightTree,
     tile: ([DVec2; WEIGHING_POINTS.len()], [DVec2; 2]),
@@ -72,7 +75,11 @@ pub(super) fn grow(
     rules: Rules,
 ) {
     const W: usize = WEIGHING_POINTS.len();
-    let Growth { children, keys } = growth;
+    let Growth {
+        children,
+        keys,
+        order,
+    } = growth;
     // The tree's probabilities, only where the weights or the growth read them (else 0,
     // and a cut whose estimates say nothing is weighed by power).
     let with_tree = rules.tree_share > 0.0 || rules.weighing == Weighing::TreeProbabilities;
@@ -93,9 +100,8 @@ pub(super) fn grow(
     // `1 / max_k Ê(x_k)`: the entries' bounds as shares of the cut's largest total (none
     // when the cut grows by the tree's probabilities).
     let mut bound_scale = 0.0;
-    keys.clear();
-    keys.extend(cut.iter().map(|c| key(c, bound_scale)));
-    while let Some(k) = most_urgent(keys) {
+    order.reset(cut.iter().map(|c| key(c, bound_scale)));
+    while let Some(k) = order.top() {
         children.clear();
         if let Split::Whole(narrowed) = split_into(
             tree,
@@ -106,7 +112,7 @@ pub(super) fn grow(
             children,
         ) {
             (cut[k].at, cut[k].whole) = (narrowed, true);
-            keys[k] = NOT_SPLIT;
+            order.set(k, NOT_SPLIT);
             continue;
         }
         let mut grown = total;
@@ -122,10 +128,10 @@ pub(super) fn grow(
             if by == Weighing::Estimates {
                 bound_scale = taken_at.iter().fold(f64::INFINITY, |m, &r| m.min(r));
             }
-            for (c, key_of) in cut.iter_mut().zip(keys.iter_mut()) {
+            for c in cut.iter_mut() {
                 c.peak = c.largest_share(by, &taken_at);
-                *key_of = key(c, bound_scale);
             }
+            order.reset(cut.iter().map(|c| key(c, bound_scale)));
             spread = cut.iter().map(|c| c.peak).sum();
         }
         for c in children.iter_mut() {
@@ -139,9 +145,13 @@ pub(super) fn grow(
         }
         total = grown;
         spread = grown_spread;
+        let last = cut.len() - 1;
         cut.swap_remove(k);
-        keys.swap_remove(k);
-        keys.extend(children.iter().map(|c| key(c, bound_scale)));
+        order.set(k, order.key(last));
+        order.set(last, NOT_SPLIT);
+        for (at, c) in (last..).zip(children.iter()) {
+            order.set(at, key(c, bound_scale));
+        }
         cut.append(children);
     }
     // Both weights of every entry, against the final cut's totals of each.
@@ -183,32 +193,10 @@ const ENTRY_BITS: u32 = 16;
 pub(super) struct Growth {
     /// The entry being split's children.
     children: Vec<Candidate>,
-    /// Each entry's urgency ([`urgency`]) as an ordered integer ([`ordered_key`]), or
-    /// [`NOT_SPLIT`], by position in the cut (so that finding the next split reads a word
-    /// an entry, not its estimates); once grown, the entries' sort keys in leaf order.
+    /// The entries' urgencies ([`urgency`]) as ordered integers, by position in the cut.
+    order: Tournament,
+    /// The entries' sort keys in leaf order, once grown.
     keys: Vec<i64>,
-}
-
-/// The key of an entry the cut cannot split (below every urgency's [`ordered_key`] but a
-/// negative NaN's, which no urgency is).
-const NOT_SPLIT: i64 = i64::MIN;
-
-/// `x` as an integer in the order of [`f64::total_cmp`].
-fn ordered_key(x: f64) -> i64 {
-    let bits = x.to_bits() as i64;
-    bits ^ (((bits >> 63) as u64) >> 1) as i64
-}
-
-/// The entry of largest key that the cut can split (the last of equal ones, as
-/// [`Iterator::max_by`] takes), `None` when none can.
-fn most_urgent(keys: &[i64]) -> Option<usize> {
-    let (mut most, mut at) = (NOT_SPLIT, None);
-    for (k, &key) in keys.iter().enumerate() {
-        if key >= most && key != NOT_SPLIT {
-            (most, at) = (key, Some(k));
-        }
-    }
-    at
 }
 
 /// How urgently a cut splits `c`: its largest share `max_k s_e(x_k)`, or its bound as a

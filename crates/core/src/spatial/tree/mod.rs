@@ -55,6 +55,7 @@ mod build;
 mod cut_candidate;
 mod cut_columns;
 mod cut_growth;
+mod cut_order;
 mod dark_over;
 mod descent;
 mod fill;
