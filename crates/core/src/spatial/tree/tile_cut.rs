@@ -235,9 +235,9 @@ pub struct TileCuts {
 }
 
 /// One tile's cut in the words the GPU reads too: the column count `K` (0 when no entry of
-/// the tile has power), the `K` alias columns (module docs: threshold `t_c` in bits 0–23,
-/// alias `a_c` from bit 24), then per entry, in leaf order, its mass `m_e` and its child
-/// word.
+/// the tile has power), the `K` alias columns (module docs: threshold `t_c < C` in the low
+/// `log2 C` bits, alias `a_c` above them), then per entry, in leaf order, its mass `m_e`
+/// and its child word.
 type TileCut = Box<[u32]>;
 
 /// Two cuts are equal when they cut the same grid with the same limits: over equal trees
