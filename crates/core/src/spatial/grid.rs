@@ -30,30 +30,43 @@
 //! value `s`: code `c > 0` stands for `s·2^((c − 255)/8)` (8 codes an octave, 31 octaves),
 //! code 0 for nothing. 256 bytes a lane; the GPU reads the same codes.
 //!
+//! # A lane over a node: its child's maps, resampled
+//! A lane over a leaf cluster integrates its lights ([`LaneGrid::of_weighted`]). A lane over
+//! an internal node gives the plane what that node's four lanes give it, so its map is
+//! theirs, resampled onto its own cells ([`LaneGrid::of_lanes`]: each child cell's integral
+//! split over the cells it overlaps). The tree maps its lanes bottom up, so each light is
+//! integrated once, into its leaf cluster's lane, and a lane above costs `O(cells)` however
+//! many lights it holds. The child maps are finer than the lane's (their boxes lie in its
+//! box), so its cells are resolved as well as by integrating its lights into them, up to
+//! the children's 8-bit codes. The exact variances (`tile_cuts` example) moved within ±3 %
+//! against integrating every light into every lane above it: the tree from its root
+//! `stage` 151× → 155× below power sampling, `gallery` 4366× → 4227×, `random` 156× →
+//! 158×, `arena` 195× → 196×; with the tiles' cuts 416× → 415×, 2551× → 2620×, 288× →
+//! 289×, 512× → 526×. Leaf lanes integrated on coarser cells (8 × 8, each spread over its
+//! four) cost the whole tree that coarseness, since every map above is built from them:
+//! `tree_variance` read `stage` 477× → 236× and `random` 271× → 115×, and 4 × 4 quartered
+//! the gains, for a refit a quarter and two fifths faster.
+//!
 //! # New powers
 //! A map is linear in its lights' powers, and the light tree integrates it in their
 //! weights `w_i = Φ_i·2^-e` ([`crate::PmfScale::weight`], exact), keeping the scale and the
 //! unbounded lights' intensity in those weights beside the codes
 //! ([`MappedLanes::weighted`]), and divides by the weights' sum `S` (`p_i = w_i/S`) for the
 //! descent. New powers change the sum but leave a light's weight alone unless its own power
-//! (or the largest power's binary exponent `e`) changes, so a refit integrates again only
-//! the lanes over a light whose weight changed and divides every other lane's by the new
-//! sum: the same bits as a fresh build. Measured at 10^5 spots over the unit square
-//! (`lightpick bench`'s `tree-refit-spots-one`): one light's new power costs 142 ms on two
-//! threads, a ninth of a refit of every power (1.24 s); the lanes above the light hold
-//! 72 000 lights (the footprint layout is unbalanced: its root's largest lane holds half of
-//! them), integrated over 5.2 million cell parts with 11.6 million evaluations. An
-//! evaluation that a test of squares finds dark (a footprint's box holds a fifth or more
-//! that its ellipse does not) skips the square root and the divisions, and a cell part
-//! counts its points by comparisons rather than two calls to `ceil` (which the baseline
-//! x86-64 target makes library calls): together a quarter off both (190 and 1 670 ms
-//! before, the same bits). Timed lane by lane on one thread, a light costs 2.6–4.3 µs at
-//! every depth of that tree from the root's grandchildren down (about 130–190 evaluations:
-//! a lane's box shrinks with its lights' footprints, so a footprint spans about as many of
-//! its cells at every level); those fourteen depths took 2.6 s. Integrating every light
-//! once per level cannot come near 15 ms at 10^5 spots (150 ns a light, six or seven
-//! evaluations): that needs maps on a few levels only, or maps built from their
-//! children's.
+//! (or the largest power's binary exponent `e`) changes, so a refit maps again only the
+//! lanes over a light whose weight changed (its leaf cluster's lane from its lights, the
+//! lanes above from their children) and divides every other lane's by the new sum: the same
+//! bits as a fresh build. An evaluation that a test of squares finds dark (a footprint's box
+//! holds a fifth or more that its ellipse does not) skips the square root and the
+//! divisions, and a cell part counts its points by comparisons rather than two calls to
+//! `ceil` (which the baseline x86-64 target makes library calls). A light costs about 130–190
+//! evaluations (2.6–4.3 µs on one thread) in its leaf cluster's lane; when every lane
+//! integrated all of its lights, it paid that at every depth (fourteen in the tree of
+//! `lightpick bench`'s 10^5 spots). Measured at those 10^5 spots on two threads, a refit
+//! keeping the bounds' geometry and summing only their intensities again: every power
+//! 241–243 ms (`tree-refit-spots`; 1.25 s with every lane integrating its lights), one
+//! light's 3.0–3.1 ms (`tree-refit-spots-one`; 145 ms). Two thirds of a full refit is the
+//! leaf lanes' integration.
 //!
 //! # Measured: importances and splits for spots
 //! Exact variances `Σ c_i²/P_i − E²` (mean over 37 × 37 shading points, over power
@@ -88,6 +101,7 @@
 
 use glam::{DVec2, DVec3};
 
+mod from_lanes;
 mod mapped;
 
 pub use mapped::MappedLanes;
@@ -233,18 +247,26 @@ impl LaneGrid {
             }
             add_light(&mut integral, lo, cell, &weighted, e, [a, b]);
         }
+        grid.set_integral(lo, size, &integral);
+        grid
+    }
+
+    /// Sets the map over the box from `lo` of size `size` from each cell's integral (its
+    /// mean value times its area), row by row: the scale is the largest mean, each code the
+    /// nearest to its cell's mean ([`encode`]). No map where the largest is 0 or not finite.
+    fn set_integral(&mut self, lo: DVec2, size: DVec2, integral: &[f64; GRID_CELLS]) {
+        let cell = size / GRID_SIDE as f64;
         let area = cell.x * cell.y;
         let scale = integral.iter().fold(0.0f64, |m, &v| m.max(v)) / area;
         if !(scale > 0.0 && scale.is_finite()) {
-            return grid;
+            return;
         }
-        grid.lo = lo;
-        grid.cells_per_unit = DVec2::splat(GRID_SIDE as f64) / size;
-        grid.scale = scale;
-        for (code, v) in grid.codes.iter_mut().zip(integral) {
+        self.lo = lo;
+        self.cells_per_unit = DVec2::splat(GRID_SIDE as f64) / size;
+        self.scale = scale;
+        for (code, &v) in self.codes.iter_mut().zip(integral) {
             *code = encode(v / area, scale);
         }
-        grid
     }
 
     /// The cell of `point_on_plane`, if the map holds it.

@@ -4,11 +4,11 @@
 use glam::{DVec2, DVec3};
 
 use super::node::{ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
-use super::{LightTree, MapWeights, fill, footprint_split, layout};
+use super::{LightTree, MapWeights, fill, footprint_split, layout, map_fill};
 use crate::powers::LightPowers;
 use crate::scene::Emission;
 use crate::spatial::bounds::LaneBounds;
-use crate::spatial::grid::{LaneGrid, MappedLanes};
+use crate::spatial::grid::MappedLanes;
 use crate::spatial::{SpatialLight, contributing};
 
 impl LightTree {
@@ -98,8 +98,9 @@ impl LightTree {
     }
 
     /// Recomputes every lane's power, centroid and bounds from the lights, bottom up, and
-    /// over spots the lanes' maps: every lane's, or with `only_reweighed` those over a light
-    /// whose weight changed (the others keep theirs); `sum` is the weights' sum.
+    /// over spots the lanes' maps: every lane's, or with `only_reweighed` (a refit: same
+    /// positions and profiles) only the bounds' intensities and the maps over a light whose
+    /// weight changed (the others keep theirs); `sum` is the weights' sum.
     fn fill_lanes(&mut self, sum: f64, only_reweighed: bool) {
         if self.nodes.is_empty() {
             return;
@@ -112,56 +113,40 @@ impl LightTree {
             index: 0,
         };
         if emission.is_some() {
-            fill::fill::<fill::Bounded>(job, &self.lights, emission);
+            // A refit keeps the bounds' geometry and sums the lanes' intensities again.
+            if only_reweighed {
+                fill::fill::<fill::Reweighed>(job, &self.lights, emission);
+            } else {
+                fill::fill::<fill::Bounded>(job, &self.lights, emission);
+            }
             self.fill_grids(sum, only_reweighed);
         } else {
             fill::fill::<fill::Aggregate>(job, &self.lights, None);
         }
     }
 
-    /// Recomputes the lanes' maps ([`crate::spatial::grid`]) from their lights in their
-    /// weights, nodes in parallel (each map depends on its own lights only: the same bits on
-    /// any thread count): every lane's, or with `only_reweighed` only those over a light
-    /// whose bit in `reweighed` is set (a lane whose lights keep their weights would map to
-    /// the same bits). Then every map is normalized by `sum`, and every lane's footprint and
-    /// peak intensity taken from its bounds. Each lane's lights are found by
-    /// [`LightTree::span`] (`O(depth)` a lane), so nothing is allocated once the maps are.
+    /// Recomputes the lanes' maps ([`crate::spatial::grid`]) in the lights' weights, bottom
+    /// up ([`map_fill`]: a leaf cluster's lane from its lights, a node's lane from its child
+    /// node's maps; subtrees in parallel, the same bits on any thread count): every lane's,
+    /// or with `only_reweighed` only those over a light whose bit in `reweighed` is set.
+    /// Then every map is normalized by `sum`, and every lane's footprint and peak intensity
+    /// taken from its bounds. Nothing is allocated once the maps are.
     fn fill_grids(&mut self, sum: f64, only_reweighed: bool) {
         use rayon::prelude::*;
         let mut mapped = std::mem::take(&mut self.mapped);
         mapped.resize(self.nodes.len(), MappedLanes::EMPTY);
-        let tree = &*self;
         // Every tree over spots has weights.
-        let Some(w) = tree.weights.as_deref() else {
-            self.mapped = mapped;
-            return;
-        };
-        mapped
-            .par_iter_mut()
-            .zip(tree.nodes.par_iter())
-            .zip(tree.bounds.par_iter())
-            .with_max_len(1)
-            .for_each(|((node_lanes, node), bounds)| {
-                for (k, &child) in node.child.iter().enumerate() {
-                    let span = tree.span(child);
-                    if only_reweighed && !span.clone().is_some_and(|r| any_bit_in(&w.reweighed, r))
-                    {
-                        continue;
-                    }
-                    let grid = span.map_or(LaneGrid::EMPTY, |r| {
-                        let weights = &w.weight[r.clone()];
-                        LaneGrid::of_weighted(
-                            &tree.lights[r.clone()],
-                            |j| weights[j],
-                            &tree.emission[r.clone()],
-                            &tree.footprints[r],
-                        )
-                    });
-                    node_lanes.set_map(k, &grid);
-                }
-                node_lanes.set_bounds(bounds);
-                node_lanes.normalize(sum);
-            });
+        if let Some(w) = self.weights.as_deref() {
+            map_fill::map_subtree(self, w, &mut mapped, 0, only_reweighed);
+            mapped
+                .par_iter_mut()
+                .zip(self.bounds.par_iter())
+                .with_min_len(1 << 6)
+                .for_each(|(lanes, bounds)| {
+                    lanes.set_bounds(bounds);
+                    lanes.normalize(sum);
+                });
+        }
         self.mapped = mapped;
     }
 
@@ -175,11 +160,12 @@ impl LightTree {
     /// lights' weights `w_i = Φ_i·2^-e` ([`crate::PmfScale::weight`]) and divided by their
     /// sum: a light whose power changes changes its weight, the others keep theirs (unless
     /// the largest power's binary exponent `e` changes), so only the lanes over a light whose
-    /// weight changed are integrated again, each light into the maps of the lanes above it,
-    /// and every other map is divided by the new sum. One light's new power costs the maps
-    /// on its path (`tree-refit-spots-one` in `lightpick bench`); new powers everywhere cost
-    /// `O(N · depth)` footprint integrations, as a build (`tree-refit-spots`). Nothing is
-    /// allocated either way. A tree with per-tile cuts ([`super::TileCuts`]) drops its
+    /// weight changed are mapped again (its leaf cluster's lane from its lights, the lanes
+    /// above from their children's maps), and every other map is divided by the new sum.
+    /// One light's new power costs one leaf lane's integration and `O(depth)` resampled maps
+    /// (`tree-refit-spots-one` in `lightpick bench`); new powers everywhere cost `O(N)`
+    /// footprint integrations and `O(cells)` a node, as a build (`tree-refit-spots`). Nothing
+    /// is allocated either way. A tree with per-tile cuts ([`super::TileCuts`]) drops its
     /// tiles' cuts (nothing allocated): each tile is cut again when a pick next needs it
     /// (`O(K · depth)` a tile; `tree-refit-cuts` times the refit with every tile cut).
     ///
@@ -227,22 +213,6 @@ impl LightTree {
             cuts.clear();
         }
     }
-}
-
-/// Whether any bit of `bits` (bit `j % 64` of word `j / 64` for `j`) in `range` is set.
-fn any_bit_in(bits: &[u64], range: std::ops::Range<usize>) -> bool {
-    if range.is_empty() {
-        return false;
-    }
-    let (first, last) = (range.start / 64, (range.end - 1) / 64);
-    let head = u64::MAX << (range.start % 64);
-    let tail = u64::MAX >> (63 - (range.end - 1) % 64);
-    if first == last {
-        return bits[first] & head & tail != 0;
-    }
-    bits[first] & head != 0
-        || bits[first + 1..last].iter().any(|&w| w != 0)
-        || bits[last] & tail != 0
 }
 
 /// The layout of the contributing lights (scene index, light, profile): the internal nodes,
@@ -315,32 +285,4 @@ fn footprints_in(
             }
         })
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::any_bit_in;
-
-    /// Every range of a 200-bit set, against a bit-by-bit scan.
-    #[test]
-    fn any_bit_in_a_range_is_found_as_a_scan_finds_it() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        for density in [1u64, 8, 64] {
-            let mut bits = [0u64; 4];
-            for j in 0..200 {
-                state = state
-                    .wrapping_mul(6_364_136_223_846_793_005)
-                    .wrapping_add(1);
-                if (state >> 33).is_multiple_of(density) {
-                    bits[j / 64] |= 1 << (j % 64);
-                }
-            }
-            for start in 0..=200 {
-                for end in start..=200 {
-                    let scanned = (start..end).any(|j| bits[j / 64] >> (j % 64) & 1 == 1);
-                    assert_eq!(any_bit_in(&bits, start..end), scanned, "{start}..{end}");
-                }
-            }
-        }
-    }
 }

@@ -48,6 +48,10 @@ pub(super) trait Summary: Copy + Send {
     fn aggregate(&self) -> &Aggregate;
     /// The lane's bounds (empty for an empty lane, or without profiles).
     fn bounds(&self) -> LaneBounds;
+    /// Writes a node's lanes' bounds into `out`: all of [`Summary::bounds`].
+    fn write_bounds(lanes: &[Self; TREE_WIDTH], out: &mut [LaneBounds; TREE_WIDTH]) {
+        *out = lanes.map(|a| a.bounds());
+    }
 }
 
 impl Summary for Aggregate {
@@ -132,6 +136,68 @@ impl Summary for Bounded {
 
     fn bounds(&self) -> LaneBounds {
         self.bounds.unwrap_or(LaneBounds::EMPTY)
+    }
+}
+
+/// An [`Aggregate`] with the lane's `Σ p_i·g_i` alone (`None` for an empty lane), for a
+/// refit over lights with profiles: the rest of a lane's [`LaneBounds`] (boxes, cones,
+/// ranges, footprints) depends on positions and profiles only, so it stays as built, and
+/// the sum is taken in the order [`LaneBounds::union`] takes it (a lane's lights in leaf
+/// order, a node's lanes in lane order): the same bits as a build, without the lights'
+/// footprints and cones computed again.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Reweighed {
+    aggregate: Aggregate,
+    intensity: Option<f64>,
+}
+
+impl Summary for Reweighed {
+    const EMPTY: Reweighed = Reweighed {
+        aggregate: Aggregate::EMPTY,
+        intensity: None,
+    };
+
+    fn of_leaf(lights: &[SpatialLight], emission: Option<&[Emission]>) -> Self {
+        let intensity = emission.map(|e| {
+            // `LaneBounds::EMPTY ∪ first` is the first light's bounds, then each adds.
+            let mut each = lights.iter().zip(e).map(|(l, e)| l.power * e.gain());
+            let first = each.next().unwrap_or(0.0);
+            each.fold(first, |sum, i| sum + i)
+        });
+        Reweighed {
+            aggregate: Aggregate::of_leaf(lights, emission),
+            intensity,
+        }
+    }
+
+    fn of_lanes(lanes: &[Reweighed; TREE_WIDTH]) -> Self {
+        let intensity = lanes[0].intensity.map(|first| {
+            lanes[1..]
+                .iter()
+                .filter_map(|a| a.intensity)
+                .fold(first, |sum, i| sum + i)
+        });
+        Reweighed {
+            aggregate: Aggregate::of_lanes(&lanes.map(|l| l.aggregate)),
+            intensity,
+        }
+    }
+
+    fn aggregate(&self) -> &Aggregate {
+        &self.aggregate
+    }
+
+    fn bounds(&self) -> LaneBounds {
+        LaneBounds::EMPTY
+    }
+
+    /// Only each lane's intensity: the rest is as built (an empty lane's bounds are empty).
+    fn write_bounds(lanes: &[Self; TREE_WIDTH], out: &mut [LaneBounds; TREE_WIDTH]) {
+        for (bounds, lane) in out.iter_mut().zip(lanes) {
+            if let Some(i) = lane.intensity {
+                bounds.intensity = i;
+            }
+        }
     }
 }
 
@@ -276,7 +342,7 @@ pub(super) fn fill<S: Summary>(
         }
     }
     if let Some(b) = this_bounds {
-        b[0] = lanes.map(|a| a.bounds());
+        S::write_bounds(&lanes, &mut b[0]);
     }
     let summary = S::of_lanes(&lanes);
     node.reach = summary.aggregate().reach();

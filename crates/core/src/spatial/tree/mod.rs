@@ -61,6 +61,7 @@ mod descent;
 mod fill;
 mod footprint_split;
 mod layout;
+mod map_fill;
 mod node;
 mod tile_cut;
 
