@@ -364,6 +364,29 @@ fn assert_interleaved_equal_single(
     }
 }
 
+/// A tree large enough for its interleaved descents to prefetch each pick's next node and
+/// leaf (`2^15` lights and more) still picks as single descents do, draw for draw, from
+/// the root and from its tiles' cuts.
+#[test]
+fn prefetching_descents_equal_single_ones_bit_for_bit() {
+    let (positions, powers) = random_lights(40_000, 41, 3.0);
+    let SpatialSampler::Tree(tree) = SpatialSampler::build(&positions, &powers) else {
+        panic!("40 000 lights take the tree");
+    };
+    assert_interleaved_equal_single(&tree, 100, |s, b| POINTS[(s as usize + b) % POINTS.len()]);
+    let plane = ReceiverPlane {
+        min: dvec2(-2.0, -1.0),
+        max: dvec2(2.0, 1.0),
+        width: 64,
+        height: 32,
+    };
+    let cut = tree.with_tile_cuts(&plane);
+    assert!(cut.tile_cuts().is_some());
+    assert_interleaved_equal_single(&cut, 100, |s, b| {
+        pixel_center(&plane, (s as u32 * 7 + b as u32) % 64, (s as u32) % 32)
+    });
+}
+
 /// `sample_many` (the descents interleaved) is `sample` for each point, draw for draw, and
 /// the renderer's batches of pixels (an 11-pixel row: one batch of 8 and 3 single pixels)
 /// add exactly the sequential estimates.

@@ -158,11 +158,22 @@ impl LightTree {
                 .start(points[b], &mut rngs[b])
                 .unwrap_or((ChildRef::EMPTY, 0.0));
         }
+        // Large trees ask for each pick's next node a round of the other picks' steps
+        // before it is read.
+        let prefetch = self.lights.len() >= super::prefetch::PREFETCH_MIN_LIGHTS;
+        if prefetch {
+            for &a in &at {
+                self.prefetch_below(a);
+            }
+        }
         loop {
             let mut descending = false;
             for b in 0..B {
                 if let Child::Node(k) = at[b].get() {
                     at[b] = self.step(k, points[b], &mut rngs[b], &mut pdf[b]);
+                    if prefetch {
+                        self.prefetch_below(at[b]);
+                    }
                     descending = true;
                 }
             }
@@ -171,6 +182,22 @@ impl LightTree {
             }
         }
         std::array::from_fn(|b| self.pick_in_leaf(at[b], points[b], &mut rngs[b], pdf[b]))
+    }
+
+    /// Asks for what a descent reads next at `at` ([`super::prefetch`]): an internal node's
+    /// lanes (and over spots its maps' parameters), or a leaf cluster's lights.
+    #[inline]
+    fn prefetch_below(&self, at: ChildRef) {
+        match at.get() {
+            Child::Node(k) => {
+                super::prefetch::prefetch(&self.nodes[k]);
+            }
+            Child::Leaf { first, count } => {
+                super::prefetch::prefetch_all(&self.lights[first..first + count]);
+                super::prefetch::prefetch(&self.order[first]);
+            }
+            Child::Empty => {}
+        }
     }
 
     /// One level of the descent: node `k`'s lane picked by the next draw, its grid

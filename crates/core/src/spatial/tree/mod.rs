@@ -16,7 +16,11 @@
 //! 87 381 nodes (`(4^9 − 1)/3`: its leaf clusters hold 3–4 lights), 7 bytes per light.
 //!
 //! Depth: about `log4(M / 8)` nodes (8–9 for 10^6 lights, against 20 levels of the binary
-//! tree this replaced), then one pick inside the leaf.
+//! tree this replaced), then one pick inside the leaf. Among a million lights each level's
+//! node is a cache miss: the renderer descends eight pixels' picks in lockstep
+//! ([`LightTree::sample_many`]), and in a tree of at least `2^15` lights each pick asks for
+//! its next node (or leaf cluster) as soon as it is known, a round of the other picks' steps
+//! before reading it (`prefetch`): 42–44 % off a spatial sample at 10^6 lights.
 //!
 //! # The pick and its pdf
 //! From the root, each node's four children get the branch probabilities of
@@ -63,6 +67,7 @@ mod footprint_split;
 mod layout;
 mod map_fill;
 mod node;
+mod prefetch;
 mod tile_cut;
 
 pub use node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
