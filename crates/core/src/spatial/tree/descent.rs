@@ -5,6 +5,7 @@ use glam::DVec2;
 
 use super::LightTree;
 use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
+use super::prefetch::{PREFETCH_MIN_LIGHTS, prefetch, prefetch_all};
 use crate::rng::Rng;
 use crate::scene::{distance_squared, four_pi_r_cubed};
 use crate::spatial::importance::{GRID, GRID_CELL, grid_masses, pick_on_grid};
@@ -151,19 +152,32 @@ impl LightTree {
         points: &[DVec2; B],
         rngs: &mut [Rng; B],
     ) -> [Option<SpatialPick>; B] {
+        // Large trees of point lights ask for each pick's next node a round of the other
+        // picks' steps before it is read; the others run the loop without the hints,
+        // compiled apart.
+        if self.mapped.is_empty() && self.lights.len() >= PREFETCH_MIN_LIGHTS {
+            self.descend_many::<B, true>(points, rngs)
+        } else {
+            self.descend_many::<B, false>(points, rngs)
+        }
+    }
+
+    /// [`LightTree::sample_many`], prefetching each pick's next node or leaf cluster when
+    /// `PREFETCH`.
+    #[inline]
+    fn descend_many<const B: usize, const PREFETCH: bool>(
+        &self,
+        points: &[DVec2; B],
+        rngs: &mut [Rng; B],
+    ) -> [Option<SpatialPick>; B] {
         let mut at = [ChildRef::EMPTY; B];
         let mut pdf = [0.0; B];
         for b in 0..B {
             (at[b], pdf[b]) = self
                 .start(points[b], &mut rngs[b])
                 .unwrap_or((ChildRef::EMPTY, 0.0));
-        }
-        // Large trees ask for each pick's next node a round of the other picks' steps
-        // before it is read.
-        let prefetch = self.lights.len() >= super::prefetch::PREFETCH_MIN_LIGHTS;
-        if prefetch {
-            for &a in &at {
-                self.prefetch_below(a);
+            if PREFETCH {
+                self.prefetch_below(at[b]);
             }
         }
         loop {
@@ -171,7 +185,7 @@ impl LightTree {
             for b in 0..B {
                 if let Child::Node(k) = at[b].get() {
                     at[b] = self.step(k, points[b], &mut rngs[b], &mut pdf[b]);
-                    if prefetch {
+                    if PREFETCH {
                         self.prefetch_below(at[b]);
                     }
                     descending = true;
@@ -185,16 +199,14 @@ impl LightTree {
     }
 
     /// Asks for what a descent reads next at `at` ([`super::prefetch`]): an internal node's
-    /// lanes (and over spots its maps' parameters), or a leaf cluster's lights.
+    /// lanes, or a leaf cluster's lights and scene indices.
     #[inline]
     fn prefetch_below(&self, at: ChildRef) {
         match at.get() {
-            Child::Node(k) => {
-                super::prefetch::prefetch(&self.nodes[k]);
-            }
+            Child::Node(k) => prefetch(&self.nodes[k]),
             Child::Leaf { first, count } => {
-                super::prefetch::prefetch_all(&self.lights[first..first + count]);
-                super::prefetch::prefetch(&self.order[first]);
+                prefetch_all(&self.lights[first..first + count]);
+                prefetch(&self.order[first]);
             }
             Child::Empty => {}
         }

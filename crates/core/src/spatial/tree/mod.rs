@@ -18,9 +18,10 @@
 //! Depth: about `log4(M / 8)` nodes (8–9 for 10^6 lights, against 20 levels of the binary
 //! tree this replaced), then one pick inside the leaf. Among a million lights each level's
 //! node is a cache miss: the renderer descends eight pixels' picks in lockstep
-//! ([`LightTree::sample_many`]), and in a tree of at least `2^15` lights each pick asks for
-//! its next node (or leaf cluster) as soon as it is known, a round of the other picks' steps
-//! before reading it (`prefetch`): 42–44 % off a spatial sample at 10^6 lights.
+//! ([`LightTree::sample_many`]), and in a tree of at least `2^15` point lights each pick
+//! asks for its next node (or leaf cluster) as soon as it is known, a round of the other
+//! picks' steps before reading it (`prefetch`): 42–44 % off a spatial sample at 10^6
+//! lights.
 //!
 //! # The pick and its pdf
 //! From the root, each node's four children get the branch probabilities of

@@ -5,46 +5,41 @@
 //! its cache lines then lets those loads (misses, among a million lights) run during that
 //! round, where an ordinary load issued at the step itself would stall it.
 
-/// The fewest lights a tree must hold for its descents to prefetch: below, its nodes and
-/// lights stay in the nearer caches and the hints only cost. Measured (`lightpick bench`,
-/// spatial sample, two runs each, point lights over 16 × 16 m): `heavy-tail`'s 10^4 lights
-/// 7 % slower with them, 2·10^4 uniform lights 11 % slower (the app's passes of one
-/// sample a pixel within noise), 5·10^4 4 % faster (the app's 20 %), 2·10^5 15–29 % and
-/// `million`'s 10^6 42–44 % faster (the app's 28 % and 49–57 %).
+/// The fewest lights a tree of point lights must hold for its descents to prefetch: below,
+/// its nodes and lights stay in the nearer caches and the hints only cost. Measured
+/// (`lightpick bench`, spatial sample, two runs each, point lights over 16 × 16 m):
+/// `heavy-tail`'s 10^4 lights 7 % slower with them, 2·10^4 uniform lights 11 % slower (the
+/// app's passes of one sample a pixel within noise), 5·10^4 4 % faster (the app's 20 %),
+/// 2·10^5 15–29 % and `million`'s 10^6 42–44 % faster (the app's 28 % and 49–57 %).
+///
+/// Trees over spots do not prefetch: at 10^5 spots over 16 × 16 m the hints (nodes, leaf
+/// lights, and the first lines of each node's maps and of each leaf's profiles) made a
+/// sample 5–8 % slower where a pixel takes many samples in a row and 8–13 % faster in the
+/// app's passes: no gain worth the code.
 pub(super) const PREFETCH_MIN_LIGHTS: usize = 1 << 15;
 
-/// [`prefetch`] of every element of `values`.
-#[inline]
-pub(super) fn prefetch_all<T>(values: &[T]) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use core::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        let start = values.as_ptr().cast::<i8>();
-        let mut offset = 0;
-        while offset < size_of_val(values) {
-            // SAFETY: as in `prefetch`.
-            #[allow(unsafe_code)]
-            unsafe {
-                _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(offset));
-            }
-            offset += 64;
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = values;
-}
-
-/// Asks for the cache lines of `value` (all of them, 64 bytes apart) to be loaded into
-/// every cache level; a hint with no effect on any result, and none on processors other
-/// than x86-64.
+/// Asks for the cache lines of `value`, all of them.
 #[inline]
 pub(super) fn prefetch<T>(value: &T) {
+    lines(std::ptr::from_ref(value).cast(), size_of::<T>());
+}
+
+/// Asks for the cache lines of every element of `values`.
+#[inline]
+pub(super) fn prefetch_all<T>(values: &[T]) {
+    lines(values.as_ptr().cast(), size_of_val(values));
+}
+
+/// Asks for the cache lines of the `bytes` bytes from `start` (one hint each 64 bytes) to be
+/// loaded into every cache level: a hint with no effect on any result, and none on
+/// processors other than x86-64.
+#[inline]
+fn lines(start: *const i8, bytes: usize) {
     #[cfg(target_arch = "x86_64")]
     {
         use core::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        let start = std::ptr::from_ref(value).cast::<i8>();
         let mut offset = 0;
-        while offset < size_of::<T>() {
+        while offset < bytes {
             // SAFETY: a prefetch reads nothing and cannot fault, whatever the address; the
             // SSE instruction it compiles to is part of every x86-64 processor.
             #[allow(unsafe_code)]
@@ -55,5 +50,5 @@ pub(super) fn prefetch<T>(value: &T) {
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
-    let _ = value;
+    let _ = (start, bytes);
 }
