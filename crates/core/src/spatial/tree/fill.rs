@@ -244,6 +244,18 @@ impl Aggregate {
     }
 }
 
+/// Where the subtree of a node's internal lane `lane` ends in the depth-first layout: at
+/// the next internal lane's node, or at `end`, the end of the node's own subtree.
+pub(super) fn subtree_end(children: &[Child; TREE_WIDTH], lane: usize, end: usize) -> usize {
+    children[lane + 1..]
+        .iter()
+        .find_map(|c| match c {
+            Child::Node(j) => Some(*j),
+            _ => None,
+        })
+        .unwrap_or(end)
+}
+
 /// One subtree to fill: its node slots (its own first, then its subtrees depth first) and
 /// their bounds, and the global index of its node.
 pub(super) struct Fill<'a> {
@@ -293,14 +305,7 @@ pub(super) fn fill<S: Summary>(
                 );
             }
             Child::Node(k) => {
-                let next = children[lane + 1..]
-                    .iter()
-                    .find_map(|c| match c {
-                        Child::Node(j) => Some(*j),
-                        _ => None,
-                    })
-                    .unwrap_or(end);
-                let count = next - k;
+                let count = subtree_end(&children, lane, end) - k;
                 let (slots, rest) = below.split_at_mut(count);
                 below = rest;
                 let slot_bounds = below_bounds.take().map(|b| {

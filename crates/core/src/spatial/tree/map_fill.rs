@@ -5,6 +5,7 @@
 //! are mapped in parallel, each in a fixed order, so the maps do not depend on the thread
 //! count, and a refit maps what a build maps.
 
+use super::fill::subtree_end;
 use super::node::{Child, ChildRef, TREE_WIDTH};
 use super::{LightTree, MapWeights};
 use crate::spatial::grid::{LaneGrid, MappedLanes};
@@ -39,14 +40,7 @@ pub(super) fn map_subtree(
     let mut jobs: [Option<(&mut [MappedLanes], usize)>; TREE_WIDTH] = std::array::from_fn(|_| None);
     for (lane, child) in children.iter().enumerate() {
         if let Child::Node(k) = *child {
-            let next = children[lane + 1..]
-                .iter()
-                .find_map(|c| match c {
-                    Child::Node(j) => Some(*j),
-                    _ => None,
-                })
-                .unwrap_or(end);
-            let (subtree, rest) = below.split_at_mut(next - k);
+            let (subtree, rest) = below.split_at_mut(subtree_end(&children, lane, end) - k);
             below = rest;
             jobs[lane] = Some((subtree, k));
         }
