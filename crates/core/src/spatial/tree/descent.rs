@@ -144,8 +144,9 @@ impl LightTree {
 
     /// [`LightTree::sample`] at `B` points at once, each from its own stream: the descents
     /// advance in lockstep, so that their node and light loads (cache misses among a million
-    /// lights) are independent and overlap. Pick `b` is exactly `sample(points[b], rngs[b])`,
-    /// with the same draws.
+    /// lights) are independent and overlap; in a tree of at least `2^15` point lights each
+    /// pick also prefetches its next node or leaf cluster a round ahead. Pick `b` is exactly
+    /// `sample(points[b], rngs[b])`, with the same draws.
     #[inline]
     pub fn sample_many<const B: usize>(
         &self,
