@@ -22,8 +22,6 @@ pub(super) struct Tournament {
     /// The winning position of each match: `winner[1]` of all, `winner[m]` of
     /// `winner[2m]` against `winner[2m + 1]`, the positions themselves from `key.len()` on.
     winner: Vec<u32>,
-    /// The keys while the tournament doubles.
-    spare: Vec<i64>,
 }
 
 impl Tournament {
@@ -61,10 +59,9 @@ impl Tournament {
     /// positions, `O(n)`, where `at` lies past them).
     pub(super) fn set(&mut self, at: usize, key: i64) {
         while at >= self.key.len() {
-            std::mem::swap(&mut self.key, &mut self.spare);
-            self.key.clear();
-            self.key.extend_from_slice(&self.spare);
-            self.key.resize(2 * self.spare.len(), NOT_SPLIT);
+            // The new positions hold no split; the matches are played again over them.
+            let doubled = (2 * self.key.len()).max(2);
+            self.key.resize(doubled, NOT_SPLIT);
             self.replay_all();
         }
         self.key[at] = key;
