@@ -461,7 +461,12 @@ fn render_pixels_spatial(
             std::array::from_fn(|j| pixel_center(plane, px0 + j as u32, py));
         for k in k0..k0 + spp {
             let mut rngs = std::array::from_fn(|j| stream(k, j));
-            let estimates = spatial.estimate_many(&points, &mut rngs);
+            // The pass's first sample of these pixels finds their tiles' cuts cold.
+            let estimates = if k == k0 {
+                spatial.estimate_many_cold(&points, &mut rngs)
+            } else {
+                spatial.estimate_many(&points, &mut rngs)
+            };
             for (j, e) in estimates.into_iter().enumerate() {
                 let e = e * to_unit;
                 sum[j] += e;

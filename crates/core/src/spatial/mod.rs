@@ -364,6 +364,24 @@ impl SpatialSampler {
         }
     }
 
+    /// [`SpatialSampler::estimate_many`] for points whose tiles' cuts have likely left the
+    /// caches since last read (the first sample a pass takes at each pixel: the app's passes
+    /// of one sample a pixel); the same estimates, with the cuts' lines asked for ahead
+    /// ([`LightTree::sample_many_cold`]).
+    #[inline]
+    pub fn estimate_many_cold<const B: usize>(
+        &self,
+        points: &[DVec2; B],
+        rngs: &mut [Rng; B],
+    ) -> [f64; B] {
+        match self {
+            SpatialSampler::Exact(_) => self.estimate_many(points, rngs),
+            SpatialSampler::Tree(t) => t
+                .sample_many_cold(points, rngs)
+                .map(|p| p.map_or(0.0, |p| p.estimate)),
+        }
+    }
+
     /// `P(i | x)`, the probability that [`SpatialSampler::sample`] picks light `i` at `x`.
     pub fn pdf(&self, x: DVec2, light: usize) -> f64 {
         match self {

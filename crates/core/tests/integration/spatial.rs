@@ -341,8 +341,8 @@ fn all_pdfs_at_once_equal_the_pdf_of_each_light() {
     }
 }
 
-/// `tree.sample_many` over `sets` sets of 8 points (`point(set, b)`) equals 8 single
-/// `sample`s, draw for draw.
+/// `tree.sample_many` and `tree.sample_many_cold` over `sets` sets of 8 points
+/// (`point(set, b)`) each equal 8 single `sample`s, draw for draw.
 fn assert_interleaved_equal_single(
     tree: &LightTree,
     sets: u64,
@@ -350,16 +350,22 @@ fn assert_interleaved_equal_single(
 ) {
     for s in 0..sets {
         let points: [DVec2; 8] = std::array::from_fn(|b| point(s, b));
-        let mut rngs: [Rng; 8] = std::array::from_fn(|b| Rng::new(s, b as u64));
-        let many = tree.sample_many(&points, &mut rngs);
-        for b in 0..8 {
-            let mut rng = Rng::new(s, b as u64);
-            assert_eq!(
-                many[b],
-                tree.sample(points[b], &mut rng),
-                "s = {s}, b = {b}"
-            );
-            assert_eq!(rngs[b], rng, "the same draws");
+        for cold in [false, true] {
+            let mut rngs: [Rng; 8] = std::array::from_fn(|b| Rng::new(s, b as u64));
+            let many = if cold {
+                tree.sample_many_cold(&points, &mut rngs)
+            } else {
+                tree.sample_many(&points, &mut rngs)
+            };
+            for b in 0..8 {
+                let mut rng = Rng::new(s, b as u64);
+                assert_eq!(
+                    many[b],
+                    tree.sample(points[b], &mut rng),
+                    "s = {s}, b = {b}, cold: {cold}"
+                );
+                assert_eq!(rngs[b], rng, "the same draws");
+            }
         }
     }
 }
@@ -420,6 +426,26 @@ fn interleaved_descents_equal_single_ones_bit_for_bit() {
     assert_eq!(cut.clone().with_cuts(None), tree, "the same tree, cut");
     assert_interleaved_equal_single(cut, 50, |s, b| {
         pixel_center(&scene.plane, (s as u32 + b as u32) % 11, (s as u32 / 3) % 5)
+    });
+    // Its cold picks ask for their cuts' lines ahead where a cut holds more than 32 entries
+    // (64 alias columns and more): some do here. Points off the plane, which start at the root,
+    // mixed into the same batches.
+    let cuts = cut.tile_cuts().expect("cuts");
+    let [tiles_x, tiles_y] = cuts.tiles();
+    assert!(
+        (0..(tiles_x * tiles_y) as usize).any(|tile| cuts.entries(cut, tile).count() > 32),
+        "a cut of more than 32 entries"
+    );
+    assert_interleaved_equal_single(cut, 50, |s, b| {
+        if (s as usize + b).is_multiple_of(3) {
+            POINTS[(s as usize + b) % POINTS.len()] + dvec2(5.0, 0.0)
+        } else {
+            pixel_center(
+                &scene.plane,
+                (s as u32 * 5 + b as u32) % 11,
+                (s as u32 + b as u32) % 5,
+            )
+        }
     });
     let to_unit = lightpick_core::Scaled::pow2(-scene.irradiance_shift()).to_f64();
     for py in 0..5 {

@@ -3,9 +3,9 @@
 
 use glam::DVec2;
 
-use super::LightTree;
 use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
-use super::prefetch::{PREFETCH_MIN_LIGHTS, prefetch, prefetch_all};
+use super::prefetch::{CUT_PREFETCH_MIN_LIGHTS, PREFETCH_MIN_LIGHTS, prefetch, prefetch_all};
+use super::{LightTree, TileCuts};
 use crate::rng::Rng;
 use crate::scene::{distance_squared, four_pi_r_cubed};
 use crate::spatial::importance::{GRID, GRID_CELL, grid_masses, pick_on_grid};
@@ -116,6 +116,38 @@ impl LightTree {
         }
     }
 
+    /// [`LightTree::start`] at `B` points, each from its own stream, with the same draws: on
+    /// the cuts every pick's tile and draw are taken first, asking for the alias column and
+    /// entry each will read (`TileCuts::prefetch_pick`), so that the picks' loads (cache
+    /// misses where the cuts outgrow the nearer caches) overlap rather than follow one
+    /// another.
+    #[inline]
+    fn start_many<const B: usize>(
+        &self,
+        points: &[DVec2; B],
+        rngs: &mut [Rng; B],
+    ) -> [Option<(ChildRef, f64)>; B] {
+        let Some(cuts) = self.cuts.as_deref() else {
+            return [Some((self.root, 1.0)); B];
+        };
+        let mut drawn: [Option<(&[u32], u32)>; B] = [None; B];
+        for b in 0..B {
+            if let Some(tile) = cuts.tile_at(points[b]) {
+                let words = cuts.words(self, tile);
+                let u = rngs[b].next_u32() >> 8;
+                TileCuts::prefetch_pick(words, u);
+                drawn[b] = Some((words, u));
+            }
+        }
+        drawn.map(|d| match d {
+            Some((words, u)) => {
+                let (entry, mass) = TileCuts::pick_in(words, u)?;
+                Some((entry, f64::from(mass) * GRID_CELL))
+            }
+            None => Some((self.root, 1.0)),
+        })
+    }
+
     /// The entries a pick at `x` may start from with their probabilities: the tile's cut,
     /// or the root alone off the cuts.
     fn starts(&self, x: DVec2) -> Vec<(ChildRef, f64)> {
@@ -153,30 +185,62 @@ impl LightTree {
         points: &[DVec2; B],
         rngs: &mut [Rng; B],
     ) -> [Option<SpatialPick>; B] {
+        self.sample_many_with(points, rngs, false)
+    }
+
+    /// [`LightTree::sample_many`] for points whose tiles' cuts have likely left the caches
+    /// since they were last read (the first sample a pass takes at each pixel): in a tree
+    /// of more than 256 point lights the picks take their cuts' draws first and ask for the
+    /// lines each will read, then pick (`prefetch`). The same picks, with the same draws.
+    #[inline]
+    pub fn sample_many_cold<const B: usize>(
+        &self,
+        points: &[DVec2; B],
+        rngs: &mut [Rng; B],
+    ) -> [Option<SpatialPick>; B] {
+        self.sample_many_with(points, rngs, true)
+    }
+
+    /// [`LightTree::sample_many`], or [`LightTree::sample_many_cold`] when `cold`.
+    #[inline]
+    fn sample_many_with<const B: usize>(
+        &self,
+        points: &[DVec2; B],
+        rngs: &mut [Rng; B],
+        cold: bool,
+    ) -> [Option<SpatialPick>; B] {
         // Large trees of point lights ask for each pick's next node a round of the other
-        // picks' steps before it is read; the others run the loop without the hints,
+        // picks' steps before it is read, and cold picks over more point lights than a
+        // cut's entries for their cuts' lines; the others run the loop without the hints,
         // compiled apart.
-        if self.mapped.is_empty() && self.lights.len() >= PREFETCH_MIN_LIGHTS {
-            self.descend_many::<B, true>(points, rngs)
-        } else {
-            self.descend_many::<B, false>(points, rngs)
+        let points_only = self.mapped.is_empty();
+        let nodes = points_only && self.lights.len() >= PREFETCH_MIN_LIGHTS;
+        let cuts = cold && points_only && self.lights.len() > CUT_PREFETCH_MIN_LIGHTS;
+        match (nodes, cuts) {
+            (true, true) => self.descend_many::<B, true, true>(points, rngs),
+            (true, false) => self.descend_many::<B, true, false>(points, rngs),
+            (false, true) => self.descend_many::<B, false, true>(points, rngs),
+            (false, false) => self.descend_many::<B, false, false>(points, rngs),
         }
     }
 
     /// [`LightTree::sample_many`], prefetching each pick's next node or leaf cluster when
-    /// `PREFETCH`.
+    /// `PREFETCH`, and its cut's lines when `PREFETCH_CUTS` ([`LightTree::start_many`]).
     #[inline]
-    fn descend_many<const B: usize, const PREFETCH: bool>(
+    fn descend_many<const B: usize, const PREFETCH: bool, const PREFETCH_CUTS: bool>(
         &self,
         points: &[DVec2; B],
         rngs: &mut [Rng; B],
     ) -> [Option<SpatialPick>; B] {
         let mut at = [ChildRef::EMPTY; B];
         let mut pdf = [0.0; B];
+        let prefetched = PREFETCH_CUTS.then(|| self.start_many(points, rngs));
         for b in 0..B {
-            (at[b], pdf[b]) = self
-                .start(points[b], &mut rngs[b])
-                .unwrap_or((ChildRef::EMPTY, 0.0));
+            let start = match prefetched {
+                Some(starts) => starts[b],
+                None => self.start(points[b], &mut rngs[b]),
+            };
+            (at[b], pdf[b]) = start.unwrap_or((ChildRef::EMPTY, 0.0));
             if PREFETCH {
                 self.prefetch_below(at[b]);
             }

@@ -3,7 +3,10 @@
 //! The lockstep descents of [`super::LightTree::sample_many`] know each pick's next node (or
 //! leaf cluster) a whole round of the other picks' steps before they read it. Asking for
 //! its cache lines then lets those loads (misses, among a million lights) run during that
-//! round, where an ordinary load issued at the step itself would stall it.
+//! round, where an ordinary load issued at the step itself would stall it. The same holds
+//! for the first step of each pick, the entry its tile's cut takes, where the cut has left
+//! the caches ([`super::LightTree::sample_many_cold`]): its alias column and entry are known
+//! from the draw, a round of the other picks' draws ahead.
 
 /// The fewest lights a tree of point lights must hold for its descents to prefetch: below,
 /// its nodes and lights stay in the nearer caches and the hints only cost. Measured
@@ -17,6 +20,27 @@
 /// sample 5–8 % slower where a pixel takes many samples in a row and 8–13 % faster in the
 /// app's passes: no gain worth the code.
 pub(super) const PREFETCH_MIN_LIGHTS: usize = 1 << 15;
+
+/// The most point lights a tree may hold and still start its cold lockstep picks
+/// (`LightTree::sample_many_cold`) one by one. A larger one takes every pick's tile and
+/// draw first and asks for the alias column and entry each will read in its tile's cut
+/// (`LightTree::start_many`, `TileCuts::prefetch_pick`), then picks. A tile's cut of up to
+/// 256 entries is 3 kB of words, 4096 tiles 12 MB: a pass of one sample a pixel finds each
+/// tile's cut gone from the nearer caches since the last pass, and a pick's column and
+/// entry are two lines of it at random.
+///
+/// Measured with `cargo run --release -p lightpick-core --example pass_order` (one thread,
+/// 256 × 256 pixels, tiles of 4), ns per pixel sample in passes of one sample a pixel
+/// without → with the hints: `heavy-tail` 198.5 → 147.3, `clusters-low` 252.5 → 170.3,
+/// `grid` 104.6 → 72.5 (1.35×, 1.48×, 1.44×); `million` (cuts of 64 entries) 400–460 →
+/// 360–375 in a scratch run. Where a pixel takes its samples in a row the cut stays cached
+/// after the first, and the two rounds only cost (`heavy-tail` 105.2 → 126.3): the renderer
+/// takes the cold picks for the first sample a call gives each pixel, the warm ones after.
+/// At `equal`'s 64 lights (cuts of 64 single lights, which stay cached) the two rounds cost
+/// 13–18 % (a scratch timer), so a tree of at most this many lights (a cut's most entries:
+/// each light may stand alone in it) keeps the single round; trees over spots keep it too
+/// (`stage` and `gallery` 1–3 % slower with it: their cuts are smaller).
+pub(super) const CUT_PREFETCH_MIN_LIGHTS: usize = super::CUT_MAX_ENTRIES;
 
 /// Asks for the cache lines of `value`, all of them.
 #[inline]
