@@ -121,31 +121,40 @@ impl LightTree {
     /// entry each will read (`TileCuts::prefetch_pick`), so that the picks' loads (cache
     /// misses where the cuts outgrow the nearer caches) overlap rather than follow one
     /// another.
+    /// Each start goes into `at[b]` and `pdf[b]` (the empty lane with probability 0 where
+    /// no entry of the tile has power).
     #[inline]
     fn start_many<const B: usize>(
         &self,
         points: &[DVec2; B],
         rngs: &mut [Rng; B],
-    ) -> [Option<(ChildRef, f64)>; B] {
+        at: &mut [ChildRef; B],
+        pdf: &mut [f64; B],
+    ) {
         let Some(cuts) = self.cuts.as_deref() else {
-            return [Some((self.root, 1.0)); B];
+            *at = [self.root; B];
+            *pdf = [1.0; B];
+            return;
         };
-        let mut drawn: [Option<(&[u32], u32)>; B] = [None; B];
+        // A cut's words are never empty: an empty slice marks a point off the cuts.
+        let mut words: [&[u32]; B] = [&[]; B];
+        let mut u = [0; B];
         for b in 0..B {
             if let Some(tile) = cuts.tile_at(points[b]) {
-                let words = cuts.words(self, tile);
-                let u = rngs[b].next_u32() >> 8;
-                TileCuts::prefetch_pick(words, u);
-                drawn[b] = Some((words, u));
+                words[b] = cuts.words(self, tile);
+                u[b] = rngs[b].next_u32() >> 8;
+                TileCuts::prefetch_pick(words[b], u[b]);
             }
         }
-        drawn.map(|d| match d {
-            Some((words, u)) => {
-                let (entry, mass) = TileCuts::pick_in(words, u)?;
-                Some((entry, f64::from(mass) * GRID_CELL))
-            }
-            None => Some((self.root, 1.0)),
-        })
+        for b in 0..B {
+            (at[b], pdf[b]) = if words[b].is_empty() {
+                (self.root, 1.0)
+            } else {
+                TileCuts::pick_in(words[b], u[b]).map_or((ChildRef::EMPTY, 0.0), |(e, m)| {
+                    (e, f64::from(m) * GRID_CELL)
+                })
+            };
+        }
     }
 
     /// The entries a pick at `x` may start from with their probabilities: the tile's cut,
@@ -234,15 +243,19 @@ impl LightTree {
     ) -> [Option<SpatialPick>; B] {
         let mut at = [ChildRef::EMPTY; B];
         let mut pdf = [0.0; B];
-        let prefetched = PREFETCH_CUTS.then(|| self.start_many(points, rngs));
-        for b in 0..B {
-            let start = match prefetched {
-                Some(starts) => starts[b],
-                None => self.start(points[b], &mut rngs[b]),
-            };
-            (at[b], pdf[b]) = start.unwrap_or((ChildRef::EMPTY, 0.0));
+        if PREFETCH_CUTS {
+            self.start_many(points, rngs, &mut at, &mut pdf);
             if PREFETCH {
-                self.prefetch_below(at[b]);
+                at.iter().for_each(|&a| self.prefetch_below(a));
+            }
+        } else {
+            for b in 0..B {
+                (at[b], pdf[b]) = self
+                    .start(points[b], &mut rngs[b])
+                    .unwrap_or((ChildRef::EMPTY, 0.0));
+                if PREFETCH {
+                    self.prefetch_below(at[b]);
+                }
             }
         }
         loop {
