@@ -246,7 +246,9 @@ impl LightTree {
         if PREFETCH_CUTS {
             self.start_many(points, rngs, &mut at, &mut pdf);
             if PREFETCH {
-                at.iter().for_each(|&a| self.prefetch_below(a));
+                for &a in &at {
+                    self.prefetch_below(a);
+                }
             }
         } else {
             for b in 0..B {
