@@ -31,10 +31,12 @@ pub(super) const PREFETCH_MIN_LIGHTS: usize = 1 << 15;
 ///
 /// Measured with `cargo run --release -p lightpick-core --example pass_order` (one thread,
 /// 256 × 256 pixels, tiles of 4), ns per pixel sample in passes of one sample a pixel
-/// without → with the hints: `heavy-tail` 198.5 → 147.3, `clusters-low` 252.5 → 170.3,
-/// `grid` 104.6 → 72.5 (1.35×, 1.48×, 1.44×); `million` (cuts of 64 entries) 400–460 →
-/// 360–375 in a scratch run. Where a pixel takes its samples in a row the cut stays cached
-/// after the first, and the two rounds only cost (`heavy-tail` 105.2 → 126.3): the renderer
+/// without → with the hints, in five runs: `heavy-tail` 1.31–1.46× faster (263.6 → 181.0 in
+/// the last), `clusters-low` 1.29–1.52× (246.7 → 162.5), `grid` 1.09–2.16× (107.9 → 50.0);
+/// `million` (cuts of 64 entries) 1.01× (its descents already prefetch); `equal` and
+/// `stage`, which run the same code either way, 0.88× and 1.08× (the machine's noise).
+/// Where a pixel takes its samples in a row the cut stays cached after the first, and the
+/// two rounds only cost (`heavy-tail` 119.6 → 136.3 with every sample cold): the renderer
 /// takes the cold picks for the first sample a call gives each pixel, the warm ones after.
 /// At `equal`'s 64 lights (cuts of 64 single lights, which stay cached) the two rounds cost
 /// 13–18 % (a scratch timer), so a tree of at most this many lights (a cut's most entries:
