@@ -3,6 +3,7 @@
 
 pub mod animation;
 mod bench;
+mod closed_output;
 mod device;
 mod estimate;
 mod input;
@@ -69,8 +70,14 @@ pub enum Command {
 pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
-        Err(err) => return clap_exit(&err),
+        Err(err) => {
+            closed_output::end_quietly_on_closed_output();
+            return clap_exit(&err);
+        }
     };
+    if cli.command.is_some() {
+        closed_output::end_quietly_on_closed_output();
+    }
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {

@@ -250,3 +250,41 @@ fn a_total_power_beyond_f64_is_reported_honestly() {
     let v = json(&["table", "--powers", "2,5,20", "--json"]);
     assert!((v["total_power_log10"].as_f64().unwrap() - 27f64.log10()).abs() < 1e-15);
 }
+
+/// A reader that stops early (`| head -c 64`) ends the command quietly: no panic of
+/// `print!` on the closed pipe, and a status that is success or the end by `SIGPIPE`, as
+/// for `cat` or `yes`. The JSON of a million lights' table is megabytes: far past what the
+/// pipe holds, so the command is still writing when the reader goes.
+#[test]
+fn a_reader_that_stops_early_ends_the_command_quietly() {
+    use std::io::Read as _;
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lightpick"))
+        .args(["table", "--preset", "million", "--json"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run lightpick");
+    let mut head = [0u8; 64];
+    let mut stdout = child.stdout.take().expect("its stdout");
+    stdout.read_exact(&mut head).expect("the first 64 bytes");
+    assert!(
+        head.starts_with(b"{"),
+        "JSON: {}",
+        String::from_utf8_lossy(&head)
+    );
+    drop(stdout);
+    let out = child.wait_with_output().expect("its end");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "a panic: {stderr}");
+    assert!(stderr.is_empty(), "nothing on stderr: {stderr}");
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::ExitStatusExt as _;
+        assert!(
+            out.status.success() || out.status.signal() == Some(13),
+            "ended by {:?}",
+            out.status
+        );
+    }
+}

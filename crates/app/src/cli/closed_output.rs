@@ -1,0 +1,29 @@
+//! A standard output closed early (`lightpick table --preset million --json | head -c 80`)
+//! ends the program quietly, as it ends `cat` or `yes`, rather than in a panic of `print!`.
+
+/// Gives `SIGPIPE` back its default action, ending the process, on Unix. Rust's runtime
+/// ignores the signal, so a write to a closed pipe fails with `EPIPE` and `print!` panics
+/// on it. The subcommands only write their results to standard output, and a reader that
+/// stopped reading wants no more of them: ending there is what a shell pipeline expects
+/// (its status reads 141, `128 + SIGPIPE`). The desktop app keeps the runtime's choice
+/// (its sockets report a closed peer as an error).
+pub(super) fn end_quietly_on_closed_output() {
+    #[cfg(unix)]
+    #[allow(unsafe_code)]
+    {
+        /// `SIGPIPE`'s number on Linux, the BSDs and macOS.
+        const SIGPIPE: std::ffi::c_int = 13;
+        /// `SIG_DFL`, the default action, as the handler word.
+        const SIG_DFL: usize = 0;
+        unsafe extern "C" {
+            /// POSIX: sets the action for `signum`; returns the previous one.
+            fn signal(signum: std::ffi::c_int, handler: usize) -> usize;
+        }
+        // SAFETY: `signal` only sets the process's action for `SIGPIPE`, to the default
+        // one, which runs no code of this program; it is called before any thread of the
+        // subcommand starts, and `SIG_DFL` (0) is the handler word POSIX defines for it.
+        unsafe {
+            signal(SIGPIPE, SIG_DFL);
+        }
+    }
+}
