@@ -28,8 +28,8 @@ pub struct SceneArgs {
     /// CSV / white-space list of x, y, z, power.
     #[arg(long, value_name = "FILE", conflicts_with = "preset")]
     pub scene: Option<PathBuf>,
-    /// A built-in scene: seed, equal, dominant, zeros, heavy-tail, million, extreme-range,
-    /// grid, stage, gallery.
+    /// A built-in scene: worked-example (also `seed`), equal, dominant, zeros, heavy-tail,
+    /// million, extreme-range, grid, stage, gallery.
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
     /// The receiver's height (lightpick's z, glTF's y): every light's z becomes z − H.
@@ -64,13 +64,13 @@ impl SceneArgs {
             return Ok(Some(read_scene(path, self.floor, Some("--scene"))?));
         }
         if let Some(name) = &self.preset {
-            if !PRESET_NAMES.contains(&name.as_str()) {
+            // The core's names, the worked example's former name `seed` among them.
+            let Some(text) = Scene::preset_source(name) else {
                 bail!(
                     "--preset: unknown preset '{name}' (expected one of {})",
                     PRESET_NAMES.join(", ")
                 );
-            }
-            let text = Scene::preset_source(name).unwrap_or_default();
+            };
             let loaded = lightpick_core::scene::load_bytes(
                 text.as_bytes(),
                 name,

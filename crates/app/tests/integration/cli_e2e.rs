@@ -288,3 +288,19 @@ fn a_reader_that_stops_early_ends_the_command_quietly() {
         );
     }
 }
+
+/// `--preset` takes every name its help lists and what the core takes: the worked
+/// example's former name `seed` is the worked example.
+#[test]
+fn preset_takes_the_names_its_help_lists_and_the_former_seed() {
+    let help = String::from_utf8(crate::common::run_ok(&["table", "--help"]).stdout).unwrap();
+    for name in lightpick_core::scene::PRESET_NAMES {
+        assert!(help.contains(name), "--preset's help names {name}: {help}");
+    }
+    assert!(help.contains("`seed`"), "{help}");
+    let former = json(&["table", "--preset", "seed", "--json"]);
+    let current = json(&["table", "--preset", "worked-example", "--json"]);
+    assert_eq!(former, current);
+    assert_eq!(current["n"], 3);
+    assert_error(&["table", "--preset", "nope"], "unknown preset 'nope'");
+}
