@@ -63,6 +63,7 @@ mod cut_candidate;
 mod cut_columns;
 mod cut_growth;
 mod cut_order;
+mod cut_words;
 mod dark_over;
 mod descent;
 mod fill;

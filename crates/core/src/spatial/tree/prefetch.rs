@@ -24,7 +24,7 @@ pub(super) const PREFETCH_MIN_LIGHTS: usize = 1 << 15;
 /// The most point lights a tree may hold and still start its cold lockstep picks
 /// (`LightTree::sample_many_cold`) one by one. A larger one takes every pick's tile and
 /// draw first and asks for the alias column and entry each will read in its tile's cut
-/// (`LightTree::start_many`, `TileCuts::prefetch_pick`), then picks. A tile's cut of up to
+/// (`LightTree::start_many`, `cut_words::prefetch_pick`), then picks. A tile's cut of up to
 /// 256 entries is 3 kB of words, 4096 tiles 12 MB: a pass of one sample a pixel finds each
 /// tile's cut gone from the nearer caches since the last pass, and a pick's column and
 /// entry are two lines of it at random.

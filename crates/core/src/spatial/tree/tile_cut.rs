@@ -123,17 +123,6 @@
 //! its gain (a spot's falloff between two points); weighing a crossing edge by its
 //! unshadowed bound spends the cut on dark pixels.
 //!
-//! **Below a group, by power alone? Measured, not kept.** Below an entry that is a node
-//! of point lights, a pick could take each lane and then the light by power alone (no
-//! representative lights, no square roots). Exact variances and picks alone (the
-//! `tile_cuts` example, `heavy-tail`): below every such entry (55 % of a tile's mass),
-//! 6.1× the variance (1233× below power's became 203×) for 14 % less time a pick (136 →
-//! 117 ns; 130 → 111 ns in lockstep); `clusters-low` kept its variance (291× → 279×) for
-//! 11 % less. Below only the entries whose lights' geometry terms provably differ by at
-//! most 4× (8×) across the tile (a bound from the node's reach), 3 % (11 %) of the mass
-//! took it, for 1.05× (1.26×) the variance and no time gained. The levels' importances are
-//! not what a pick below a group spends its time on.
-//!
 //! # The draw: Walker's alias columns on the grid, exact
 //! A tile of `n` entries keeps `K = n` rounded up to a power of two columns of `C = 2^24/K`
 //! grid cells each (column `c ≥ n` is empty). Column `c` keeps a threshold `t_c ≤ C` and an
@@ -161,10 +150,10 @@ use glam::DVec2;
 
 use super::LightTree;
 use super::cut_candidate::{Candidate, WEIGHING_POINTS, Weighing};
-use super::cut_columns::{AliasWork, MOST_ENTRIES, alias_columns_into, alias_pick};
+use super::cut_columns::{AliasWork, MOST_ENTRIES, alias_columns_into};
 use super::cut_growth::{Growth, Rules, grow};
+use super::cut_words::pick_in;
 use super::node::{Child, ChildRef, TREE_WIDTH};
-use super::prefetch::prefetch;
 use crate::scene::ReceiverPlane;
 use crate::spatial::importance::{POWER_SHARE, grid_masses_into};
 
@@ -466,45 +455,13 @@ impl TileCuts {
     /// taking it, exactly); `None` when no entry of the tile has power.
     #[inline]
     pub fn pick(&self, tree: &LightTree, tile: usize, u: u32) -> Option<(ChildRef, u32)> {
-        Self::pick_in(self.cut(tree, tile), u)
+        pick_in(self.cut(tree, tile), u)
     }
 
     /// Tile `tile`'s cut of `tree` as [`TileCut`]'s words, cut now if it was not yet.
     #[inline]
     pub(super) fn words(&self, tree: &LightTree, tile: usize) -> &[u32] {
         self.cut(tree, tile)
-    }
-
-    /// [`TileCuts::pick`] in a tile's cut `words`.
-    #[inline]
-    pub(super) fn pick_in(words: &[u32], u: u32) -> Option<(ChildRef, u32)> {
-        let k = words[0];
-        if k == 0 {
-            return None;
-        }
-        let shift = 24 - k.trailing_zeros();
-        let e = alias_pick(&words[1..], shift, u);
-        let pair = 1 + k as usize + 2 * e;
-        Some((ChildRef::from_bits(words[pair + 1]), words[pair]))
-    }
-
-    /// Asks for the cache lines [`TileCuts::pick_in`] reads for the draw `u` in a tile's cut
-    /// `words` of at least [`PREFETCH_MIN_COLUMNS`] columns: the draw's alias column and the
-    /// pair of the column's own entry (its alias's pair is known only once the column is
-    /// read). The cut's first word, which every pick of the tile reads, is read here.
-    #[inline]
-    pub(super) fn prefetch_pick(words: &[u32], u: u32) {
-        let k = words[0];
-        if k < PREFETCH_MIN_COLUMNS {
-            return;
-        }
-        let column = (u >> (24 - k.trailing_zeros())) as usize;
-        if let Some(word) = words.get(1 + column) {
-            prefetch(word);
-        }
-        if let Some(pair) = words.get(1 + k as usize + 2 * column) {
-            prefetch(pair);
-        }
     }
 
     /// The words the GPU reads, every tile of `tree` cut: per tile the offset of its words
@@ -623,12 +580,6 @@ impl TileCuts {
         words.extend(pairs.flat_map(|(&m, c)| [m, c.at.bits()]));
     }
 }
-
-/// The fewest alias columns of a tile's cut whose picks ask for their lines ahead
-/// ([`TileCuts::prefetch_pick`]): 64 columns and their entries are 1.5 kB. At 128 the cuts
-/// of `million` (64 entries) took no hints, and its passes of one sample a pixel were 8 %
-/// slower a sample than at 64.
-const PREFETCH_MIN_COLUMNS: u32 = 64;
 
 thread_local! {
     /// What cutting a tile works in, kept from tile to tile on each thread.
