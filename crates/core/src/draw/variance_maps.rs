@@ -1,6 +1,6 @@
-//! Per-pixel variance maps of several schemes side by side ([`crate::VarianceMap`]), on
-//! one shared logarithmic colour scale with a labelled colour bar, each panel captioned
-//! with its scheme and its mean variance.
+//! Per-pixel variance maps of several schemes side by side
+//! ([`crate::stats::variance_map::VarianceMap`]), on one shared logarithmic colour scale
+//! with a labelled colour bar, each panel captioned with its scheme and its mean variance.
 //!
 //! # The colour scale
 //! The scale is shared by every map shown together ([`VarianceScale::shared`]): its top is

@@ -38,7 +38,7 @@ use crate::spatial::SpatialSampler;
 pub struct CpuRenderer {
     plane: ReceiverPlane,
     /// The scheme's sampler; its two kinds have their own row loops ([`render_row`],
-    /// [`render_row_spatial`]), each drawing exactly the picks of [`LightSampler::pick_at`].
+    /// [`render_band_spatial`]), each drawing exactly the picks of [`LightSampler::pick_at`].
     picker: SchemeSampler,
     /// The scene's lights and emission profiles (shared with the scene's other renderers
     /// when built through [`CpuRenderer::from_samplers`]).

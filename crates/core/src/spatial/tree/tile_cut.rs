@@ -45,7 +45,7 @@
 //! pick that takes a single light evaluates that light alone. A spot dark at every weighing point but lit between them (its cone's
 //! edge crossing the tile) keeps its cluster whole, whose pick weighs it at the pixel; one
 //! lit at every point enters alone even where an edge crosses a corner of the tile (see
-//! "Which clusters split" below). Its entries are weighed
+//! "Which clusters split" in `cut_growth.rs`). Its entries are weighed
 //!
 //! `w_e = (1 − ε)·((1 − β)·q̃_e / Σ q̃ + β·t̃_e / Σ t̃) + ε·Φ_e / Σ Φ`,  `ε =` [`POWER_SHARE`],
 //! `β =` [`CUT_TREE_SHARE`] `= 0`,
@@ -93,35 +93,8 @@
 //! picks cost 5.7, 5.7 and 7.8 alias picks). The first split that would pass either limit
 //! ends the cut (trying the smaller entries costs more build time than it saves).
 //!
-//! **Which clusters split.** An entry that is a single light costs a pick one evaluation; a
-//! leaf cluster costs its every light's, at the pixel. Exact variances over the tree's and
-//! times per pixel sample over an alias pick's (`cargo run --release -p lightpick-core
-//! --example tile_cuts`, one thread, 128 × 128 pixels), by the rule that lets a cluster's
-//! lights enter one by one:
-//!
-//! | rule | grid | stage | gallery | arena | random |
-//! | --- | ---: | ---: | ---: | ---: | ---: |
-//! | each light within ½ of its largest at the points, no cone edge across the tile | 0.64×, 4.6 | 0.58×, 4.2 | 1.71×, 3.8 | 0.44×, 5.7 | 0.93×, 6.8 |
-//! | within ¼, no cone edge | 0.27×, 2.7 | 0.58×, 4.1 | 1.71×, 3.7 | 0.44×, 5.6 | 0.93×, 5.9 |
-//! | within a tenth, positive (edges may cross) | 0.19×, 2.5 | 0.56×, 3.6 | 1.72×, 3.4 | 0.43×, 5.3 | 0.93×, 5.3 |
-//! | the same, a spot whose cone or range misses the tile left out of the rule | **0.19×, 2.5** | **0.37×, 3.2** | **1.71×, 3.3** | **0.42×, 4.6** | **0.59×, 4.9** |
-//! | within a tenth, a light dark at every point too | 0.19×, 2.5 | 0.35×, 2.9 | 2.56×, 3.1 | 0.41×, 4.4 | 0.55×, 5.2 |
-//! | positive, any spread | 0.19×, 2.5 | 0.56×, 4.4 | 1.73×, 3.2 | 9.74×, 4.4 | 0.93×, 5.6 |
-//! | every cluster, dark lights too | 0.19×, 2.5 | 0.35×, 1.6 | 2.66×, 3.0 | 9.82×, 2.9 | – |
-//! | an edge across the tile weighed by its bound `Φ·G·g` | – | 5.6×, 2.0 | 7.1×, 2.9 | 2.7×, 2.7 | 2.3×, 3.4 |
-//!
-//! `equal`'s cuts are all single lights under each rule; on the point-light sets of 10^4
-//! (`heavy-tail`, `clusters-low`, `chandeliers`, `strips`) the tile's mass lies mostly on
-//! groups and each rule keeps their variance (0.16×, 0.04×, 0.11×, 0.07–0.08×) within the
-//! times' noise. A light dark at every weighing point is the one to keep whole: where it
-//! is lit between them the cut gave it only its share of power. Most of those lights are
-//! dark on the whole tile, though (a cone's footprint box meets the tile where its ellipse
-//! does not): such a light gives the tile nothing and is left out of the cut like a light
-//! whose box misses it, by an exact test of its cone against the tile (the first, a bound
-//! of angles, found a few less: `stage` 406× below power, 416× now) and of the tile's
-//! nearest point against a range, and no longer keeps its cluster whole. Letting lights in where they fade more than tenfold across the tile costs `arena`
-//! its gain (a spot's falloff between two points); weighing a crossing edge by its
-//! unshadowed bound spends the cut on dark pixels.
+//! **Which clusters split** was measured rule by rule (exact variances and times per pick
+//! on five scenes): the table is in `cut_growth.rs`'s module docs.
 //!
 //! # The draw: Walker's alias columns on the grid, exact
 //! A tile of `n` entries keeps `K = n` rounded up to a power of two columns of `C = 2^24/K`
