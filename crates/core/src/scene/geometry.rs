@@ -101,7 +101,9 @@ pub fn light_term(
 /// side within `2^-53`, the computed `D/r` is below `cos θo` too, so the falloff is 0. The
 /// range is dark where `r²/r_max² > 1 + 2^-40`, so that the computed `r/r_max ≥ 1` and the
 /// window is 0. Anything else (NaN, an overflowing or underflowing square) takes the full
-/// evaluation.
+/// evaluation. Evaluating both the tests and the term in every case and letting the tests
+/// pick (no branch) was measured slower: `stage`, `gallery` and `random.json` 67, 84 and 95
+/// → 76, 94 and 102 ns a pixel sample (the `pass_order` example, samples in a row).
 #[inline]
 pub(crate) fn light_term_culled(
     light_in_world: DVec3,
