@@ -133,6 +133,7 @@ impl LightTree {
     /// entry each will read (`cut_words::prefetch_pick`), so that the picks' loads (cache
     /// misses where the cuts outgrow the nearer caches) overlap rather than follow one
     /// another.
+    ///
     /// Each start goes into `at[b]` and `pdf[b]` (the empty lane with probability 0 where
     /// no entry of the tile has power).
     #[inline]
