@@ -354,14 +354,7 @@ impl SpatialSampler {
         points: &[DVec2; B],
         rngs: &mut [Rng; B],
     ) -> [f64; B] {
-        match self {
-            SpatialSampler::Exact(_) => {
-                std::array::from_fn(|b| self.estimate(points[b], &mut rngs[b]))
-            }
-            SpatialSampler::Tree(t) => t
-                .sample_many(points, rngs)
-                .map(|p| p.map_or(0.0, |p| p.estimate)),
-        }
+        self.estimate_many_with(points, rngs, false)
     }
 
     /// [`SpatialSampler::estimate_many`] for points whose tiles' cuts have likely left the
@@ -374,10 +367,24 @@ impl SpatialSampler {
         points: &[DVec2; B],
         rngs: &mut [Rng; B],
     ) -> [f64; B] {
+        self.estimate_many_with(points, rngs, true)
+    }
+
+    /// [`SpatialSampler::estimate_many`], or [`SpatialSampler::estimate_many_cold`] when
+    /// `cold`.
+    #[inline]
+    fn estimate_many_with<const B: usize>(
+        &self,
+        points: &[DVec2; B],
+        rngs: &mut [Rng; B],
+        cold: bool,
+    ) -> [f64; B] {
         match self {
-            SpatialSampler::Exact(_) => self.estimate_many(points, rngs),
+            SpatialSampler::Exact(_) => {
+                std::array::from_fn(|b| self.estimate(points[b], &mut rngs[b]))
+            }
             SpatialSampler::Tree(t) => t
-                .sample_many_cold(points, rngs)
+                .sample_many_with(points, rngs, cold)
                 .map(|p| p.map_or(0.0, |p| p.estimate)),
         }
     }

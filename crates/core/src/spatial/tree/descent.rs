@@ -225,7 +225,7 @@ impl LightTree {
 
     /// [`LightTree::sample_many`], or [`LightTree::sample_many_cold`] when `cold`.
     #[inline]
-    fn sample_many_with<const B: usize>(
+    pub(crate) fn sample_many_with<const B: usize>(
         &self,
         points: &[DVec2; B],
         rngs: &mut [Rng; B],

@@ -26,11 +26,14 @@ pub(super) fn map_subtree(
     only_reweighed: bool,
 ) {
     let node = &tree.nodes[index];
-    let reweighed = |lane: usize| {
-        tree.span(node.child[lane])
-            .is_some_and(|r| any_bit_in(&w.reweighed, r))
-    };
-    if only_reweighed && !(0..TREE_WIDTH).any(reweighed) {
+    // Which lanes to map, each found once (a lane's lights by `span`, `O(depth)`).
+    let remap: [bool; TREE_WIDTH] = std::array::from_fn(|lane| {
+        !only_reweighed
+            || tree
+                .span(node.child[lane])
+                .is_some_and(|r| any_bit_in(&w.reweighed, r))
+    });
+    if !remap.contains(&true) {
         return;
     }
     let end = index + slots.len();
@@ -58,7 +61,7 @@ pub(super) fn map_subtree(
     }
     let lanes = &mut this[0];
     for (lane, child) in children.iter().enumerate() {
-        if only_reweighed && !reweighed(lane) {
+        if !remap[lane] {
             continue;
         }
         let grid = match (child, &jobs[lane]) {
