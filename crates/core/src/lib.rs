@@ -99,8 +99,8 @@
 //! # Features
 //! | feature | default | brings | adds |
 //! | --- | --- | --- | --- |
-//! | `gpu` | on | [`gpu`]: the wgpu compute renderer, histogram and spatial sampler, their WGSL | wgpu, naga, pollster (about 110 crates) |
-//! | `draw` | on | [`draw`]: table diagrams, histograms, convergence plots, image sheets, PNG/EXR | tiny-skia, `ab_glyph`, image |
+//! | `gpu` | on | the module `gpu`: the wgpu compute renderer, histogram and spatial sampler, their WGSL | wgpu, naga, pollster (about 110 crates) |
+//! | `draw` | on | the module `draw`: table diagrams, histograms, convergence plots, image sheets, PNG/EXR | tiny-skia, `ab_glyph`, image |
 //! | `rand` | off | `rand_support`: the samplers as `rand::distr::Distribution<usize>` over any `rand::Rng`, and [`Rng`] as a `rand::Rng` | rand (traits only), `rand_core` |
 //!
 //! Without them (`default-features = false`) the crate is the alias table and its peers,

@@ -4,7 +4,7 @@
 //! `countᵢ / n` in the scheme's colour, with a short dark marker at the frequency the scheme
 //! *expects* (`1/N` for uniform, `pᵢ` for the power-proportional schemes). The legend gives
 //! each scheme's sample count and its Pearson χ² fit against its own expected pmf
-//! ([`crate::chi_square`]). With more than [`HISTOGRAM_TOP_K`] lights only the
+//! ([`crate::chi_square()`]). With more than [`HISTOGRAM_TOP_K`] lights only the
 //! `HISTOGRAM_TOP_K` lights of largest `pᵢ` are drawn (the χ² still covers all of them).
 
 use tiny_skia::Pixmap;

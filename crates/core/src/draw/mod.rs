@@ -4,13 +4,13 @@
 //! Each drawing is a pure function from plain data and a [`Style`] (size and [`Theme`]) to a
 //! pixmap, so the same input gives the same pixels on every machine:
 //!
-//! * [`table_diagram`]: the alias table as unit-height columns split at their thresholds;
-//! * [`histogram`]: expected pmf beside empirical frequencies per scheme, with χ² fits;
-//! * [`convergence`]: log-log RMSE against samples per pixel or seconds;
-//! * [`image_sheet`]: uniform | importance | spatial | reference and their error maps;
+//! * [`table_diagram()`]: the alias table as unit-height columns split at their thresholds;
+//! * [`histogram()`]: expected pmf beside empirical frequencies per scheme, with χ² fits;
+//! * [`convergence()`]: log-log RMSE against samples per pixel or seconds;
+//! * [`image_sheet()`]: uniform | importance | spatial | reference and their error maps;
 //! * [`animation_frame`]: one frame of a convergence animation (schemes side by side,
 //!   captioned with spp and RMSE);
-//! * [`tree_view`]: the light tree from above (lights by power, the groups at a depth, a
+//! * [`tree_view()`]: the light tree from above (lights by power, the groups at a depth, a
 //!   recorded pick, lights coloured by a pick probability);
 //! * [`variance_sheet`]: per-pixel variance maps of several schemes on one log scale.
 //!

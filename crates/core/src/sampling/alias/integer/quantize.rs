@@ -274,7 +274,7 @@ fn chunk_totals(powers: &[f64]) -> Vec<ChunkTotal> {
         .collect()
 }
 
-/// Where the one-product fixed point [`IdealMass::fixed_of`] stops being within a quarter of
+/// Where the one-product fixed point ([`IdealMass::folded_of`], [`IdealMass::scaled_of`]) stops being within a quarter of
 /// a unit of the ideal `X` (its two roundings are half an ulp each, at most `2^-3` there).
 const ONE_PRODUCT_BELOW: f64 = (1u64 << 50) as f64;
 
