@@ -15,7 +15,7 @@
 //!   `log10(q_i / max q)` over [`PROBABILITY_DECADES`] decades (grey where `q_i = 0`).
 //! * Groups ([`tree_groups`]): after `d` branch decisions from the root, each subtree (or a
 //!   leaf cluster reached sooner) outlined as the box of its lights' `(x, y)`.
-//! * Spot footprints ([`crate::scene::Emission::footprint`]): faint boxes, up to
+//! * Spot footprints ([`crate::scene::EmissionShape::footprint`]): faint boxes, up to
 //!   [`FOOTPRINT_LIMIT`] lights.
 //! * A recorded pick: each chosen lane's box outlined strongly, the shading point as a
 //!   cross, the picked light circled; shown up to a stage ([`tree_view_plane`]), a node's

@@ -1,11 +1,12 @@
 //! Spots and ranges on the GPU: each light's emission profile as a 24-byte `Shape`
-//! (`emission.wgsl`, the twin of [`Emission::factor`]), uploaded only for scenes that have
-//! profiles, and the WGSL function `light_emission(i, light, x)` the kernels call: the
-//! factor `S_i(x)` of light `i` read from a split array, or a stub returning 1 for a scene
-//! of point lights (so those kernels read and compute exactly what they did before).
+//! (`emission.wgsl`, the twin of [`crate::scene::EmissionShape::factor`]), uploaded only
+//! for scenes that have profiles, and the WGSL function `light_emission(i, light, x)` the
+//! kernels call: the factor `S_i(x)` of light `i` read from a split array, or a stub
+//! returning 1 for a scene of point lights (so those kernels read and compute exactly what
+//! they did before).
 
 use super::split::{Access, ArrayLayout, SplitShape, declarations};
-use crate::scene::Emission;
+use crate::scene::EmissionShape;
 
 pub(crate) const EMISSION_WGSL: &str = include_str!("emission.wgsl");
 
@@ -25,11 +26,11 @@ pub(crate) struct GpuShape {
 
 impl GpuShape {
     /// The `f32` form of `e` (octahedral axis).
-    pub(crate) fn of(e: &Emission) -> Self {
+    pub(crate) fn of(e: &EmissionShape) -> Self {
         GpuShape {
             axis: octahedral_encode(e.axis()),
             cos_outer: e.cos_outer() as f32,
-            cone_scale: if e.spot().is_some() {
+            cone_scale: if e.has_spot() {
                 e.cone_scale() as f32
             } else {
                 0.0

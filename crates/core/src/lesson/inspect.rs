@@ -42,8 +42,9 @@ pub struct LightShare {
     /// Its pick probability under the spatial scheme at the point, `P(i | x)`
     /// ([`crate::spatial`]), when the inspection was given the spatial sampler.
     pub spatial: Option<f64>,
-    /// For a spot, its cone term `t²` toward the point ([`crate::scene::Emission::cone_term`]:
-    /// 1 inside the inner cone, 0 beyond the outer); `None` for a light without a spot.
+    /// For a spot, its cone term `t²` toward the point
+    /// ([`crate::scene::EmissionShape::cone_term`]: 1 inside the inner cone, 0 beyond the
+    /// outer); `None` for a light without a spot.
     pub cone: Option<f64>,
 }
 

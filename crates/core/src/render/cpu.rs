@@ -315,7 +315,7 @@ impl Lights<'_> {
             Some((n, pmf)) => n * pmf.of(self.powers[i]) * self.to_unit,
             None => self.to_unit,
         };
-        weight * light_term(self.positions[i], self.emission.map(|e| &e[i]), x)
+        weight * light_term(self.positions[i], self.emission.map(|e| e[i].shape()), x)
     }
 }
 

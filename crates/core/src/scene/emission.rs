@@ -22,7 +22,9 @@
 //! Every scheme, the exact reference, the inspector, the estimator view, the light tree and
 //! the GPU kernels evaluate this one definition ([`super::light_term`] and its WGSL twin).
 
-use glam::{DVec2, DVec3};
+use glam::DVec3;
+
+use super::EmissionShape;
 
 /// A spot light's cone, as glTF's `KHR_lights_punctual` describes one.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -68,35 +70,20 @@ impl EmissionError {
     }
 }
 
-/// One light's emission profile (module docs): its spot cone and range as given, and the
-/// constants the factor `S(x)` is evaluated with.
+/// One light's emission profile (module docs): its spot cone as given, and the constants
+/// the factor `S(x)` is evaluated with ([`EmissionShape`], which it dereferences to: every
+/// evaluation of `S` is the shape's).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Emission {
     spot: Option<Spot>,
-    range: Option<f64>,
-    /// The unit spot axis (zero without a spot).
-    axis: DVec3,
-    cos_inner: f64,
-    cos_outer: f64,
-    /// `1/(cos θi − cos θo)` (0 without a spot).
-    cone_scale: f64,
-    /// `g = 4π/Ω` (1 without a spot).
-    gain: f64,
-    /// `1/r` (0 without a range).
-    inv_range: f64,
+    shape: EmissionShape,
 }
 
 impl Emission {
     /// A bare point light: `S ≡ 1`.
     pub const POINT: Emission = Emission {
         spot: None,
-        range: None,
-        axis: DVec3::ZERO,
-        cos_inner: 1.0,
-        cos_outer: -1.0,
-        cone_scale: 0.0,
-        gain: 1.0,
-        inv_range: 0.0,
+        shape: EmissionShape::POINT,
     };
 
     /// The profile of a light with an optional spot cone and an optional range, validated:
@@ -107,8 +94,8 @@ impl Emission {
             if !(r.is_finite() && r > 0.0) {
                 return Err(EmissionError::Range(r));
             }
-            e.range = Some(r);
-            e.inv_range = 1.0 / r;
+            e.shape.range = r;
+            e.shape.inv_range = 1.0 / r;
         }
         if let Some(s) = spot {
             let length = s.direction.length();
@@ -119,149 +106,30 @@ impl Emission {
             if !(inner >= 0.0 && inner < outer && outer <= std::f64::consts::FRAC_PI_2) {
                 return Err(EmissionError::Cones { inner, outer });
             }
-            let axis = s.direction / length;
-            e.spot = Some(s);
-            e.axis = axis;
-            e.cos_inner = inner.cos();
-            e.cos_outer = outer.cos();
-            // 1 − cos θi and cos θi − cos θo without cancellation (narrow cones).
+            let shape = &mut e.shape;
+            shape.axis = s.direction / length;
+            shape.cos_inner = inner.cos();
+            shape.cos_outer = outer.cos();
+            // 1 − cos θi and cos θi − cos θo without cancellation (narrow cones). The width
+            // is positive (θi < θo), so a spot's `cone_scale` is never 0.
             let one_minus_inner = 2.0 * (0.5 * inner).sin().powi(2);
             let width = 2.0 * (0.5 * (outer + inner)).sin() * (0.5 * (outer - inner)).sin();
-            e.cone_scale = 1.0 / width;
-            e.gain = 2.0 / (one_minus_inner + width / 3.0);
+            shape.cone_scale = 1.0 / width;
+            shape.gain = 2.0 / (one_minus_inner + width / 3.0);
+            e.spot = Some(s);
         }
         Ok(e)
     }
 
-    /// The spot cone as given, if the light is a spot ([`Emission::axis`] is its direction
-    /// normalized).
+    /// The spot cone as given, if the light is a spot ([`EmissionShape::axis`] is its
+    /// direction normalized).
     pub fn spot(&self) -> Option<Spot> {
         self.spot
     }
 
-    /// The range `r`, if the light has one.
-    pub fn range(&self) -> Option<f64> {
-        self.range
-    }
-
-    /// Whether the profile is a bare point light's (`S ≡ 1`).
-    pub fn is_point(&self) -> bool {
-        self.spot.is_none() && self.range.is_none()
-    }
-
-    /// `g = 4π/Ω`: a spot's on-axis intensity over a point light's of the same power (1
-    /// without a spot).
-    pub fn gain(&self) -> f64 {
-        self.gain
-    }
-
-    /// The unit spot axis (zero without a spot).
-    pub fn axis(&self) -> DVec3 {
-        self.axis
-    }
-
-    /// `cos θo` (−1 without a spot).
-    pub fn cos_outer(&self) -> f64 {
-        self.cos_outer
-    }
-
-    /// `1/(cos θi − cos θo)` (0 without a spot).
-    pub fn cone_scale(&self) -> f64 {
-        self.cone_scale
-    }
-
-    /// `1/r` (0 without a range).
-    pub fn inv_range(&self) -> f64 {
-        self.inv_range
-    }
-
-    /// The spot falloff `t²` for `cos α` (1 without a spot).
-    #[inline]
-    pub fn falloff(&self, cos_alpha: f64) -> f64 {
-        if self.spot.is_none() || cos_alpha >= self.cos_inner {
-            1.0
-        } else if cos_alpha <= self.cos_outer {
-            0.0
-        } else {
-            let t = (cos_alpha - self.cos_outer) * self.cone_scale;
-            t * t
-        }
-    }
-
-    /// The range window `clamp(1 − (d/r)⁴, 0, 1)` at distance `d` (1 without a range).
-    #[inline]
-    pub fn window(&self, distance: f64) -> f64 {
-        let q = distance * self.inv_range;
-        let q2 = q * q;
-        (1.0 - q2 * q2).clamp(0.0, 1.0)
-    }
-
-    /// `S(x) = g · t² · w` for the light at `light_in_world` and the point `point_on_plane`
-    /// (module docs); the light must not be on the point (then `S` is not defined).
-    #[inline]
-    pub fn factor(&self, light_in_world: DVec3, point_on_plane: DVec2) -> f64 {
-        let to_point = point_on_plane.extend(0.0) - light_in_world;
-        self.factor_along(to_point, to_point.length())
-    }
-
-    /// [`Emission::factor`] from the light's vector to the point, `to_point`, and its length
-    /// `distance = |to_point|` (`> 0`), already at hand: [`super::light_term`] shares the
-    /// distance with `G` instead of taking a second square root (the same bits).
-    #[inline]
-    pub(crate) fn factor_along(&self, to_point: DVec3, distance: f64) -> f64 {
-        let mut s = self.gain;
-        if self.spot.is_some() {
-            s *= self.falloff(self.axis.dot(to_point) / distance);
-        }
-        if self.range.is_some() {
-            s *= self.window(distance);
-        }
-        s
-    }
-
-    /// The spot's cone term `t²` toward `point_on_plane` for the light at `light_in_world`
-    /// (module docs: 1 inside the inner cone, 0 beyond the outer), or `None` for a light
-    /// without a spot. What power picking ignores and the light tree's cone bounds weigh.
-    pub fn cone_term(&self, light_in_world: DVec3, point_on_plane: DVec2) -> Option<f64> {
-        self.spot?;
-        let to_point = point_on_plane.extend(0.0) - light_in_world;
-        let distance = to_point.length();
-        Some(if distance > 0.0 {
-            self.falloff(self.axis.dot(to_point) / distance)
-        } else {
-            0.0
-        })
-    }
-
-    /// A lower bound of `S(x)/g = t(α)²·w(d)` over the rectangle `[lo, hi]` of the plane for
-    /// the light at `light_in_world` (`z > 0`): `t(min_c cos α_c)² · w(max_c d_c)` over the
-    /// rectangle's four corners `c`. It holds because both factors take their least at a
-    /// corner: `w` falls with `d`, a convex function of `x`, so `d` is largest at a corner;
-    /// and `t` rises with `cos α`, whose superlevel sets `{x : cos α(x) ≥ k}` are, for
-    /// `k ≥ 0`, a convex cone cut by the plane, hence convex, so `cos α` is least at a corner
-    /// wherever that least is `≥ 0` (below 0 the bound is `t = 0` anyway, `θo ≤ π/2`).
-    /// Since `S ≤ g`, a bound near 1 says the factor hardly changes over the rectangle (a
-    /// cone's edge does not cross it). 1 for a bare point light.
-    pub fn factor_floor_over(&self, light_in_world: DVec3, [lo, hi]: [DVec2; 2]) -> f64 {
-        if self.is_point() {
-            return 1.0;
-        }
-        let corners = [lo, DVec2::new(hi.x, lo.y), DVec2::new(lo.x, hi.y), hi];
-        let (mut least_cos, mut farthest) = (f64::INFINITY, 0.0f64);
-        for corner in corners {
-            let to_corner = corner.extend(0.0) - light_in_world;
-            let distance = to_corner.length();
-            farthest = farthest.max(distance);
-            least_cos = least_cos.min(self.axis.dot(to_corner) / distance);
-        }
-        let mut floor = 1.0;
-        if self.spot.is_some() {
-            floor *= self.falloff(least_cos);
-        }
-        if self.range.is_some() {
-            floor *= self.window(farthest);
-        }
-        floor
+    /// What `S(x)` is evaluated with.
+    pub fn shape(&self) -> &EmissionShape {
+        &self.shape
     }
 
     /// Whether the light at `light_in_world` can light some point of the plane `z = 0`
@@ -273,78 +141,19 @@ impl Emission {
         if z <= 0.0 {
             return false;
         }
-        let cone = self.spot.is_none_or(|s| self.axis.z < s.outer_cone.sin());
-        let range = self.range.is_none_or(|r| r > z);
+        let cone = self
+            .spot
+            .is_none_or(|s| self.shape.axis.z < s.outer_cone.sin());
+        let range = self.shape.range().is_none_or(|r| r > z);
         cone && range
     }
 }
 
-impl Emission {
-    /// The box on the plane `z = 0` outside which the light at `light_in_world` gives
-    /// nothing, `[min, max]`, or `None` when its light reaches arbitrarily far (a point light
-    /// without a range, a spot whose cone reaches the horizon).
-    ///
-    /// A spot's lit region is the conic `(d·a)² ≥ cos²θo·|d|²` of the offsets
-    /// `d = (u, v, −h)` from the light (height `h`) to the plane; when the cone lies below
-    /// the horizon (`−a_z > sin θo`) it is an ellipse `wᵀ(−M)w ≤ Q₀` about its centre, whose
-    /// box has the half-extents `√(Q₀·(−C)/det)` and `√(Q₀·(−A)/det)` (`M = [[A, B], [B, C]]`
-    /// the quadratic part); a range `r` bounds the region by the disc of radius `√(r² − h²)`.
-    /// The box is widened by `10^-9` of its size against rounding, and the ellipse's by the
-    /// error bound of its cancellation where the cone grazes the horizon (its determinant's
-    /// condition number times `8ε`); past `κ·8ε = 1/4` the ellipse is not used.
-    pub fn footprint(&self, light_in_world: DVec3) -> Option<[DVec2; 2]> {
-        let h = light_in_world.z;
-        let at = light_in_world.truncate();
-        let mut bounds: Option<[DVec2; 2]> = None;
-        if let Some(r) = self.range {
-            // The window lights up to `d·(1/r) < 1` as rounded, a few ulps past r: take
-            // r·(1 + 8ε). Then (r − h)(r + h) rather than r² − h², which cancels where h nears
-            // r, and the box widened past the rounding of the root and of at ± reach.
-            let r = r * (1.0 + 8.0 * f64::EPSILON);
-            let reach = ((r - h) * (r + h)).max(0.0).sqrt();
-            let slack = 1e-9 * (at.abs() + reach) + DVec2::splat(f64::MIN_POSITIVE);
-            bounds = Some([at - reach - slack, at + reach + slack]);
-        }
-        if self.spot.is_some() && -self.axis.z > (1.0 - self.cos_outer * self.cos_outer).sqrt() {
-            let (ax, ay, az) = (self.axis.x, self.axis.y, self.axis.z);
-            let c2 = self.cos_outer * self.cos_outer;
-            let a = ax * ax - c2;
-            let b = ax * ay;
-            let c = ay * ay - c2;
-            let d = -ax * az * h;
-            let e = -ay * az * h;
-            let f = (az * az - c2) * h * h;
-            let det = a * c - b * b;
-            // Where the cone grazes the horizon `det` cancels: `κ` its condition number, so
-            // that `8εκ` bounds its relative error and the centre's and extents' through it.
-            let kappa = ((a * c).abs() + b * b) / det;
-            let rel = 8.0 * f64::EPSILON * kappa;
-            if det > 0.0 && a < 0.0 && c < 0.0 && rel < 0.25 {
-                let u0 = (-d * c + e * b) / det;
-                let v0 = (-e * a + d * b) / det;
-                let centre_error = DVec2::new(
-                    4.0 * f64::EPSILON * ((d * c).abs() + (e * b).abs()) / det + rel * u0.abs(),
-                    4.0 * f64::EPSILON * ((e * a).abs() + (d * b).abs()) / det + rel * v0.abs(),
-                );
-                // q0's own cancellation, raised by its bound; det lowered by its bound.
-                let q0_error = 8.0
-                    * f64::EPSILON
-                    * (1.0 + kappa)
-                    * (f.abs() + (d * u0).abs() + (e * v0).abs());
-                let q0 = (f + d * u0 + e * v0 + q0_error).max(0.0);
-                let det_low = det * (1.0 - rel);
-                let half = DVec2::new((q0 * -c / det_low).sqrt(), (q0 * -a / det_low).sqrt());
-                let centre = at + DVec2::new(u0, v0);
-                let slack =
-                    1e-9 * (centre.abs() + half) + centre_error + DVec2::splat(f64::MIN_POSITIVE);
-                let ellipse = [centre - half - slack, centre + half + slack];
-                bounds = Some(match bounds {
-                    Some([lo, hi]) => [lo.max(ellipse[0]), hi.min(ellipse[1])],
-                    None => ellipse,
-                });
-            }
-        }
-        bounds
+impl std::ops::Deref for Emission {
+    type Target = EmissionShape;
+
+    fn deref(&self) -> &EmissionShape {
+        &self.shape
     }
 }
 
@@ -357,6 +166,7 @@ impl Default for Emission {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec2;
     use std::f64::consts::{FRAC_PI_2, PI};
 
     fn spot(direction: DVec3, inner: f64, outer: f64) -> Emission {
@@ -369,6 +179,44 @@ mod tests {
             None,
         )
         .expect("valid spot")
+    }
+
+    /// The shape tells a spot and a range from their own constants (`1/(cos θi − cos θo)`
+    /// and `r`, never 0 for a spot or a range), so it must say what was given: at ordinary
+    /// cones, at cones so narrow or so close that `cos θi − cos θo` rounds to 0 or below the
+    /// smallest normal, and at ranges from the least subnormal to the largest finite.
+    #[test]
+    fn the_shape_says_what_was_given() {
+        let tiny = f64::from_bits(1);
+        let cones = [
+            (0.2, 0.7),
+            (0.0, FRAC_PI_2),
+            (0.0, tiny),
+            (0.0, f64::MIN_POSITIVE),
+            (1.0, 1.0 + f64::EPSILON),
+            (FRAC_PI_2 - 1e-15, FRAC_PI_2),
+            (1e-300, 2e-300),
+        ];
+        let ranges = [None, Some(tiny), Some(1e-300), Some(2.5), Some(f64::MAX)];
+        for &(inner, outer) in &cones {
+            for spot in [
+                None,
+                Some(Spot {
+                    direction: DVec3::new(0.3, -0.2, -1.0),
+                    inner_cone: inner,
+                    outer_cone: outer,
+                }),
+            ] {
+                for range in ranges {
+                    let e = Emission::new(spot, range).expect("valid");
+                    let shape = e.shape();
+                    assert_eq!(shape.has_spot(), spot.is_some(), "{spot:?} {range:?}");
+                    assert_eq!(shape.range(), range, "{spot:?}");
+                    assert_eq!(shape.is_point(), spot.is_none() && range.is_none());
+                    assert_eq!(e.spot(), spot);
+                }
+            }
+        }
     }
 
     #[test]

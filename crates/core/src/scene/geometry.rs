@@ -2,7 +2,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::Emission;
+use super::EmissionShape;
 
 /// `G(x) = max(0, z)/(4π r³)`: the irradiance at `x = (x, y, 0)` per unit power of a point
 /// light at `light_in_world`, for the receiver normal `+z` (`cos θ = z/r`). Zero for a light
@@ -66,7 +66,7 @@ fn four_pi_r2_times(r2: f64, r: f64) -> f64 {
 #[inline(always)]
 pub fn light_term(
     light_in_world: DVec3,
-    emission: Option<&Emission>,
+    emission: Option<&EmissionShape>,
     point_on_plane: DVec2,
 ) -> f64 {
     let Some(e) = emission else {
@@ -107,7 +107,7 @@ pub fn light_term(
 #[inline]
 pub(crate) fn light_term_culled(
     light_in_world: DVec3,
-    emission: &Emission,
+    emission: &EmissionShape,
     point_on_plane: DVec2,
 ) -> f64 {
     const MARGIN: f64 = 1.0 / (1u64 << 40) as f64;
@@ -139,6 +139,7 @@ pub fn pixel_center(plane: &super::ReceiverPlane, px: u32, py: u32) -> DVec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::Emission;
 
     #[test]
     fn light_straight_above_follows_inverse_square() {
@@ -180,7 +181,7 @@ mod tests {
     }
 
     /// `light_term` takes `G`'s square root for `S` too: it must equal `G · S` computed
-    /// apart (two square roots, [`Emission::factor`]) bit for bit, for spots, ranges and
+    /// apart (two square roots, [`EmissionShape::factor`]) bit for bit, for spots, ranges and
     /// both, inside, on and beyond the cones, straight under the light, and where `r³`
     /// underflows.
     #[test]

@@ -18,6 +18,7 @@
 //! generated from a seed by a [`Generator`].
 
 mod emission;
+mod emission_shape;
 mod error;
 mod generator;
 mod geometry;
@@ -26,6 +27,7 @@ mod json;
 mod presets;
 
 pub use emission::{Emission, EmissionError, Spot};
+pub use emission_shape::EmissionShape;
 pub use error::SceneError;
 pub use generator::{Dominant, Generator, MAX_LIGHTS, Placement, PowerDistribution};
 pub(crate) use geometry::light_term_culled;
@@ -242,7 +244,11 @@ impl Scene {
     /// ([`light_term`]).
     #[inline]
     pub fn light_term(&self, i: usize, point_on_plane: DVec2) -> f64 {
-        light_term(self.positions[i], self.emission_of(i), point_on_plane)
+        light_term(
+            self.positions[i],
+            self.emission_of(i).map(Emission::shape),
+            point_on_plane,
+        )
     }
 
     /// The binary exponent `s` of the renderers' accumulation unit: the largest irradiance
@@ -264,7 +270,7 @@ impl Scene {
             if p.z <= 0.0 {
                 continue;
             }
-            let gain = self.emission_of(i).map_or(1.0, Emission::gain);
+            let gain = self.emission_of(i).map_or(1.0, |e| e.gain());
             // `g·G ≤ g/(4π z²)` anywhere (two divisions, without overflow for tiny z): the
             // light's own term, at its nearest centre, only where that bound exceeds the
             // largest so far — a few lights of a large scene, not all of them.

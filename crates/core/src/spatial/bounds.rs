@@ -6,7 +6,7 @@
 use glam::{DQuat, DVec2, DVec3};
 
 use super::SpatialLight;
-use crate::scene::Emission;
+use crate::scene::EmissionShape;
 
 /// What the lights of a tree lane can do at most, for lights with emission profiles
 /// (pbrt-v4's `LightBounds`; the module docs), and where on the plane they can do it.
@@ -17,7 +17,7 @@ pub struct LaneBounds {
     /// See [`LaneBounds::min`].
     pub max: DVec3,
     /// `Σ p_i·g_i`: the lane's normalized power weighted by each light's on-axis gain
-    /// ([`Emission::gain`]; 1 for a light without a spot).
+    /// ([`EmissionShape::gain`]; 1 for a light without a spot).
     pub intensity: f64,
     /// The axis of the cone that holds every light's spot axis.
     pub axis: DVec3,
@@ -28,7 +28,7 @@ pub struct LaneBounds {
     /// The longest range; `∞` when some light has none.
     pub range: f64,
     /// The box on the plane outside which no light of the lane gives anything (the union of
-    /// the lights' [`Emission::footprint`]s); infinite when some light's is unbounded.
+    /// the lights' [`EmissionShape::footprint`]s); infinite when some light's is unbounded.
     pub footprint: [DVec2; 2],
 }
 
@@ -49,10 +49,11 @@ impl LaneBounds {
     const EVERYWHERE: [DVec2; 2] = [DVec2::NEG_INFINITY, DVec2::INFINITY];
 
     /// The bounds of one light.
-    pub fn of_light(light: &SpatialLight, emission: &Emission) -> Self {
-        let (axis, cos_spread, cos_emission) = match emission.spot() {
-            Some(_) => (emission.axis(), 1.0, emission.cos_outer()),
-            None => (DVec3::Z, -1.0, -1.0),
+    pub fn of_light(light: &SpatialLight, emission: &EmissionShape) -> Self {
+        let (axis, cos_spread, cos_emission) = if emission.has_spot() {
+            (emission.axis(), 1.0, emission.cos_outer())
+        } else {
+            (DVec3::Z, -1.0, -1.0)
         };
         LaneBounds {
             min: light.position_in_world,
@@ -221,7 +222,7 @@ fn padded_cos(theta: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::Spot;
+    use crate::scene::{Emission, Spot};
 
     fn spot(direction: DVec3, outer: f64, range: Option<f64>) -> Emission {
         Emission::new(

@@ -5,7 +5,7 @@ use glam::{DVec2, DVec3};
 use super::{EXACT_MAX_LIGHTS, SpatialLight, SpatialPick, contributing, unit24};
 use crate::powers::LightPowers;
 use crate::rng::Rng;
-use crate::scene::Emission;
+use crate::scene::{Emission, EmissionShape};
 
 /// Picks light `i` at `x` with probability `c_i/S`, `c_i = p_i·G_i(x)`, `S = Σ_j c_j`, so the
 /// estimate `c_i / (c_i/S) = S` is the same for every pick: zero variance for the unoccluded
@@ -17,7 +17,7 @@ use crate::scene::Emission;
 pub struct ExactSampler {
     lights: Vec<(u32, SpatialLight)>,
     /// The lights' emission profiles, beside `lights` (empty for point lights).
-    emission: Vec<Emission>,
+    emission: Vec<EmissionShape>,
     n: usize,
 }
 
@@ -59,8 +59,9 @@ impl ExactSampler {
         self.lights[k].1.contribution_with(self.emission.get(k), x)
     }
 
-    /// The emission profile of the `k`-th contributing light, when the scene has profiles.
-    pub fn emission(&self, k: usize) -> Option<&Emission> {
+    /// What the emission factor of the `k`-th contributing light is evaluated with, when the
+    /// scene has profiles.
+    pub fn emission(&self, k: usize) -> Option<&EmissionShape> {
         self.emission.get(k)
     }
 
@@ -73,7 +74,7 @@ impl ExactSampler {
     /// their emission profiles (at most [`super::EXACT_MAX_LIGHTS`] of each in practice).
     pub fn heap_bytes(&self) -> usize {
         self.lights.capacity() * std::mem::size_of::<(u32, SpatialLight)>()
-            + self.emission.capacity() * std::mem::size_of::<Emission>()
+            + self.emission.capacity() * std::mem::size_of::<EmissionShape>()
     }
 
     /// The pick at `x` (one draw), `None` when `S = 0`.

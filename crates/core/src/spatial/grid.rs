@@ -107,7 +107,7 @@ mod mapped;
 pub use mapped::MappedLanes;
 
 use super::SpatialLight;
-use crate::scene::{Emission, geometry_term};
+use crate::scene::{EmissionShape, geometry_term};
 
 /// Cells along each side of a lane's map.
 pub const GRID_SIDE: usize = 16;
@@ -193,7 +193,7 @@ impl LaneGrid {
     /// mapped), one each.
     pub fn of_lights(
         lights: &[SpatialLight],
-        emission: &[Emission],
+        emission: &[EmissionShape],
         footprints: &[Option<[DVec2; 2]>],
     ) -> Self {
         Self::of_weighted(lights, |j| lights[j].power, emission, footprints)
@@ -206,7 +206,7 @@ impl LaneGrid {
     pub fn of_weighted(
         lights: &[SpatialLight],
         weight: impl Fn(usize) -> f64,
-        emission: &[Emission],
+        emission: &[EmissionShape],
         footprints: &[Option<[DVec2; 2]>],
     ) -> Self {
         let mut grid = LaneGrid::EMPTY;
@@ -329,7 +329,7 @@ fn add_light(
     lo: DVec2,
     cell: DVec2,
     l: &SpatialLight,
-    e: &Emission,
+    e: &EmissionShape,
     [a, b]: [DVec2; 2],
 ) {
     let last = GRID_SIDE as f64 - 1.0;
@@ -377,6 +377,7 @@ fn add_light(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::Emission;
 
     /// The points a side takes are the written rule `⌈v⌉` clamped to `1 ..= 4` (NaN to 1,
     /// as `as usize` saturates it to 0), at every integer and its neighbours an ulp away,
@@ -416,7 +417,7 @@ mod tests {
             power: 0.7,
         };
         let (lo, hi) = (DVec2::new(-2.0, -1.0), DVec2::new(2.0, 2.0));
-        let grid = LaneGrid::of_lights(&[light], &[Emission::POINT], &[Some([lo, hi])]);
+        let grid = LaneGrid::of_lights(&[light], &[EmissionShape::POINT], &[Some([lo, hi])]);
         assert_eq!(grid.unbounded_intensity, 0.0);
         let cell = (hi - lo) / GRID_SIDE as f64;
         let curvature = 3.0 / (std::f64::consts::PI * z.powi(4));
@@ -471,7 +472,7 @@ mod tests {
         };
         let grid = LaneGrid::of_lights(
             &[light, wide],
-            &[e, Emission::POINT],
+            &[*e.shape(), EmissionShape::POINT],
             &[Some(footprint), Some([lo, hi])],
         );
         let at = light.position_in_world.truncate();

@@ -198,7 +198,7 @@ use glam::{DVec2, DVec3};
 use crate::light_sampler::{LightSampler, Pick, ShadingContext};
 use crate::powers::LightPowers;
 use crate::rng::Rng;
-use crate::scene::{Emission, Scene, geometry_term, light_term, light_term_culled};
+use crate::scene::{Emission, EmissionShape, Scene, geometry_term, light_term, light_term_culled};
 
 /// Up to this many lights [`SpatialSampler::build`] uses the exact sampler, beyond it the
 /// tree. The exact pick evaluates all `N` contributions; the tree evaluates two importances
@@ -245,7 +245,11 @@ impl SpatialLight {
     /// `c_i(x) = p_i·G_i(x)·S_i(x)` with the emission profile `emission` (`None`: a point
     /// light, [`SpatialLight::contribution`]).
     #[inline]
-    pub fn contribution_with(&self, emission: Option<&Emission>, point_on_plane: DVec2) -> f64 {
+    pub fn contribution_with(
+        &self,
+        emission: Option<&EmissionShape>,
+        point_on_plane: DVec2,
+    ) -> f64 {
         self.power * light_term(self.position_in_world, emission, point_on_plane)
     }
 
@@ -253,7 +257,11 @@ impl SpatialLight {
     /// the square root and the divisions where its cone or range leaves the point dark
     /// (`crate::scene::light_term_culled`): what the tree's leaves and maps evaluate.
     #[inline]
-    pub(crate) fn contribution_culled(&self, emission: &Emission, point_on_plane: DVec2) -> f64 {
+    pub(crate) fn contribution_culled(
+        &self,
+        emission: &EmissionShape,
+        point_on_plane: DVec2,
+    ) -> f64 {
         self.power * light_term_culled(self.position_in_world, emission, point_on_plane)
     }
 }
@@ -461,7 +469,7 @@ fn contributing(
     powers: &LightPowers,
     emission: Option<&[Emission]>,
     keep_zero_power: bool,
-) -> Vec<(u32, SpatialLight, Option<Emission>)> {
+) -> Vec<(u32, SpatialLight, Option<EmissionShape>)> {
     assert_eq!(positions.len(), powers.len(), "one position per power");
     if let Some(e) = emission {
         assert_eq!(e.len(), powers.len(), "one emission profile per power");
@@ -486,6 +494,7 @@ fn contributing(
                 && l.position_in_world.z > 0.0
                 && e.is_none_or(|e| e.reaches_plane(l.position_in_world))
         })
+        .map(|(i, l, e)| (i, l, e.map(|e| *e.shape())))
         .collect()
 }
 

@@ -97,7 +97,13 @@ fn largest_coordinate(scene: &Scene) -> f64 {
 /// `(|ê|, bound on |Δê|)` of one sample of light `i` with weight `w` at `x` (module docs).
 fn sample_bound(scene: &Scene, i: usize, w: f64, x: glam::DVec2, b: f64) -> (f64, f64) {
     let light = scene.positions[i];
-    let e = w * light_term(light, scene.emission_of(i), x);
+    let e = w * light_term(
+        light,
+        scene
+            .emission_of(i)
+            .map(lightpick_core::scene::Emission::shape),
+        x,
+    );
     let g = geometry_term(light, x);
     if g == 0.0 {
         return (0.0, 0.0);

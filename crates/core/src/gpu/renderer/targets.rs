@@ -44,7 +44,7 @@ pub(super) fn light_buffers(
     )?);
     let shapes = match &scene.emission {
         Some(emission) => {
-            let shapes: Vec<GpuShape> = emission.iter().map(GpuShape::of).collect();
+            let shapes: Vec<GpuShape> = emission.iter().map(|e| GpuShape::of(e)).collect();
             Some(Arc::new(SplitArray::with_contents(
                 ctx,
                 "lights' emission profiles (spots, ranges)",

@@ -138,7 +138,7 @@ impl Overlaps {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::Emission;
+    use crate::scene::EmissionShape;
     use crate::spatial::{LaneBounds, SpatialLight};
 
     /// Four lanes of point lights mapped over boxes of their own: the map over them keeps
@@ -164,7 +164,7 @@ mod tests {
             light(0.305, 0.302, 0.01, 1e-3),
         ];
         let grids: [LaneGrid; 4] = std::array::from_fn(|k| {
-            LaneGrid::of_lights(&lights[k..=k], &[Emission::POINT], &[Some(boxes[k])])
+            LaneGrid::of_lights(&lights[k..=k], &[EmissionShape::POINT], &[Some(boxes[k])])
         });
         let lanes = MappedLanes::new(&[LaneBounds::EMPTY; 4], &grids);
         let total = |g: &LaneGrid| {

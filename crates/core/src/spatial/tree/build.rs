@@ -6,7 +6,7 @@ use glam::{DVec2, DVec3};
 use super::node::{ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
 use super::{LightTree, MapWeights, fill, footprint_split, layout, map_fill};
 use crate::powers::LightPowers;
-use crate::scene::Emission;
+use crate::scene::{Emission, EmissionShape};
 use crate::spatial::bounds::LaneBounds;
 use crate::spatial::grid::MappedLanes;
 use crate::spatial::{SpatialLight, contributing};
@@ -56,7 +56,7 @@ impl LightTree {
         let contributing = contributing(positions, powers, emission, true);
         let m = contributing.len();
         assert!(m < 1 << 27, "at most 2^27 lights");
-        let (nodes, node_first, order, root) = lay_out(&contributing, emission);
+        let (nodes, node_first, order, root) = lay_out(&contributing, emission.is_some());
         let node_count = nodes.len();
         let (raw, pmf) = (powers.as_slice(), powers.pmf_scale());
         let lights = order
@@ -73,15 +73,15 @@ impl LightTree {
             root,
             depth: 0,
             n: positions.len(),
-            emission: emission
-                .map_or_else(Vec::new, |e| order.iter().map(|&i| e[i as usize]).collect()),
+            emission: emission.map_or_else(Vec::new, |e| {
+                order.iter().map(|&i| *e[i as usize].shape()).collect()
+            }),
             bounds: if emission.is_some() {
                 vec![[LaneBounds::EMPTY; TREE_WIDTH]; node_count]
             } else {
                 Vec::new()
             },
-            footprints: emission
-                .map_or_else(Vec::new, |e| footprints_in(&order, positions, e, region)),
+            region: emission.and(region),
             mapped: Vec::new(),
             weights: emission.map(|_| {
                 Box::new(MapWeights {
@@ -220,69 +220,44 @@ impl LightTree {
 /// Spots and ranges are split by where they shine ([`footprint_split`]), point lights at
 /// medians of their positions ([`layout`]).
 fn lay_out(
-    contributing: &[(u32, SpatialLight, Option<Emission>)],
-    emission: Option<&[Emission]>,
+    contributing: &[(u32, SpatialLight, Option<EmissionShape>)],
+    shaped: bool,
 ) -> (Vec<TreeNode>, Vec<u32>, Vec<u32>, ChildRef) {
     let m = contributing.len();
-    match emission {
-        // Spots and ranges: split by where the lights shine.
-        Some(e) if m > LEAF_SIZE => {
-            let mut items: Vec<footprint_split::Footprinted> = contributing
-                .iter()
-                .map(|(i, l, _)| {
-                    footprint_split::Footprinted::new(*i, l.position_in_world, &e[*i as usize])
-                })
-                .collect();
-            let (nodes, node_first) = footprint_split::lay_out(&mut items);
-            let order = items.iter().map(|l| l.index).collect();
-            (nodes, node_first, order, ChildRef::node(0))
-        }
-        _ => {
-            let mut items: Vec<layout::Item> = contributing
-                .iter()
-                .map(|(i, l, _)| (*i, l.position_in_world))
-                .collect();
-            let node_count = layout::internal_nodes(m);
-            let mut nodes = vec![TreeNode::EMPTY; node_count];
-            let mut node_first = vec![0u32; node_count];
-            let root = if m == 0 {
-                ChildRef::EMPTY
-            } else if m <= LEAF_SIZE {
-                ChildRef::leaf(0, m)
-            } else {
-                layout::lay_out(layout::Job {
-                    items: &mut items,
-                    index: 0,
-                    first: 0,
-                    nodes: &mut nodes,
-                    node_first: &mut node_first,
-                });
-                ChildRef::node(0)
-            };
-            let order: Vec<u32> = items.iter().map(|(i, _)| *i).collect();
-            (nodes, node_first, order, root)
-        }
+    // Spots and ranges: split by where the lights shine.
+    if shaped && m > LEAF_SIZE {
+        let mut items: Vec<footprint_split::Footprinted> = contributing
+            .iter()
+            .map(|(i, l, shape)| {
+                let shape = shape.unwrap_or_default();
+                footprint_split::Footprinted::new(*i, l.position_in_world, &shape)
+            })
+            .collect();
+        let (nodes, node_first) = footprint_split::lay_out(&mut items);
+        let order = items.iter().map(|l| l.index).collect();
+        return (nodes, node_first, order, ChildRef::node(0));
     }
-}
-
-/// Where each light (scene indices `order`) is mapped on the plane: its footprint
-/// ([`Emission::footprint`]) within `region`, or `region` for a light whose footprint is
-/// unbounded (`None` without a region).
-fn footprints_in(
-    order: &[u32],
-    positions: &[DVec3],
-    emission: &[Emission],
-    region: Option<[DVec2; 2]>,
-) -> Vec<Option<[DVec2; 2]>> {
-    order
+    let mut items: Vec<layout::Item> = contributing
         .iter()
-        .map(|&i| {
-            let f = emission[i as usize].footprint(positions[i as usize]);
-            match (f, region) {
-                (Some([a, b]), Some([lo, hi])) => Some([a.max(lo), b.min(hi)]),
-                (None, Some(r)) => Some(r),
-                (f, None) => f,
-            }
-        })
-        .collect()
+        .map(|(i, l, _)| (*i, l.position_in_world))
+        .collect();
+    let node_count = layout::internal_nodes(m);
+    let mut nodes = vec![TreeNode::EMPTY; node_count];
+    let mut node_first = vec![0u32; node_count];
+    let root = if m == 0 {
+        ChildRef::EMPTY
+    } else if m <= LEAF_SIZE {
+        ChildRef::leaf(0, m)
+    } else {
+        layout::lay_out(layout::Job {
+            items: &mut items,
+            index: 0,
+            first: 0,
+            nodes: &mut nodes,
+            node_first: &mut node_first,
+        });
+        ChildRef::node(0)
+    };
+    let order: Vec<u32> = items.iter().map(|(i, _)| *i).collect();
+    (nodes, node_first, order, root)
 }

@@ -273,7 +273,7 @@ fn flat_on_tile(lights: &[Candidate]) -> bool {
 /// does not provably miss all of it ([`dark_over`]; a footprint's box may meet a tile
 /// that its ellipse misses).
 fn lights_tile(tree: &LightTree, i: usize, rect: [DVec2; 2]) -> bool {
-    tree.footprints.get(i).is_none_or(|&f| meets(f, rect))
+    meets(tree.footprint(i), rect)
         && tree
             .emission
             .get(i)

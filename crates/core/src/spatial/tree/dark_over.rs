@@ -26,7 +26,7 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::scene::Emission;
+use crate::scene::EmissionShape;
 
 /// Relative slack of the tests: far above the roundings (`~10^-16`), far below what
 /// separates a lit tile from a dark one.
@@ -38,7 +38,11 @@ const SLACK: f64 = 1e-9;
 /// - its range `r` ends before the rectangle's nearest point (`d_min ≥ r`, where the
 ///   window `1 − (d/r)⁴` is 0), with `10^-9` of `r` to spare;
 /// - its cone misses the rectangle ([`cone_misses`], the module docs).
-pub(super) fn dark_over(emission: &Emission, light_in_world: DVec3, [lo, hi]: [DVec2; 2]) -> bool {
+pub(super) fn dark_over(
+    emission: &EmissionShape,
+    light_in_world: DVec3,
+    [lo, hi]: [DVec2; 2],
+) -> bool {
     if let Some(range) = emission.range() {
         let nearest = light_in_world.truncate().clamp(lo, hi);
         let d_min = (nearest.extend(0.0) - light_in_world).length();
@@ -46,7 +50,7 @@ pub(super) fn dark_over(emission: &Emission, light_in_world: DVec3, [lo, hi]: [D
             return true;
         }
     }
-    emission.spot().is_some()
+    emission.has_spot()
         && cone_misses(
             light_in_world,
             emission.axis(),

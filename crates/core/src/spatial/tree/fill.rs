@@ -9,7 +9,7 @@
 use glam::DVec3;
 
 use super::node::{Child, ChildRef, TREE_WIDTH, TreeNode};
-use crate::scene::Emission;
+use crate::scene::EmissionShape;
 use crate::spatial::{LaneBounds, SpatialLight};
 
 /// Subtrees of more nodes than this (about `2^13` lights) are filled in parallel.
@@ -41,7 +41,7 @@ pub(super) trait Summary: Copy + Send {
     /// An empty lane.
     const EMPTY: Self;
     /// The lights of a leaf cluster (with their profiles for [`Bounded`]).
-    fn of_leaf(lights: &[SpatialLight], emission: Option<&[Emission]>) -> Self;
+    fn of_leaf(lights: &[SpatialLight], emission: Option<&[EmissionShape]>) -> Self;
     /// A node's lanes, together.
     fn of_lanes(lanes: &[Self; TREE_WIDTH]) -> Self;
     /// The power and centroid part.
@@ -62,7 +62,7 @@ impl Summary for Aggregate {
         max: DVec3::NEG_INFINITY,
     };
 
-    fn of_leaf(lights: &[SpatialLight], _emission: Option<&[Emission]>) -> Self {
+    fn of_leaf(lights: &[SpatialLight], _emission: Option<&[EmissionShape]>) -> Self {
         let (power, centroid, min, max) = Self::combine(lights.iter().map(|l| {
             (
                 l.power,
@@ -105,7 +105,7 @@ impl Summary for Bounded {
         bounds: None,
     };
 
-    fn of_leaf(lights: &[SpatialLight], emission: Option<&[Emission]>) -> Self {
+    fn of_leaf(lights: &[SpatialLight], emission: Option<&[EmissionShape]>) -> Self {
         let bounds = emission.map(|e| {
             lights.iter().zip(e).fold(LaneBounds::EMPTY, |b, (l, e)| {
                 LaneBounds::union(&b, &LaneBounds::of_light(l, e))
@@ -157,7 +157,7 @@ impl Summary for Reweighed {
         intensity: None,
     };
 
-    fn of_leaf(lights: &[SpatialLight], emission: Option<&[Emission]>) -> Self {
+    fn of_leaf(lights: &[SpatialLight], emission: Option<&[EmissionShape]>) -> Self {
         let intensity = emission.map(|e| {
             // `LaneBounds::EMPTY ∪ first` is the first light's bounds, then each adds.
             let mut each = lights.iter().zip(e).map(|(l, e)| l.power * e.gain());
@@ -275,7 +275,7 @@ pub(super) struct Fill<'a> {
 pub(super) fn fill<S: Summary>(
     job: Fill<'_>,
     lights: &[SpatialLight],
-    emission: Option<&[Emission]>,
+    emission: Option<&[EmissionShape]>,
 ) -> S {
     let Fill {
         nodes,

@@ -1,7 +1,7 @@
 //! The tree's layout over lights with spot cones or ranges: binary splits by a surface-area
 //! heuristic over the lights' **footprints** on the plane (the region each can light,
-//! [`Emission::footprint`]), two of them per 4-wide node. Spots that shine on one part of
-//! the plane share lanes, whatever truss they hang from, so a lane's map of what it gives
+//! [`EmissionShape::footprint`]), two of them per 4-wide node. Spots that shine on one part
+//! of the plane share lanes, whatever truss they hang from, so a lane's map of what it gives
 //! the plane ([`super::super::grid`]) is sharp and its footprint culls the rest of the plane.
 //!
 //! # The cost of a split
@@ -26,7 +26,7 @@
 //! A node splits its range in two, then each half above a leaf cluster in two again, so a
 //! half of at most [`LEAF_SIZE`] lights leaves one lane empty. Splitting the largest range
 //! until the four lanes are full was measured (10^5 spots of `lightpick bench`: 10 % fewer
-//! nodes, 422 bytes a light against 445; `tile_cuts` example: the same time per pick with
+//! nodes, 23 bytes a light less; `tile_cuts` example: the same time per pick with
 //! the tiles' cuts, their variance 11 % higher on `gallery` and 4 % on `arena`) and not kept.
 //!
 //! # Determinism
@@ -37,7 +37,7 @@
 use glam::{DVec2, DVec3};
 
 use super::node::{ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
-use crate::scene::Emission;
+use crate::scene::EmissionShape;
 
 /// Buckets along each key (pbrt and Cycles use 12).
 const BUCKETS: usize = 12;
@@ -50,14 +50,14 @@ const PARALLEL_LAYOUT: usize = 1 << 13;
 pub(super) struct Footprinted {
     /// The light's scene index.
     pub(super) index: u32,
-    /// The box on the plane outside which it gives nothing ([`Emission::footprint`]), or
+    /// The box on the plane outside which it gives nothing ([`EmissionShape::footprint`]), or
     /// its position on the plane when that region is unbounded.
     area: [DVec2; 2],
 }
 
 impl Footprinted {
     /// The light `index` at `position` with the profile `emission`.
-    pub(super) fn new(index: u32, position: DVec3, emission: &Emission) -> Self {
+    pub(super) fn new(index: u32, position: DVec3, emission: &EmissionShape) -> Self {
         let at = position.truncate();
         Footprinted {
             index,

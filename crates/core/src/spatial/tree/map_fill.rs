@@ -6,7 +6,7 @@
 //! count, and a refit maps what a build maps.
 
 use super::fill::subtree_end;
-use super::node::{Child, ChildRef, TREE_WIDTH};
+use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH};
 use super::{LightTree, MapWeights};
 use crate::spatial::grid::{LaneGrid, MappedLanes};
 
@@ -69,11 +69,15 @@ pub(super) fn map_subtree(
             (Child::Leaf { first, count }, _) => {
                 let r = *first..first + count;
                 let weights = &w.weight[r.clone()];
+                let mut footprints = [None; LEAF_SIZE];
+                for (j, f) in r.clone().zip(&mut footprints) {
+                    *f = tree.footprint(j);
+                }
                 LaneGrid::of_weighted(
                     &tree.lights[r.clone()],
                     |j| weights[j],
-                    &tree.emission[r.clone()],
-                    &tree.footprints[r],
+                    &tree.emission[r],
+                    &footprints[..*count],
                 )
             }
             _ => LaneGrid::EMPTY,

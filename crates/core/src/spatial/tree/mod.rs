@@ -85,7 +85,7 @@ use glam::DVec2;
 use super::SpatialLight;
 use super::bounds::LaneBounds;
 use super::grid::MappedLanes;
-use crate::scene::{Emission, ReceiverPlane};
+use crate::scene::{EmissionShape, ReceiverPlane};
 
 /// What a tree over spots integrates its lanes' maps in, per light in leaf order.
 #[derive(Clone, Debug, PartialEq)]
@@ -114,14 +114,15 @@ pub struct LightTree {
     depth: u32,
     /// Number of lights of the scene.
     n: usize,
-    /// The lights' emission profiles in leaf order (empty for point lights).
-    emission: Vec<Emission>,
+    /// What the lights' emission factors are evaluated with, in leaf order (empty for point
+    /// lights).
+    emission: Vec<EmissionShape>,
     /// Each node's lane bounds (empty for point lights).
     bounds: Vec<[LaneBounds; TREE_WIDTH]>,
-    /// Where each light is mapped on the plane, in leaf order: its footprint
-    /// ([`Emission::footprint`]) within the region of interest, or the region for a light
-    /// whose footprint is unbounded (`None` without a region); empty for point lights.
-    footprints: Vec<Option<[DVec2; 2]>>,
+    /// The region of the plane the lanes of spots are mapped over (`[min, max]`; `None` over
+    /// point lights, and where lights whose footprint is unbounded are weighed by their
+    /// representative light).
+    region: Option<[DVec2; 2]>,
     /// Each node's lanes as the descent over spots reads them ([`super::grid`]; empty for
     /// point lights).
     mapped: Vec<MappedLanes>,
@@ -144,9 +145,25 @@ impl LightTree {
         self.mapped.get(k)
     }
 
-    /// The emission profiles in leaf order (empty for point lights).
-    pub fn emission(&self) -> &[Emission] {
+    /// What the lights' emission factors are evaluated with ([`EmissionShape`]), in leaf
+    /// order (empty for point lights).
+    pub fn emission(&self) -> &[EmissionShape] {
         &self.emission
+    }
+
+    /// Where light `j` (leaf order) is mapped on the plane: its footprint
+    /// ([`EmissionShape::footprint`]) within the region the lanes are mapped over, or the
+    /// region for a light whose footprint is unbounded; `None` for a tree of point lights,
+    /// and for such a light without a region (both reach every point). Computed when asked
+    /// (a few dozen operations) rather than kept: 40 bytes a light.
+    fn footprint(&self, j: usize) -> Option<[DVec2; 2]> {
+        let shape = self.emission.get(j)?;
+        let f = shape.footprint(self.lights[j].position_in_world);
+        match (f, self.region) {
+            (Some([a, b]), Some([lo, hi])) => Some([a.max(lo), b.min(hi)]),
+            (None, Some(r)) => Some(r),
+            (f, None) => f,
+        }
     }
 
     /// The leaf-order index of the first light below `at` (`None` for an empty lane).
@@ -243,19 +260,21 @@ impl LightTree {
     /// Heap bytes the tree holds, by capacity: per contributing light its position and
     /// normalized power in leaf order (32 bytes) and its scene index (4), per internal node
     /// 152 bytes (its lanes' representative lights and children, its reach) and its first
-    /// light (4), and for lights with emission profiles those profiles, their footprints and
-    /// weights (8 bytes, [`crate::PmfScale::weight`]) and each node's lane bounds and maps:
-    /// for 10^6 point lights (87 381 nodes of mostly two to four leaf clusters) about 50
-    /// bytes per light, for 10^5 spots over the unit square about 445.
+    /// light (4), and for lights with emission profiles what their factors are evaluated with
+    /// (72 bytes, [`EmissionShape`]: not the profiles as given, and not their footprints,
+    /// which the tree computes when it needs them), their weights (8 bytes,
+    /// [`crate::PmfScale::weight`]) and each node's lane bounds and maps (2.2 kB, of which
+    /// the four 16 × 16 maps are 1 kB): for 10^6 point lights (87 381 nodes of mostly two to
+    /// four leaf clusters) about 50 bytes per light, for 10^5 spots over the unit square
+    /// about 350.
     pub fn heap_bytes(&self) -> usize {
         use std::mem::size_of;
         self.nodes.capacity() * size_of::<TreeNode>()
             + self.node_first.capacity() * size_of::<u32>()
             + self.lights.capacity() * size_of::<SpatialLight>()
             + self.order.capacity() * size_of::<u32>()
-            + self.emission.capacity() * size_of::<Emission>()
+            + self.emission.capacity() * size_of::<EmissionShape>()
             + self.bounds.capacity() * size_of::<[LaneBounds; TREE_WIDTH]>()
-            + self.footprints.capacity() * size_of::<Option<[DVec2; 2]>>()
             + self.mapped.capacity() * size_of::<MappedLanes>()
             + self.weights.as_ref().map_or(0, |w| {
                 size_of::<MapWeights>()
