@@ -100,6 +100,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 Some(sized(64, k / 2, spread)),
             ),
             (
+                format!("cut ≤ {}, spread ≤ {spread}", 2 * k),
+                Some(sized(64, 2 * k, spread)),
+            ),
+            (
+                format!("cut ≤ {}, spread ≤ {spread}", 4 * k),
+                Some(sized(64, 4 * k, spread)),
+            ),
+            (
                 format!("cut ≤ {k}, spread ≤ 1.25"),
                 Some(sized(64, k, 1.25)),
             ),

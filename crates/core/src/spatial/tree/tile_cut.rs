@@ -161,6 +161,18 @@ pub fn tile_side_for(width: u32, height: u32, tiles_per_side: u32) -> u32 {
 
 /// The most entries of one tile's cut (measured against 128 in the module docs of
 /// [`crate::spatial`]).
+///
+/// 512 and 1024 were measured too (`tile_cuts` example's rows `cut ≤ 512`, `cut ≤ 1024`):
+/// over point lights no gain (`heavy-tail` 1233× → 1302× and 1342× below power sampling at
+/// 7.1, 7.2 and 7.7 alias picks, `clusters-low` 6.2 → 7.0 and 8.4 alias picks at the same
+/// variance), and cutting every tile took twice and four times as long. Over spots only
+/// `random` grows past 256 entries (369 a tile, where its spread ends the cut; `stage`,
+/// `gallery` and `arena` stop at 41, 6 and 133): in the example 289× → 328× at 3.2 → 2.6
+/// alias picks, but under `lightpick bench` (`--no-gpu --presets stage,gallery --scene
+/// random.json --scene arena.json`, two runs alternating with 256) its spatial sample took
+/// 84 and 88 ns against 61 and 62 (cutting its 4096 tiles took three times as long, 830 ms
+/// against 283), its efficiency over the alias table's 52× against 64×; the app's passes
+/// gained a tenth (143 and 126 ns against 160 and 137). Not kept, for spots either.
 pub const CUT_MAX_ENTRIES: usize = 256;
 
 /// The most a cut may spread its entries' shares, `Σ_e max_k s_e(x_k)` over the tile's
