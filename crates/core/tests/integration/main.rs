@@ -34,7 +34,6 @@ mod precision_lab;
 mod refit_allocations;
 mod render_cpu;
 mod render_metrics;
-mod render_speed;
 mod scale_property;
 mod scene_files;
 mod scene_import;
