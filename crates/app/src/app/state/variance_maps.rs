@@ -146,30 +146,4 @@ mod tests {
         assert!(!m.exact());
         assert_eq!(m.samples_per_pixel(), ESTIMATE_SPP);
     }
-
-    /// Times the maps at `10^6` lights (the `million` preset, its tree built first, as the
-    /// app's samplers are when the maps are asked for), and exact ones near the budget:
-    /// `cargo test -p lightpick --lib variance_maps -- --ignored --nocapture`.
-    #[test]
-    #[ignore = "a timing, not a check: run by hand"]
-    fn time_at_a_million_lights() {
-        // Near the exact budget: 64 lights (a tree) × 256² pixels, exact at full size.
-        let equal = Arc::new(Scene::preset("equal").expect("a preset"));
-        let samplers = SceneSamplers::new(equal, Construction::Integer);
-        let m = variance_maps(1, &samplers);
-        println!("equal: exact {}: {:.3} s", m.exact(), m.seconds);
-        let scene = Arc::new(Scene::preset("million").expect("a preset"));
-        let samplers = SceneSamplers::new(Arc::clone(&scene), Construction::Integer);
-        let _ = samplers.spatial();
-        for _ in 0..3 {
-            let m = variance_maps(1, &samplers);
-            println!(
-                "million: {:?} px, exact {}, {} spp: {:.3} s",
-                m.size(),
-                m.exact(),
-                m.samples_per_pixel(),
-                m.seconds
-            );
-        }
-    }
 }
