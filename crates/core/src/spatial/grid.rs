@@ -66,9 +66,9 @@
 //! keeping the bounds' geometry and summing only their intensities again: every power
 //! 241–243 ms (`tree-refit-spots`; 1.25 s with every lane integrating its lights), one
 //! light's 3.0–3.1 ms (`tree-refit-spots-one`; 145 ms). Three quarters of a full refit is
-//! the leaf lanes' integration (`perf` over twenty refits of a file of 10^5 spots with new powers:
-//! `add_light` 75 %, the lanes above resampled from their children's 10 %, the cells'
-//! codes 6 %).
+//! the leaf lanes' integration (`perf` over twenty refits of a file of 10^5 spots with new
+//! powers: `add_light` 75 %, the lanes above resampled from their children's 10 %, the
+//! cells' codes 6 %).
 //!
 //! # Measured: importances and splits for spots
 //! Exact variances `Σ c_i²/P_i − E²` (mean over 37 × 37 shading points, over power
