@@ -25,16 +25,13 @@ pub(crate) struct GpuShape {
 }
 
 impl GpuShape {
-    /// The `f32` form of `e` (octahedral axis).
+    /// The `f32` form of `e` (octahedral axis; the cone scale 0 without a spot, as the shape
+    /// keeps it).
     pub(crate) fn of(e: &EmissionShape) -> Self {
         GpuShape {
             axis: octahedral_encode(e.axis()),
             cos_outer: e.cos_outer() as f32,
-            cone_scale: if e.has_spot() {
-                e.cone_scale() as f32
-            } else {
-                0.0
-            },
+            cone_scale: e.cone_scale() as f32,
             gain: e.gain() as f32,
             inv_range: e.inv_range() as f32,
         }

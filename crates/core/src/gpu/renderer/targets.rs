@@ -10,7 +10,7 @@ use crate::gpu::render_kernel::{
 };
 use crate::gpu::split::{SplitArray, check_bindings};
 use crate::gpu::{self, GpuContext, GpuError};
-use crate::scene::Scene;
+use crate::scene::{Emission, Scene};
 
 /// Refuses an empty image, or one beyond the device's texture size or its workgroup
 /// count per dimension ([`GpuError::ImageSize`]).
@@ -44,7 +44,11 @@ pub(super) fn light_buffers(
     )?);
     let shapes = match &scene.emission {
         Some(emission) => {
-            let shapes: Vec<GpuShape> = emission.iter().map(|e| GpuShape::of(e)).collect();
+            let shapes: Vec<GpuShape> = emission
+                .iter()
+                .map(Emission::shape)
+                .map(GpuShape::of)
+                .collect();
             Some(Arc::new(SplitArray::with_contents(
                 ctx,
                 "lights' emission profiles (spots, ranges)",

@@ -28,9 +28,10 @@
 //! does not): such a light gives the tile nothing and is left out of the cut like a light
 //! whose box misses it, by an exact test of its cone against the tile (the first, a bound
 //! of angles, found a few less: `stage` 406× below power, 416× now) and of the tile's
-//! nearest point against a range, and no longer keeps its cluster whole. Letting lights in where they fade more than tenfold across the tile costs `arena`
-//! its gain (a spot's falloff between two points); weighing a crossing edge by its
-//! unshadowed bound spends the cut on dark pixels.
+//! nearest point against a range, and no longer keeps its cluster whole. Letting lights in
+//! where they fade more than tenfold across the tile costs `arena` its gain (a spot's
+//! falloff between two points); weighing a crossing edge by its unshadowed bound spends
+//! the cut on dark pixels.
 
 use glam::DVec2;
 

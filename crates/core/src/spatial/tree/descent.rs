@@ -154,7 +154,7 @@ impl LightTree {
         let mut u = [0; B];
         for b in 0..B {
             if let Some(tile) = cuts.tile_at(points[b]) {
-                words[b] = cuts.words(self, tile);
+                words[b] = cuts.cut(self, tile);
                 u[b] = rngs[b].next_u32() >> 8;
                 prefetch_pick(words[b], u[b]);
             }

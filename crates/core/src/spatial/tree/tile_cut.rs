@@ -401,10 +401,10 @@ impl TileCuts {
         })
     }
 
-    /// Tile `tile`'s cut of `tree` (the tree these cuts were made for), cut now if it was
-    /// not yet.
+    /// Tile `tile`'s cut of `tree` (the tree these cuts were made for) as [`TileCut`]'s
+    /// words, cut now if it was not yet.
     #[inline]
-    fn cut(&self, tree: &LightTree, tile: usize) -> &[u32] {
+    pub(super) fn cut(&self, tree: &LightTree, tile: usize) -> &[u32] {
         self.cuts[tile].get_or_init(|| {
             SCRATCH.with_borrow_mut(|scratch| {
                 self.cut_tile(tree, tile as u32, scratch);
@@ -441,12 +441,6 @@ impl TileCuts {
     #[inline]
     pub fn pick(&self, tree: &LightTree, tile: usize, u: u32) -> Option<(ChildRef, u32)> {
         pick_in(self.cut(tree, tile), u)
-    }
-
-    /// Tile `tile`'s cut of `tree` as [`TileCut`]'s words, cut now if it was not yet.
-    #[inline]
-    pub(super) fn words(&self, tree: &LightTree, tile: usize) -> &[u32] {
-        self.cut(tree, tile)
     }
 
     /// The words the GPU reads, every tile of `tree` cut: per tile the offset of its words
