@@ -7,7 +7,7 @@ use super::emission::{GpuShape, emission_source, shapes_layout};
 use super::scheme::{SCHEME_SPATIAL_EXACT, SCHEME_SPATIAL_TREE};
 use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
 use super::{GpuContext, GpuError};
-use crate::spatial::{LaneBounds, MappedLanes, SpatialLight, SpatialSampler, TREE_WIDTH};
+use crate::spatial::{LaneReach, MappedLanes, SpatialLight, SpatialSampler, TREE_WIDTH};
 
 pub(crate) const SPATIAL_WGSL: &str = include_str!("spatial.wgsl");
 pub(crate) const SPATIAL_BOUNDS_WGSL: &str = include_str!("spatial_bounds.wgsl");
@@ -26,10 +26,20 @@ struct GpuNodeBounds {
 }
 
 impl GpuNodeBounds {
-    fn of(bounds: &[LaneBounds; TREE_WIDTH], mapped: &MappedLanes) -> Self {
+    /// A node's lanes from what the CPU descent reads: their footprints, maps and
+    /// intensities, and their boxes, cones and ranges where the node keeps them (lanes
+    /// whose footprint is unbounded; elsewhere a reach that culls nothing, which the GPU,
+    /// like the CPU, never asks for).
+    fn of(mapped: &MappedLanes) -> Self {
         let mut v = [Vec4::ZERO; 28];
-        for (k, b) in bounds.iter().enumerate() {
-            let [lo, hi] = b.footprint;
+        let reach = mapped
+            .reach
+            .as_deref()
+            .copied()
+            .unwrap_or([LaneReach::EVERYWHERE; TREE_WIDTH]);
+        for (k, b) in reach.iter().enumerate() {
+            let [lo, hi] = mapped.footprint_of(k);
+            let intensity = mapped.intensity[k];
             let [map_x, map_y, per_x, per_y, scale] = mapped.map;
             let [weight, c_x, c_y, c_z] = mapped.unbounded;
             // Every bound rounded outwards into f32, so the f32 lane still reaches every
@@ -40,7 +50,7 @@ impl GpuNodeBounds {
                 down(b.min.x),
                 down(b.min.y),
                 down(b.min.z),
-                b.intensity as f32,
+                intensity as f32,
             );
             v[7 * k + 1] = Vec4::new(up(b.max.x), up(b.max.y), up(b.max.z), up(b.range));
             v[7 * k + 2] = b.axis.as_vec3().extend(cos_down(b.cos_spread));
@@ -375,14 +385,10 @@ fn shaped_arrays(sampler: &SpatialSampler) -> Option<(Vec<GpuShape>, Vec<GpuNode
         }),
         SpatialSampler::Tree(tree) => (!tree.emission().is_empty()).then(|| {
             let shapes = tree.emission().iter().map(GpuShape::of).collect();
-            let lanes =
-                (0..tree.nodes().len()).filter_map(|k| Some((tree.bounds(k)?, tree.mapped(k)?)));
-            let bounds = lanes
-                .clone()
-                .map(|(b, m)| GpuNodeBounds::of(b, m))
-                .collect();
+            let lanes = (0..tree.nodes().len()).filter_map(|k| tree.mapped(k));
+            let bounds = lanes.clone().map(GpuNodeBounds::of).collect();
             let codes = lanes
-                .flat_map(|(_, m)| m.codes.iter().flatten().copied())
+                .flat_map(|m| m.codes.iter().flatten().copied())
                 .collect();
             (shapes, bounds, codes)
         }),

@@ -40,7 +40,7 @@ use crate::spatial::importance::{
     GRID_CELL, IMPORTANCE_CAP, branch_probabilities, lane_importances, pick_on_grid,
 };
 use crate::spatial::{
-    Child, ChildRef, ExactSampler, LaneBounds, LightTree, REACH_SLACK, SpatialLight,
+    Child, ChildRef, ExactSampler, LightTree, MappedLanes, REACH_SLACK, SpatialLight,
     SpatialSampler, TREE_WIDTH, unit24,
 };
 
@@ -50,15 +50,15 @@ pub enum Culled {
     /// The lane holds no light.
     Empty,
     /// The point lies outside the lane's footprint box on the plane
-    /// ([`LaneBounds::footprint`]), outside which none of its lights gives anything.
+    /// ([`LaneBounds::footprint`](crate::spatial::LaneBounds::footprint)), outside which none of its lights gives anything.
     OutsideFootprint,
     /// The point is farther from the box of the lane's lights than their longest range
-    /// (tested, as in [`LaneBounds::reach`], only where the footprint is unbounded; a range
+    /// (tested, as in [`LaneBounds::reach`](crate::spatial::LaneBounds::reach), only where the footprint is unbounded; a range
     /// bounds a light's footprint, so such a lane holds a light without one, its longest
     /// range is infinite, and with today's footprints this reason does not occur).
     BeyondRange,
     /// No spot direction of the lane's cone comes within its widest outer cone of the
-    /// point's direction (pbrt-v4's cone test, [`LaneBounds::reach`]).
+    /// point's direction (pbrt-v4's cone test, [`LaneBounds::reach`](crate::spatial::LaneBounds::reach)).
     OutsideCone,
     /// The lane holds lights but no weight: all of them have power 0 (they stay in the tree,
     /// so that new powers refit it). Lights on or below the plane never enter the tree, so
@@ -417,9 +417,8 @@ fn irradiance(tree: &LightTree, x: DVec2) -> f64 {
 /// Node `k`'s four lanes at `x` with the masses `masses` the descent drew by.
 fn lanes_at(tree: &LightTree, k: usize, x: DVec2, masses: [u32; TREE_WIDTH]) -> [LaneStep; 4] {
     let node = &tree.nodes()[k];
-    let bounds = tree.bounds(k);
-    let (importance, share) = if let (Some(b), Some(m)) = (bounds, tree.mapped(k)) {
-        let (importance, share) = m.weights(b, x);
+    let (importance, share) = if let Some(m) = tree.mapped(k) {
+        let (importance, share) = m.weights(x);
         (importance.map(|i| i.min(IMPORTANCE_CAP)), share)
     } else {
         let c: [_; TREE_WIDTH] = std::array::from_fn(|l| node.centroid(l));
@@ -441,7 +440,7 @@ fn lanes_at(tree: &LightTree, k: usize, x: DVec2, masses: [u32; TREE_WIDTH]) -> 
             branch_probability: probability[l],
             mass: masses[l],
             probability: f64::from(masses[l]) * GRID_CELL,
-            culled: (masses[l] == 0).then(|| cull_reason(child, bounds.map(|b| &b[l]), x)),
+            culled: (masses[l] == 0).then(|| cull_reason(child, tree.mapped(k).map(|m| (m, l)), x)),
         }
     })
 }
@@ -457,26 +456,31 @@ pub fn plane_box(lights: &[SpatialLight], range: Range<usize>) -> Option<[DVec2;
     })
 }
 
-/// Why a lane of mass 0 has none: empty, else the first test of [`LaneBounds::reach`] that
-/// excludes `x` (footprint, range, cone), else no power at all.
-fn cull_reason(child: Child, bounds: Option<&LaneBounds>, x: DVec2) -> Culled {
+/// Why a lane of mass 0 has none: empty, else the first test of
+/// [`MappedLanes::reaches`] that excludes `x` (footprint, range, cone) for lane `lane` of
+/// `lanes`, else no power at all.
+fn cull_reason(child: Child, lanes: Option<(&MappedLanes, usize)>, x: DVec2) -> Culled {
     if child == Child::Empty {
         return Culled::Empty;
     }
-    let Some(b) = bounds else {
+    let Some((m, lane)) = lanes else {
         return Culled::NoPower;
     };
-    let [lo, hi] = b.footprint;
+    let [lo, hi] = m.footprint_of(lane);
     if !(x.cmpge(lo).all() && x.cmple(hi).all()) {
         return Culled::OutsideFootprint;
     }
+    // A bounded footprint holds every point the lane's cones and ranges reach.
+    let geometry = m.reach.as_deref().map(|r| r[lane]);
+    let Some(g) = geometry.filter(|_| !(lo.is_finite() && hi.is_finite())) else {
+        return Culled::NoPower;
+    };
     let p = x.extend(0.0);
-    let outside = (b.min - p).max(p - b.max).max(glam::DVec3::ZERO);
-    let bounded = lo.is_finite() && hi.is_finite();
-    if !bounded && outside.length_squared() > b.range * b.range * (1.0 + REACH_SLACK) {
+    let outside = (g.min - p).max(p - g.max).max(glam::DVec3::ZERO);
+    if outside.length_squared() > g.range * g.range * (1.0 + REACH_SLACK) {
         return Culled::BeyondRange;
     }
-    if b.reach(x) == 0.0 {
+    if g.reach(x) == 0.0 {
         Culled::OutsideCone
     } else {
         Culled::NoPower

@@ -12,21 +12,12 @@ use crate::scene::EmissionShape;
 /// (pbrt-v4's `LightBounds`; the module docs), and where on the plane they can do it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LaneBounds {
-    /// The box of the lane's light positions, in the world.
-    pub min: DVec3,
-    /// See [`LaneBounds::min`].
-    pub max: DVec3,
+    /// The box of the lane's light positions, its cones and ranges: what culls it where
+    /// its footprint is unbounded.
+    pub geometry: LaneReach,
     /// `Σ p_i·g_i`: the lane's normalized power weighted by each light's on-axis gain
     /// ([`EmissionShape::gain`]; 1 for a light without a spot).
     pub intensity: f64,
-    /// The axis of the cone that holds every light's spot axis.
-    pub axis: DVec3,
-    /// `cos θo` of that cone's half-angle; −1 (any direction) when some light is not a spot.
-    pub cos_spread: f64,
-    /// `cos θe` of the widest outer cone; −1 when some light is not a spot.
-    pub cos_emission: f64,
-    /// The longest range; `∞` when some light has none.
-    pub range: f64,
     /// The box on the plane outside which no light of the lane gives anything (the union of
     /// the lights' [`EmissionShape::footprint`]s); infinite when some light's is unbounded.
     pub footprint: [DVec2; 2],
@@ -35,13 +26,15 @@ pub struct LaneBounds {
 impl LaneBounds {
     /// An empty lane's bounds (no light: no intensity, reaches nothing).
     pub const EMPTY: LaneBounds = LaneBounds {
-        min: DVec3::INFINITY,
-        max: DVec3::NEG_INFINITY,
+        geometry: LaneReach {
+            min: DVec3::INFINITY,
+            max: DVec3::NEG_INFINITY,
+            axis: DVec3::Z,
+            cos_spread: 1.0,
+            cos_emission: 1.0,
+            range: 0.0,
+        },
         intensity: 0.0,
-        axis: DVec3::Z,
-        cos_spread: 1.0,
-        cos_emission: 1.0,
-        range: 0.0,
         footprint: [DVec2::INFINITY, DVec2::NEG_INFINITY],
     };
 
@@ -56,13 +49,15 @@ impl LaneBounds {
             (DVec3::Z, -1.0, -1.0)
         };
         LaneBounds {
-            min: light.position_in_world,
-            max: light.position_in_world,
+            geometry: LaneReach {
+                min: light.position_in_world,
+                max: light.position_in_world,
+                axis,
+                cos_spread,
+                cos_emission,
+                range: emission.range().unwrap_or(f64::INFINITY),
+            },
             intensity: light.power * emission.gain(),
-            axis,
-            cos_spread,
-            cos_emission,
-            range: emission.range().unwrap_or(f64::INFINITY),
             footprint: emission
                 .footprint(light.position_in_world)
                 .unwrap_or(Self::EVERYWHERE),
@@ -71,21 +66,24 @@ impl LaneBounds {
 
     /// The bounds of the lights of `a` and of `b` together.
     pub fn union(a: &LaneBounds, b: &LaneBounds) -> Self {
-        if a.intensity == 0.0 && a.min.x > a.max.x {
+        let (ga, gb) = (&a.geometry, &b.geometry);
+        if a.intensity == 0.0 && ga.min.x > ga.max.x {
             return *b;
         }
-        if b.intensity == 0.0 && b.min.x > b.max.x {
+        if b.intensity == 0.0 && gb.min.x > gb.max.x {
             return *a;
         }
-        let (axis, cos_spread) = cone_union((a.axis, a.cos_spread), (b.axis, b.cos_spread));
+        let (axis, cos_spread) = cone_union((ga.axis, ga.cos_spread), (gb.axis, gb.cos_spread));
         LaneBounds {
-            min: a.min.min(b.min),
-            max: a.max.max(b.max),
+            geometry: LaneReach {
+                min: ga.min.min(gb.min),
+                max: ga.max.max(gb.max),
+                axis,
+                cos_spread,
+                cos_emission: ga.cos_emission.min(gb.cos_emission),
+                range: ga.range.max(gb.range),
+            },
             intensity: a.intensity + b.intensity,
-            axis,
-            cos_spread,
-            cos_emission: a.cos_emission.min(b.cos_emission),
-            range: a.range.max(b.range),
             footprint: [
                 a.footprint[0].min(b.footprint[0]),
                 a.footprint[1].max(b.footprint[1]),
@@ -112,6 +110,50 @@ impl LaneBounds {
         if lo.is_finite() && hi.is_finite() {
             return 1.0;
         }
+        self.geometry.reach(point_on_plane)
+    }
+}
+
+/// What culls a lane whose footprint on the plane is unbounded (some light's cone reaches
+/// the horizon and it has no range): the box of its lights, the cone holding their axes,
+/// the widest outer cone and the longest range, as in its [`LaneBounds`]. A lane with a
+/// bounded footprint needs none of it: its footprint already holds every point it lights,
+/// so the tree keeps these only for nodes with an unbounded lane
+/// ([`crate::spatial::grid::MappedLanes::reaches`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LaneReach {
+    /// The box of the lane's light positions, in the world.
+    pub min: DVec3,
+    /// See [`LaneReach::min`].
+    pub max: DVec3,
+    /// The axis of the cone that holds every light's spot axis.
+    pub axis: DVec3,
+    /// `cos θo` of that cone's half-angle; −1 (any direction) when some light is not a spot.
+    pub cos_spread: f64,
+    /// `cos θe` of the widest outer cone; −1 when some light is not a spot.
+    pub cos_emission: f64,
+    /// The longest range; `∞` when some light has none.
+    pub range: f64,
+}
+
+impl LaneReach {
+    /// A reach that culls nothing: no range, no cone (what the GPU reads for a lane whose
+    /// footprint is bounded, where it never asks).
+    pub const EVERYWHERE: LaneReach = LaneReach {
+        min: DVec3::ZERO,
+        max: DVec3::ZERO,
+        axis: DVec3::Z,
+        cos_spread: -1.0,
+        cos_emission: -1.0,
+        range: f64::INFINITY,
+    };
+
+    /// 0 when no light of the lane can light `point_on_plane`, else 1, for a lane whose
+    /// footprint holds the point but is unbounded ([`LaneBounds::reach`] past its
+    /// footprint): beyond the longest range from the box, or outside every cone (the
+    /// angles of [`LaneBounds::reach`]).
+    #[inline]
+    pub fn reach(&self, point_on_plane: DVec2) -> f64 {
         let p = point_on_plane.extend(0.0);
         let outside = (self.min - p).max(p - self.max).max(DVec3::ZERO);
         // Culled only beyond the rounding of both sides (a few ulps), by a relative margin.

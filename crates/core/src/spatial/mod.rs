@@ -183,8 +183,8 @@ pub mod grid;
 pub mod importance;
 mod tree;
 
-pub use bounds::LaneBounds;
 pub(crate) use bounds::REACH_SLACK;
+pub use bounds::{LaneBounds, LaneReach};
 pub use exact::ExactSampler;
 pub use grid::{LaneGrid, MappedLanes};
 pub use tree::{

@@ -317,11 +317,11 @@ fn ancestors_by_light(tree: &LightTree, n: usize) -> Vec<Vec<usize>> {
 fn near_an_edge(tree: &LightTree, nodes: &[usize], x: glam::DVec2, eta: f64) -> bool {
     let side = lightpick_core::spatial::grid::GRID_SIDE as f64;
     nodes.iter().any(|&k| {
-        let (Some(bounds), Some(mapped)) = (tree.bounds(k), tree.mapped(k)) else {
+        let Some(mapped) = tree.mapped(k) else {
             return false;
         };
         (0..TREE_WIDTH).any(|lane| {
-            let [lo, hi] = bounds[lane].footprint;
+            let [lo, hi] = mapped.footprint_of(lane);
             let near_box = (0..2).any(|a| (x[a] - lo[a]).abs() < eta || (x[a] - hi[a]).abs() < eta);
             let per = [mapped.map[2][lane], mapped.map[3][lane]];
             let near_cell = (0..2).any(|a| {

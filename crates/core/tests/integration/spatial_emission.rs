@@ -212,16 +212,47 @@ fn every_scheme_is_unbiased_with_spots_and_ranges() {
     }
 }
 
-/// A lane whose bounds say it cannot reach `x` holds no light that lights `x`.
+/// A lane whose bounds say it cannot reach `x` holds no light that lights `x`: where every
+/// spot has a range (every footprint bounded, culled by its box) and where none has (spots
+/// tilted toward the horizon have unbounded footprints, culled by the cones the tree keeps
+/// for their nodes alone).
 #[test]
 fn lane_bounds_never_cull_a_lane_that_lights_the_point() {
-    // All spots, all ranged: every lane can be culled by cone or by range.
-    let scene = shaped_with(2000, 5, 5, 1);
-    let tree = tree(&scene);
+    // All spots, all ranged: every lane can be culled by its footprint.
+    let (culled, by_cones) = cull_checked(&shaped_with(2000, 5, 5, 1));
+    assert!(
+        culled > 100,
+        "the bounds cull something ({culled} lane-points)"
+    );
+    assert_eq!(by_cones, 0, "bounded footprints need no cones");
+    let keeping_cones = |tree: &LightTree| {
+        (0..tree.nodes().len())
+            .filter(|&k| tree.mapped(k).is_some_and(|m| m.reach.is_some()))
+            .count()
+    };
+    assert_eq!(
+        keeping_cones(&tree(&shaped_with(2000, 5, 5, 1))),
+        0,
+        "nodes of bounded lanes keep no cones"
+    );
+    assert!(keeping_cones(&tree(&shaped_with(2000, 6, 5, usize::MAX))) > 0);
+    // All spots, none ranged: a spot in eight tilts past the horizon.
+    let (culled, by_cones) = cull_checked(&shaped_with(2000, 6, 5, usize::MAX));
+    assert!(
+        by_cones > 20,
+        "the cones cull within unbounded footprints ({by_cones} of {culled} lane-points)"
+    );
+}
+
+/// Checks that no lane of `scene`'s tree that culls a point of a 9 × 9 grid over the plane
+/// (and around it) holds a light giving that point anything; returns the lane-points culled,
+/// and of those the ones whose footprint held the point (culled by cone or range).
+fn cull_checked(scene: &Scene) -> (usize, usize) {
+    let tree = tree(scene);
     let pmf = scene.powers.pmf();
     let order = tree.order();
     // The leaf-order range of each child, from the node's first light.
-    let mut culled = 0usize;
+    let (mut culled, mut by_cones) = (0usize, 0usize);
     let mut stack = vec![(0usize, 0usize)];
     let grid: Vec<DVec2> = (0..9)
         .flat_map(|a| {
@@ -230,9 +261,9 @@ fn lane_bounds_never_cull_a_lane_that_lights_the_point() {
         .collect();
     while let Some((k, first)) = stack.pop() {
         let node = &tree.nodes()[k];
-        let bounds = tree.bounds(k).expect("shaped tree keeps bounds");
+        let lanes = tree.mapped(k).expect("shaped tree maps its lanes");
         let mut start = first;
-        for (lane, lane_bounds) in bounds.iter().enumerate().take(TREE_WIDTH) {
+        for lane in 0..TREE_WIDTH {
             let count = match node.child(lane).get() {
                 Child::Node(j) => {
                     stack.push((j, start));
@@ -241,9 +272,13 @@ fn lane_bounds_never_cull_a_lane_that_lights_the_point() {
                 Child::Leaf { count, .. } => count,
                 Child::Empty => 0,
             };
+            let [lo, hi] = lanes.footprint_of(lane);
             for &x in &grid {
-                if lane_bounds.reach(x) == 0.0 {
+                if lanes.reaches(lane, x) == 0.0 {
                     culled += 1;
+                    if x.cmpge(lo).all() && x.cmple(hi).all() {
+                        by_cones += 1;
+                    }
                     for &i in &order[start..start + count] {
                         let c = pmf[i as usize] * scene.light_term(i as usize, x);
                         assert_eq!(
@@ -256,10 +291,7 @@ fn lane_bounds_never_cull_a_lane_that_lights_the_point() {
             start += count;
         }
     }
-    assert!(
-        culled > 100,
-        "the bounds cull something ({culled} lane-points)"
-    );
+    (culled, by_cones)
 }
 
 fn count_below(tree: &LightTree, k: usize) -> usize {

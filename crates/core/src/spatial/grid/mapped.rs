@@ -5,11 +5,12 @@ use glam::{DVec2, DVec3};
 
 use super::{GRID_CELLS, GRID_SIDE, LaneGrid, decode};
 use crate::scene::geometry_term;
-use crate::spatial::LaneBounds;
+use crate::spatial::{LaneBounds, LaneReach};
 
 /// A node's four lanes over spots and ranges as the descent reads them: each lane's
 /// footprint, map, peak intensity and unbounded lights side by side (by field, so the four
-/// lanes evaluate together, [`MappedLanes::weights`]), and the lanes' codes.
+/// lanes evaluate together, [`MappedLanes::weights`]), the lanes' codes, and for a node
+/// with a lane whose footprint is unbounded the box, cones and ranges that cull it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MappedLanes {
     /// Each lane's footprint box ([`LaneBounds::footprint`]) as `lo.x, lo.y, hi.x,
@@ -21,9 +22,13 @@ pub struct MappedLanes {
     pub intensity: [f64; 4],
     /// Each lane's unbounded lights: `Σ p_i·g_i` and their centroid `x, y, z`.
     pub unbounded: [[f64; 4]; 4],
-    /// Lanes (bits) whose footprint is unbounded: their range and cone tests
-    /// ([`LaneBounds::reach`]) run beside the footprint's.
+    /// Lanes (bits) with intensity whose footprint is unbounded: their range and cone tests
+    /// ([`LaneReach::reach`]) run beside the footprint's.
     pub unbounded_lanes: u8,
+    /// Each lane's box, cones and ranges ([`LaneBounds::geometry`]), kept only where some
+    /// lane's footprint is unbounded (a bounded footprint holds every point its lights
+    /// light, so elsewhere they would never be read).
+    pub reach: Option<Box<[LaneReach; 4]>>,
     /// Each lane's cell codes.
     pub codes: [[u8; GRID_CELLS]; 4],
     /// Each lane's map scale and unbounded lights' `Σ w_i·g_i` in the weights it was mapped
@@ -45,6 +50,7 @@ impl MappedLanes {
         intensity: [0.0; 4],
         unbounded: [[0.0; 4], [0.0; 4], [0.0; 4], [1.0; 4]],
         unbounded_lanes: 0,
+        reach: None,
         codes: [[0; GRID_CELLS]; 4],
         weighted: [[0.0; 4]; 2],
     };
@@ -76,19 +82,60 @@ impl MappedLanes {
         self.codes[k] = grid.codes;
     }
 
-    /// The lanes' footprints, peak intensities and unbounded lanes from their bounds.
+    /// The lanes' footprints, peak intensities and unbounded lanes from their bounds, with
+    /// their geometry where some lane's footprint is unbounded.
     pub fn set_bounds(&mut self, bounds: &[LaneBounds; 4]) {
-        self.unbounded_lanes = 0;
         for (k, b) in bounds.iter().enumerate() {
             let [lo, hi] = b.footprint;
             self.footprint[0][k] = lo.x;
             self.footprint[1][k] = lo.y;
             self.footprint[2][k] = hi.x;
             self.footprint[3][k] = hi.y;
-            if b.intensity > 0.0 && !(lo.is_finite() && hi.is_finite()) {
-                self.unbounded_lanes |= 1 << k;
-            }
-            self.intensity[k] = b.intensity;
+        }
+        let unbounded = (0..4).any(|k| self.is_unbounded(k));
+        self.reach = unbounded.then(|| Box::new(bounds.map(|b| b.geometry)));
+        for (k, b) in bounds.iter().enumerate() {
+            self.set_intensity(k, b.intensity);
+        }
+    }
+
+    /// Lane `k`'s peak intensity `Σ p_i·g_i` (new powers), and with it whether its range
+    /// and cone tests run.
+    pub fn set_intensity(&mut self, k: usize, intensity: f64) {
+        self.intensity[k] = intensity;
+        let bit = 1 << k;
+        if intensity > 0.0 && self.is_unbounded(k) {
+            self.unbounded_lanes |= bit;
+        } else {
+            self.unbounded_lanes &= !bit;
+        }
+    }
+
+    /// Lane `k`'s footprint box `[lo, hi]` ([`LaneBounds::footprint`]).
+    pub fn footprint_of(&self, k: usize) -> [DVec2; 2] {
+        let [lo_x, lo_y, hi_x, hi_y] = &self.footprint;
+        [DVec2::new(lo_x[k], lo_y[k]), DVec2::new(hi_x[k], hi_y[k])]
+    }
+
+    /// Whether lane `k` has a footprint and it is not a finite box (an empty lane's is the
+    /// empty box `[∞, −∞]`).
+    fn is_unbounded(&self, k: usize) -> bool {
+        self.footprint[0][k] <= self.footprint[2][k]
+            && !self.footprint.iter().all(|side| side[k].is_finite())
+    }
+
+    /// 0 where no light of lane `k` can light `point_on_plane`, else 1: outside its
+    /// footprint, or, where that is unbounded, beyond its ranges or outside its cones
+    /// ([`LaneBounds::reach`] from what the node keeps).
+    pub fn reaches(&self, k: usize, point_on_plane: DVec2) -> f64 {
+        let (x, y) = (point_on_plane.x, point_on_plane.y);
+        let [lo_x, lo_y, hi_x, hi_y] = &self.footprint;
+        if !(x >= lo_x[k] && y >= lo_y[k] && x <= hi_x[k] && y <= hi_y[k]) {
+            return 0.0;
+        }
+        match &self.reach {
+            Some(reach) if self.is_unbounded(k) => reach[k].reach(point_on_plane),
+            _ => 1.0,
         }
     }
 
@@ -103,11 +150,11 @@ impl MappedLanes {
     }
 
     /// Each lane's importance and share at `point_on_plane`: 0 and 0 for a lane whose
-    /// footprint (and, where it is unbounded, range and cones: `bounds`) excludes the point;
-    /// else its map's value plus its unbounded lights' representative light
-    /// ([`LaneGrid::importance`]), and its `Σ p_i·g_i`.
+    /// footprint (and, where it is unbounded, range and cones: [`MappedLanes::reach`])
+    /// excludes the point; else its map's value plus its unbounded lights' representative
+    /// light ([`LaneGrid::importance`]), and its `Σ p_i·g_i`.
     #[inline]
-    pub fn weights(&self, bounds: &[LaneBounds; 4], point_on_plane: DVec2) -> ([f64; 4], [f64; 4]) {
+    pub fn weights(&self, point_on_plane: DVec2) -> ([f64; 4], [f64; 4]) {
         let (x, y) = (point_on_plane.x, point_on_plane.y);
         let [lo_x, lo_y, hi_x, hi_y] = &self.footprint;
         let [map_x, map_y, per_x, per_y, scale] = &self.map;
@@ -135,7 +182,12 @@ impl MappedLanes {
                     importance[k] +=
                         w[k] * geometry_term(DVec3::new(c_x[k], c_y[k], c_z[k]), point_on_plane);
                 }
-                if self.unbounded_lanes & (1 << k) != 0 && bounds[k].reach(point_on_plane) == 0.0 {
+                if self.unbounded_lanes & (1 << k) != 0
+                    && self
+                        .reach
+                        .as_ref()
+                        .is_some_and(|r| r[k].reach(point_on_plane) == 0.0)
+                {
                     importance[k] = 0.0;
                     share[k] = 0.0;
                 }
@@ -193,7 +245,7 @@ mod tests {
                     ] {
                         let x = DVec2::new(x0 + fx * w, y0 + fy * h);
                         let expected = grids[k].scale * decode(grids[k].codes[cy * GRID_SIDE + cx]);
-                        let (importance, share) = lanes.weights(&bounds, x);
+                        let (importance, share) = lanes.weights(x);
                         assert_eq!(
                             importance[k], expected,
                             "lane {k}, cell ({cx}, {cy}), point {x}"
@@ -206,7 +258,7 @@ mod tests {
         }
         assert_eq!(probes, 4 * GRID_CELLS * 4);
         // Outside a map: nothing from it, though the footprint holds the point.
-        let (importance, _) = lanes.weights(&bounds, DVec2::new(-3.5, 0.0));
+        let (importance, _) = lanes.weights(DVec2::new(-3.5, 0.0));
         assert_eq!(importance[0], 0.0);
     }
 }

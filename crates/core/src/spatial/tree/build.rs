@@ -57,7 +57,6 @@ impl LightTree {
         let m = contributing.len();
         assert!(m < 1 << 27, "at most 2^27 lights");
         let (nodes, node_first, order, root) = lay_out(&contributing, emission.is_some());
-        let node_count = nodes.len();
         let (raw, pmf) = (powers.as_slice(), powers.pmf_scale());
         let lights = order
             .iter()
@@ -76,11 +75,6 @@ impl LightTree {
             emission: emission.map_or_else(Vec::new, |e| {
                 order.iter().map(|&i| *e[i as usize].shape()).collect()
             }),
-            bounds: if emission.is_some() {
-                vec![[LaneBounds::EMPTY; TREE_WIDTH]; node_count]
-            } else {
-                Vec::new()
-            },
             region: emission.and(region),
             mapped: Vec::new(),
             weights: emission.map(|_| {
@@ -99,53 +93,73 @@ impl LightTree {
 
     /// Recomputes every lane's power, centroid and bounds from the lights, bottom up, and
     /// over spots the lanes' maps: every lane's, or with `only_reweighed` (a refit: same
-    /// positions and profiles) only the bounds' intensities and the maps over a light whose
+    /// positions and profiles) only the lanes' intensities and the maps over a light whose
     /// weight changed (the others keep theirs); `sum` is the weights' sum.
     fn fill_lanes(&mut self, sum: f64, only_reweighed: bool) {
         if self.nodes.is_empty() {
             return;
         }
-        let emission = (!self.emission.is_empty()).then_some(self.emission.as_slice());
-        let bounds = (!self.bounds.is_empty()).then_some(self.bounds.as_mut_slice());
-        let job = fill::Fill {
-            nodes: &mut self.nodes,
-            bounds,
-            index: 0,
-        };
-        if emission.is_some() {
-            // A refit keeps the bounds' geometry and sums the lanes' intensities again.
-            if only_reweighed {
-                fill::fill::<fill::Reweighed>(job, &self.lights, emission);
-            } else {
-                fill::fill::<fill::Bounded>(job, &self.lights, emission);
-            }
-            self.fill_grids(sum, only_reweighed);
-        } else {
+        let Some(emission) = (!self.emission.is_empty()).then_some(self.emission.as_slice()) else {
+            let job = fill::Fill {
+                nodes: &mut self.nodes,
+                lanes: None,
+                index: 0,
+            };
             fill::fill::<fill::Aggregate>(job, &self.lights, None);
+            return;
+        };
+        if only_reweighed {
+            // A refit keeps the lanes' footprints and geometry and sums their intensities
+            // again, into the mapped lanes.
+            let job = fill::Fill {
+                nodes: &mut self.nodes,
+                lanes: Some(self.mapped.as_mut_slice()),
+                index: 0,
+            };
+            fill::fill::<fill::Reweighed>(job, &self.lights, Some(emission));
+            self.fill_grids(sum, None);
+        } else {
+            // A build's bounds live only until the mapped lanes hold what the descent
+            // reads of them.
+            let mut bounds = vec![[LaneBounds::EMPTY; TREE_WIDTH]; self.nodes.len()];
+            let job = fill::Fill {
+                nodes: &mut self.nodes,
+                lanes: Some(bounds.as_mut_slice()),
+                index: 0,
+            };
+            fill::fill::<fill::Bounded>(job, &self.lights, Some(emission));
+            self.fill_grids(sum, Some(&bounds));
         }
     }
 
     /// Recomputes the lanes' maps ([`crate::spatial::grid`]) in the lights' weights, bottom
     /// up ([`map_fill`]: a leaf cluster's lane from its lights, a node's lane from its child
-    /// node's maps; subtrees in parallel, the same bits on any thread count): every lane's,
-    /// or with `only_reweighed` only those over a light whose bit in `reweighed` is set.
-    /// Then every map is normalized by `sum`, and every lane's footprint and peak intensity
-    /// taken from its bounds. Nothing is allocated once the maps are.
-    fn fill_grids(&mut self, sum: f64, only_reweighed: bool) {
+    /// node's maps; subtrees in parallel, the same bits on any thread count): in a build
+    /// (`bounds`, each node's lanes' bounds) every lane's, and each lane's footprint, peak
+    /// intensity and geometry taken from its bounds; in a refit (`None`) only those over a
+    /// light whose bit in `reweighed` is set. Then every map is normalized by `sum`. A refit
+    /// allocates nothing.
+    fn fill_grids(&mut self, sum: f64, bounds: Option<&[[LaneBounds; TREE_WIDTH]]>) {
         use rayon::prelude::*;
         let mut mapped = std::mem::take(&mut self.mapped);
         mapped.resize(self.nodes.len(), MappedLanes::EMPTY);
         // Every tree over spots has weights.
         if let Some(w) = self.weights.as_deref() {
-            map_fill::map_subtree(self, w, &mut mapped, 0, only_reweighed);
-            mapped
-                .par_iter_mut()
-                .zip(self.bounds.par_iter())
-                .with_min_len(1 << 6)
-                .for_each(|(lanes, bounds)| {
-                    lanes.set_bounds(bounds);
-                    lanes.normalize(sum);
-                });
+            map_fill::map_subtree(self, w, &mut mapped, 0, bounds.is_none());
+            match bounds {
+                Some(bounds) => mapped
+                    .par_iter_mut()
+                    .zip(bounds.par_iter())
+                    .with_min_len(1 << 6)
+                    .for_each(|(lanes, bounds)| {
+                        lanes.set_bounds(bounds);
+                        lanes.normalize(sum);
+                    }),
+                None => mapped
+                    .par_iter_mut()
+                    .with_min_len(1 << 6)
+                    .for_each(|lanes| lanes.normalize(sum)),
+            }
         }
         self.mapped = mapped;
     }

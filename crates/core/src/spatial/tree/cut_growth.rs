@@ -358,13 +358,13 @@ fn split_into(
         Child::Empty => return Split::Children,
     };
     let node = &tree.nodes()[n];
-    let bounds = tree.bounds(n);
+    let mapped_lanes = tree.mapped(n);
     // Each lane's importance and share at each weighing point, read once: the importance
     // is its estimate of what it gives the point (its map's value, with its unbounded
     // lights' representative light, for spots and ranges; for point lights its
     // representative light `Φ_c·G(c, x)`, of which the importance is `4π` times), and the
     // two mixed are the tree's branch masses there.
-    let mapped = tree.mapped(n).is_some();
+    let mapped = mapped_lanes.is_some();
     let importance_per_estimate = if mapped {
         1.0
     } else {
@@ -382,7 +382,7 @@ fn split_into(
     });
     for lane in 0..TREE_WIDTH {
         let child = node.child[lane];
-        let footprint = bounds.map(|b| b[lane].footprint);
+        let footprint = mapped_lanes.map(|m| m.footprint_of(lane));
         if child.get() == Child::Empty || !meets(footprint, rect) {
             continue;
         }

@@ -24,13 +24,13 @@ use crate::spatial::importance::{GRID, GRID_CELL, grid_masses, pick_on_grid};
 use crate::spatial::{SpatialLight, SpatialPick};
 
 impl LightTree {
-    /// The grid masses of node `k`'s lanes at `x` (with its lane bounds when the lights
-    /// have emission profiles).
+    /// The grid masses of node `k`'s lanes at `x` (by its mapped lanes when the lights have
+    /// emission profiles).
     #[inline]
     fn node_masses(&self, k: usize, x: DVec2) -> [u32; TREE_WIDTH] {
-        match (self.bounds.get(k), self.mapped.get(k)) {
-            (Some(bounds), Some(mapped)) => TreeNode::masses_mapped(bounds, mapped, x),
-            _ => self.nodes[k].masses(x),
+        match self.mapped.get(k) {
+            Some(mapped) => TreeNode::masses_mapped(mapped, x),
+            None => self.nodes[k].masses(x),
         }
     }
 
@@ -44,9 +44,9 @@ impl LightTree {
         k: usize,
         x: DVec2,
     ) -> ([f64; TREE_WIDTH], [f64; TREE_WIDTH]) {
-        match (self.bounds.get(k), self.mapped.get(k)) {
-            (Some(bounds), Some(mapped)) => TreeNode::weights_mapped(bounds, mapped, x),
-            _ => self.nodes[k].weights(x),
+        match self.mapped.get(k) {
+            Some(mapped) => TreeNode::weights_mapped(mapped, x),
+            None => self.nodes[k].weights(x),
         }
     }
 

@@ -10,6 +10,7 @@ use glam::DVec3;
 
 use super::node::{Child, ChildRef, TREE_WIDTH, TreeNode};
 use crate::scene::EmissionShape;
+use crate::spatial::grid::MappedLanes;
 use crate::spatial::{LaneBounds, SpatialLight};
 
 /// Subtrees of more nodes than this (about `2^13` lights) are filled in parallel.
@@ -46,12 +47,11 @@ pub(super) trait Summary: Copy + Send {
     fn of_lanes(lanes: &[Self; TREE_WIDTH]) -> Self;
     /// The power and centroid part.
     fn aggregate(&self) -> &Aggregate;
-    /// The lane's bounds (empty for an empty lane, or without profiles).
-    fn bounds(&self) -> LaneBounds;
-    /// Writes a node's lanes' bounds into `out`: all of [`Summary::bounds`].
-    fn write_bounds(lanes: &[Self; TREE_WIDTH], out: &mut [LaneBounds; TREE_WIDTH]) {
-        *out = lanes.map(|a| a.bounds());
-    }
+    /// What the pass writes for each node beside its [`TreeNode`]: nothing over point
+    /// lights, the lanes' bounds in a build over profiles, their intensities in a refit.
+    type Lanes: Send;
+    /// Writes a node's lanes' part into `out`.
+    fn write_lanes(lanes: &[Self; TREE_WIDTH], out: &mut Self::Lanes);
 }
 
 impl Summary for Aggregate {
@@ -94,9 +94,9 @@ impl Summary for Aggregate {
         self
     }
 
-    fn bounds(&self) -> LaneBounds {
-        LaneBounds::EMPTY
-    }
+    type Lanes = ();
+
+    fn write_lanes(_: &[Self; TREE_WIDTH], (): &mut ()) {}
 }
 
 impl Summary for Bounded {
@@ -134,14 +134,17 @@ impl Summary for Bounded {
         &self.aggregate
     }
 
-    fn bounds(&self) -> LaneBounds {
-        self.bounds.unwrap_or(LaneBounds::EMPTY)
+    type Lanes = [LaneBounds; TREE_WIDTH];
+
+    fn write_lanes(lanes: &[Self; TREE_WIDTH], out: &mut [LaneBounds; TREE_WIDTH]) {
+        *out = lanes.map(|a| a.bounds.unwrap_or(LaneBounds::EMPTY));
     }
 }
 
 /// An [`Aggregate`] with the lane's `Σ p_i·g_i` alone (`None` for an empty lane), for a
-/// refit over lights with profiles: the rest of a lane's [`LaneBounds`] (boxes, cones,
-/// ranges, footprints) depends on positions and profiles only, so it stays as built, and
+/// refit over lights with profiles, written into the node's [`MappedLanes`]: the rest of a
+/// lane's [`LaneBounds`] (boxes, cones, ranges, footprints) depends on positions and
+/// profiles only, so it stays as built, and
 /// the sum is taken in the order [`LaneBounds::union`] takes it (a lane's lights in leaf
 /// order, a node's lanes in lane order): the same bits as a build, without the lights'
 /// footprints and cones computed again.
@@ -187,15 +190,13 @@ impl Summary for Reweighed {
         &self.aggregate
     }
 
-    fn bounds(&self) -> LaneBounds {
-        LaneBounds::EMPTY
-    }
+    type Lanes = MappedLanes;
 
-    /// Only each lane's intensity: the rest is as built (an empty lane's bounds are empty).
-    fn write_bounds(lanes: &[Self; TREE_WIDTH], out: &mut [LaneBounds; TREE_WIDTH]) {
-        for (bounds, lane) in out.iter_mut().zip(lanes) {
+    /// Only each lane's intensity: the rest is as built (an empty lane's stays 0).
+    fn write_lanes(lanes: &[Self; TREE_WIDTH], out: &mut MappedLanes) {
+        for (k, lane) in lanes.iter().enumerate() {
             if let Some(i) = lane.intensity {
-                bounds.intensity = i;
+                out.set_intensity(k, i);
             }
         }
     }
@@ -257,10 +258,11 @@ pub(super) fn subtree_end(children: &[Child; TREE_WIDTH], lane: usize, end: usiz
 }
 
 /// One subtree to fill: its node slots (its own first, then its subtrees depth first) and
-/// their bounds, and the global index of its node.
-pub(super) struct Fill<'a> {
+/// what the pass writes beside each ([`Summary::Lanes`]; `None`: nothing), and the global
+/// index of its node.
+pub(super) struct Fill<'a, L> {
     pub(super) nodes: &'a mut [TreeNode],
-    pub(super) bounds: Option<&'a mut [[LaneBounds; TREE_WIDTH]]>,
+    pub(super) lanes: Option<&'a mut [L]>,
     pub(super) index: usize,
 }
 
@@ -273,19 +275,19 @@ pub(super) struct Fill<'a> {
 /// lane's index (or the end of this subtree's slots): the depth-first layout, whatever
 /// split made it.
 pub(super) fn fill<S: Summary>(
-    job: Fill<'_>,
+    job: Fill<'_, S::Lanes>,
     lights: &[SpatialLight],
     emission: Option<&[EmissionShape]>,
 ) -> S {
     let Fill {
         nodes,
-        bounds,
+        lanes: out,
         index,
     } = job;
     let end = index + nodes.len();
     let children = nodes[0].child.map(ChildRef::get);
     let (this, mut below) = nodes.split_at_mut(1);
-    let (this_bounds, mut below_bounds) = match bounds {
+    let (this_out, mut below_out) = match out {
         Some(b) => {
             let (t, r) = b.split_at_mut(1);
             (Some(t), Some(r))
@@ -295,7 +297,7 @@ pub(super) fn fill<S: Summary>(
     // Each lane: a leaf cluster now, or a subtree to fill (in parallel when large).
     let mut lanes = [S::EMPTY; TREE_WIDTH];
     // At most one subtree per lane, in arrays: the pass allocates nothing.
-    let mut jobs: [Option<Fill<'_>>; TREE_WIDTH] = std::array::from_fn(|_| None);
+    let mut jobs: [Option<Fill<'_, S::Lanes>>; TREE_WIDTH] = std::array::from_fn(|_| None);
     for (lane, child) in children.iter().enumerate() {
         match *child {
             Child::Leaf { first, count } => {
@@ -308,14 +310,14 @@ pub(super) fn fill<S: Summary>(
                 let count = subtree_end(&children, lane, end) - k;
                 let (slots, rest) = below.split_at_mut(count);
                 below = rest;
-                let slot_bounds = below_bounds.take().map(|b| {
+                let slot_out = below_out.take().map(|b| {
                     let (slots, rest) = b.split_at_mut(count);
-                    below_bounds = Some(rest);
+                    below_out = Some(rest);
                     slots
                 });
                 jobs[lane] = Some(Fill {
                     nodes: slots,
-                    bounds: slot_bounds,
+                    lanes: slot_out,
                     index: k,
                 });
             }
@@ -324,7 +326,7 @@ pub(super) fn fill<S: Summary>(
     }
     // Each subtree's aggregate lands in its lane directly (no copies of the large
     // aggregates through a results array).
-    let fill_one = |(lane, job): (&mut S, &mut Option<Fill<'_>>)| {
+    let fill_one = |(lane, job): (&mut S, &mut Option<Fill<'_, S::Lanes>>)| {
         if let Some(job) = job.take() {
             *lane = fill(job, lights, emission);
         }
@@ -346,8 +348,8 @@ pub(super) fn fill<S: Summary>(
             axis[lane] = c;
         }
     }
-    if let Some(b) = this_bounds {
-        S::write_bounds(&lanes, &mut b[0]);
+    if let Some(out) = this_out {
+        S::write_lanes(&lanes, &mut out[0]);
     }
     let summary = S::of_lanes(&lanes);
     node.reach = summary.aggregate().reach();

@@ -44,10 +44,15 @@
 //! A tree over lights with emission profiles is laid out by where the lights shine, not by
 //! where they hang: a surface-area heuristic over their footprints on the plane
 //! ([`footprint_split`]), so a lane holds spots that light one part of the plane. Each lane
-//! keeps a [`LaneBounds`] (pbrt-v4's `LightBounds`: the box of its lights, the cone of their
-//! spot axes, their widest outer cone and longest range, the box of their footprints) and a
-//! map of what its lights give the plane ([`super::grid`]: the mean irradiance per cell of a
-//! 16 × 16 raster over its footprints). At a point, a lane whose bounds exclude it is culled
+//! is bounded by a [`LaneBounds`] (pbrt-v4's `LightBounds`: the box of its lights, the cone
+//! of their spot axes, their widest outer cone and longest range, the box of their
+//! footprints) and keeps a map of what its lights give the plane ([`super::grid`]: the mean
+//! irradiance per cell of a 16 × 16 raster over its footprints). Of the bounds a node keeps
+//! its lanes' footprint boxes and intensities beside their maps
+//! ([`super::grid::MappedLanes`]), and the rest ([`super::LaneReach`]) only where a lane's
+//! footprint is unbounded (a cone reaching the horizon without a range): a bounded
+//! footprint already holds every point the lane's cones and ranges reach, so elsewhere the
+//! rest is never read. At a point, a lane whose bounds exclude it is culled
 //! (probability 0: the bounds are conservative, so no light that gives the point anything is
 //! lost, and where no light reaches the point the descent returns `None` at the first node
 //! that says so); the others get the branch probabilities of
@@ -83,7 +88,7 @@ pub use tile_cut::{
 use glam::DVec2;
 
 use super::SpatialLight;
-use super::bounds::LaneBounds;
+use super::bounds::LaneReach;
 use super::grid::MappedLanes;
 use crate::scene::{EmissionShape, ReceiverPlane};
 
@@ -117,8 +122,6 @@ pub struct LightTree {
     /// What the lights' emission factors are evaluated with, in leaf order (empty for point
     /// lights).
     emission: Vec<EmissionShape>,
-    /// Each node's lane bounds (empty for point lights).
-    bounds: Vec<[LaneBounds; TREE_WIDTH]>,
     /// The region of the plane the lanes of spots are mapped over (`[min, max]`; `None` over
     /// point lights, and where lights whose footprint is unbounded are weighed by their
     /// representative light).
@@ -134,11 +137,6 @@ pub struct LightTree {
 }
 
 impl LightTree {
-    /// Node `k`'s lane bounds, when the lights have emission profiles.
-    pub fn bounds(&self, k: usize) -> Option<&[LaneBounds; TREE_WIDTH]> {
-        self.bounds.get(k)
-    }
-
     /// Node `k`'s lanes as the descent over spots reads them ([`super::grid`]), when the
     /// lights have emission profiles.
     pub fn mapped(&self, k: usize) -> Option<&MappedLanes> {
@@ -263,10 +261,11 @@ impl LightTree {
     /// light (4), and for lights with emission profiles what their factors are evaluated with
     /// (72 bytes, [`EmissionShape`]: not the profiles as given, and not their footprints,
     /// which the tree computes when it needs them), their weights (8 bytes,
-    /// [`crate::PmfScale::weight`]) and each node's lane bounds and maps (2.2 kB, of which
-    /// the four 16 × 16 maps are 1 kB): for 10^6 point lights (87 381 nodes of mostly two to
-    /// four leaf clusters) about 50 bytes per light, for 10^5 spots over the unit square
-    /// about 350.
+    /// [`crate::PmfScale::weight`]) and each node's mapped lanes ([`MappedLanes`], 1.55 kB,
+    /// of which the four 16 × 16 maps are 1 kB; 384 bytes more for the boxes, cones and
+    /// ranges of a node with an unbounded lane): for 10^6 point lights (87 381 nodes of
+    /// mostly two to four leaf clusters) about 50 bytes per light, for 10^5 spots over the
+    /// unit square about 300.
     pub fn heap_bytes(&self) -> usize {
         use std::mem::size_of;
         self.nodes.capacity() * size_of::<TreeNode>()
@@ -274,8 +273,9 @@ impl LightTree {
             + self.lights.capacity() * size_of::<SpatialLight>()
             + self.order.capacity() * size_of::<u32>()
             + self.emission.capacity() * size_of::<EmissionShape>()
-            + self.bounds.capacity() * size_of::<[LaneBounds; TREE_WIDTH]>()
             + self.mapped.capacity() * size_of::<MappedLanes>()
+            + self.mapped.iter().filter(|m| m.reach.is_some()).count()
+                * size_of::<[LaneReach; TREE_WIDTH]>()
             + self.weights.as_ref().map_or(0, |w| {
                 size_of::<MapWeights>()
                     + w.weight.capacity() * size_of::<f64>()

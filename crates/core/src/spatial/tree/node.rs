@@ -3,7 +3,6 @@
 
 use glam::{DVec2, DVec3};
 
-use crate::spatial::bounds::LaneBounds;
 use crate::spatial::grid::MappedLanes;
 use crate::spatial::importance::{
     IMPORTANCE_CAP, branch_probabilities, grid_masses, lane_importances,
@@ -189,11 +188,10 @@ impl TreeNode {
     /// point): what [`TreeNode::masses_mapped`] mixes.
     #[inline]
     pub fn weights_mapped(
-        bounds: &[LaneBounds; TREE_WIDTH],
         mapped: &MappedLanes,
         point_on_plane: DVec2,
     ) -> ([f64; TREE_WIDTH], [f64; TREE_WIDTH]) {
-        let (importance, share) = mapped.weights(bounds, point_on_plane);
+        let (importance, share) = mapped.weights(point_on_plane);
         (importance.map(|i| i.min(IMPORTANCE_CAP)), share)
     }
 
@@ -203,12 +201,8 @@ impl TreeNode {
     /// ([`TreeNode::weights_mapped`], [`branch_probabilities`]). All zero when every lane
     /// is culled.
     #[inline]
-    pub fn masses_mapped(
-        bounds: &[LaneBounds; TREE_WIDTH],
-        mapped: &MappedLanes,
-        point_on_plane: DVec2,
-    ) -> [u32; TREE_WIDTH] {
-        let (importance, share) = Self::weights_mapped(bounds, mapped, point_on_plane);
+    pub fn masses_mapped(mapped: &MappedLanes, point_on_plane: DVec2) -> [u32; TREE_WIDTH] {
+        let (importance, share) = Self::weights_mapped(mapped, point_on_plane);
         grid_masses(branch_probabilities(importance, share))
     }
 }
