@@ -517,7 +517,7 @@ fn draw_lane_map(
         return;
     }
     let (dx, dy) = (1.0 / per_x, 1.0 / per_y);
-    for (cell, &code) in mapped.codes[lane].iter().enumerate() {
+    for (cell, &code) in mapped.codes(lane).iter().enumerate() {
         if code == 0 {
             continue;
         }

@@ -388,7 +388,7 @@ fn shaped_arrays(sampler: &SpatialSampler) -> Option<(Vec<GpuShape>, Vec<GpuNode
             let lanes = (0..tree.nodes().len()).filter_map(|k| tree.mapped(k));
             let bounds = lanes.clone().map(GpuNodeBounds::of).collect();
             let codes = lanes
-                .flat_map(|m| m.codes.iter().flatten().copied())
+                .flat_map(|m| (0..TREE_WIDTH).flat_map(|k| m.codes(k).iter().copied()))
                 .collect();
             (shapes, bounds, codes)
         }),

@@ -62,7 +62,7 @@ impl LaneGrid {
             let scale = lanes.weighted[0][k];
             let columns = Overlaps::along(child_lo.x, child_cell.x, lo.x, cell.x, per.x);
             let rows = Overlaps::along(child_lo.y, child_cell.y, lo.y, cell.y, per.y);
-            for (j, row_codes) in lanes.codes[k].chunks_exact(GRID_SIDE).enumerate() {
+            for (j, row_codes) in lanes.codes(k).chunks_exact(GRID_SIDE).enumerate() {
                 // This child row's integral per column of this map, then split over rows.
                 let mut row = [0.0f64; GRID_SIDE];
                 let mut any = false;
@@ -184,6 +184,7 @@ mod tests {
         assert_eq!(parent.importance(DVec2::new(-1.5, -0.5)), 0.0);
         // One child alone, resampled onto its own box: every cell its own code.
         let mut alone = MappedLanes::EMPTY;
+        alone.keep_maps([true, false, false, false]);
         alone.set_map(0, &grids[0]);
         let same = LaneGrid::of_lanes(&alone);
         assert_eq!(same.codes, grids[0].codes);

@@ -3,7 +3,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::node::{ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
+use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
 use super::{LightTree, MapWeights, fill, footprint_split, layout, map_fill};
 use crate::powers::LightPowers;
 use crate::scene::{Emission, EmissionShape};
@@ -143,6 +143,16 @@ impl LightTree {
         use rayon::prelude::*;
         let mut mapped = std::mem::take(&mut self.mapped);
         mapped.resize(self.nodes.len(), MappedLanes::EMPTY);
+        if bounds.is_some() {
+            // A build: maps for the lanes that hold lights (a refit keeps them).
+            mapped
+                .par_iter_mut()
+                .zip(self.nodes.par_iter())
+                .with_min_len(1 << 6)
+                .for_each(|(lanes, node)| {
+                    lanes.keep_maps(node.child.map(|c| c.get() != Child::Empty));
+                });
+        }
         // Every tree over spots has weights.
         if let Some(w) = self.weights.as_deref() {
             map_fill::map_subtree(self, w, &mut mapped, 0, bounds.is_none());

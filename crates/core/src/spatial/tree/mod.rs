@@ -88,7 +88,6 @@ pub use tile_cut::{
 use glam::DVec2;
 
 use super::SpatialLight;
-use super::bounds::LaneReach;
 use super::grid::MappedLanes;
 use crate::scene::{EmissionShape, ReceiverPlane};
 
@@ -261,11 +260,11 @@ impl LightTree {
     /// light (4), and for lights with emission profiles what their factors are evaluated with
     /// (72 bytes, [`EmissionShape`]: not the profiles as given, and not their footprints,
     /// which the tree computes when it needs them), their weights (8 bytes,
-    /// [`crate::PmfScale::weight`]) and each node's mapped lanes ([`MappedLanes`], 1.55 kB,
-    /// of which the four 16 × 16 maps are 1 kB; 384 bytes more for the boxes, cones and
-    /// ranges of a node with an unbounded lane): for 10^6 point lights (87 381 nodes of
-    /// mostly two to four leaf clusters) about 50 bytes per light, for 10^5 spots over the
-    /// unit square about 300.
+    /// [`crate::PmfScale::weight`]) and each node's mapped lanes ([`MappedLanes`]: 552
+    /// bytes, a 16 × 16 map of 256 bytes for each lane holding lights, and 384 bytes more
+    /// for the boxes, cones and ranges of a node with an unbounded lane): for 10^6 point
+    /// lights (87 381 nodes of mostly two to four leaf clusters) about 50 bytes per light,
+    /// for 10^5 spots over the unit square about 270.
     pub fn heap_bytes(&self) -> usize {
         use std::mem::size_of;
         self.nodes.capacity() * size_of::<TreeNode>()
@@ -274,8 +273,11 @@ impl LightTree {
             + self.order.capacity() * size_of::<u32>()
             + self.emission.capacity() * size_of::<EmissionShape>()
             + self.mapped.capacity() * size_of::<MappedLanes>()
-            + self.mapped.iter().filter(|m| m.reach.is_some()).count()
-                * size_of::<[LaneReach; TREE_WIDTH]>()
+            + self
+                .mapped
+                .iter()
+                .map(MappedLanes::heap_bytes)
+                .sum::<usize>()
             + self.weights.as_ref().map_or(0, |w| {
                 size_of::<MapWeights>()
                     + w.weight.capacity() * size_of::<f64>()
