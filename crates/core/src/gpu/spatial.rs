@@ -32,16 +32,18 @@ impl GpuNodeBounds {
     /// like the CPU, never asks for).
     fn of(mapped: &MappedLanes) -> Self {
         let mut v = [Vec4::ZERO; 28];
-        let reach = mapped
-            .reach
-            .as_deref()
-            .copied()
-            .unwrap_or([LaneReach::EVERYWHERE; TREE_WIDTH]);
+        let (reach, unbounded) = mapped.unbounded.as_deref().map_or(
+            (
+                [LaneReach::EVERYWHERE; TREE_WIDTH],
+                [[0.0; 4], [0.0; 4], [0.0; 4], [1.0; 4]],
+            ),
+            |u| (u.reach, u.lights),
+        );
         for (k, b) in reach.iter().enumerate() {
             let [lo, hi] = mapped.footprint_of(k);
             let intensity = mapped.intensity[k];
             let [map_x, map_y, per_x, per_y, scale] = mapped.map;
-            let [weight, c_x, c_y, c_z] = mapped.unbounded;
+            let [weight, c_x, c_y, c_z] = unbounded;
             // Every bound rounded outwards into f32, so the f32 lane still reaches every
             // point the f64 one does: the box grows, the range grows, and the cones' cosines
             // drop by more than the axis's own rounding can turn it (3 f32 ulps of a unit

@@ -471,7 +471,7 @@ fn cull_reason(child: Child, lanes: Option<(&MappedLanes, usize)>, x: DVec2) -> 
         return Culled::OutsideFootprint;
     }
     // A bounded footprint holds every point the lane's cones and ranges reach.
-    let geometry = m.reach.as_deref().map(|r| r[lane]);
+    let geometry = m.unbounded.as_deref().map(|u| u.reach[lane]);
     let Some(g) = geometry.filter(|_| !(lo.is_finite() && hi.is_finite())) else {
         return Culled::NoPower;
     };

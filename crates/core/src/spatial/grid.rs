@@ -107,7 +107,7 @@ use glam::{DVec2, DVec3};
 mod from_lanes;
 mod mapped;
 
-pub use mapped::MappedLanes;
+pub use mapped::{MappedLanes, UnboundedLanes};
 
 use super::SpatialLight;
 use crate::scene::{EmissionShape, geometry_term};

@@ -186,7 +186,7 @@ mod tree;
 pub(crate) use bounds::REACH_SLACK;
 pub use bounds::{LaneBounds, LaneReach};
 pub use exact::ExactSampler;
-pub use grid::{LaneGrid, MappedLanes};
+pub use grid::{LaneGrid, MappedLanes, UnboundedLanes};
 pub use tree::{
     CUT_LARGE_TREE, CUT_MAX_ENTRIES, CUT_MAX_ENTRIES_LARGE, CUT_MAX_SPREAD,
     CUT_MAX_SPREAD_PROFILES, CUT_TILES_PER_SIDE, CUT_TREE_SHARE, Child, ChildRef, LEAF_SIZE,

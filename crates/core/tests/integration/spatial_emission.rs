@@ -227,7 +227,7 @@ fn lane_bounds_never_cull_a_lane_that_lights_the_point() {
     assert_eq!(by_cones, 0, "bounded footprints need no cones");
     let keeping_cones = |tree: &LightTree| {
         (0..tree.nodes().len())
-            .filter(|&k| tree.mapped(k).is_some_and(|m| m.reach.is_some()))
+            .filter(|&k| tree.mapped(k).is_some_and(|m| m.unbounded.is_some()))
             .count()
     };
     assert_eq!(

@@ -23,21 +23,23 @@ impl LaneGrid {
     /// it. `O(cells)` a lane, whatever its number of lights.
     pub fn of_lanes(lanes: &MappedLanes) -> Self {
         let mut grid = LaneGrid::EMPTY;
-        let [_, c_x, c_y, c_z] = &lanes.unbounded;
-        let (mut intensity, mut weighted) = (0.0, DVec3::ZERO);
-        for (k, &w) in lanes.weighted[1].iter().enumerate() {
-            if w > 0.0 {
-                intensity += w;
-                weighted += w * DVec3::new(c_x[k], c_y[k], c_z[k]);
+        if let Some(u) = &lanes.unbounded {
+            let [_, c_x, c_y, c_z] = &u.lights;
+            let (mut intensity, mut weighted) = (0.0, DVec3::ZERO);
+            for (k, &w) in u.weighted.iter().enumerate() {
+                if w > 0.0 {
+                    intensity += w;
+                    weighted += w * DVec3::new(c_x[k], c_y[k], c_z[k]);
+                }
             }
-        }
-        grid.unbounded_intensity = intensity;
-        if intensity > 0.0 {
-            grid.unbounded_centroid = weighted / intensity;
+            grid.unbounded_intensity = intensity;
+            if intensity > 0.0 {
+                grid.unbounded_centroid = weighted / intensity;
+            }
         }
         let side = GRID_SIDE as f64;
         // The lanes with a map (no allocation: a refit maps every lane this way).
-        let mapped = || (0..4).filter(|&k| lanes.weighted[0][k] > 0.0);
+        let mapped = || (0..4).filter(|&k| lanes.weighted[k] > 0.0);
         let child_box = |k: usize| {
             let lo = DVec2::new(lanes.map[0][k], lanes.map[1][k]);
             let per = DVec2::new(lanes.map[2][k], lanes.map[3][k]);
@@ -59,7 +61,7 @@ impl LaneGrid {
         for k in mapped() {
             let (child_lo, child_hi) = child_box(k);
             let child_cell = (child_hi - child_lo) / side;
-            let scale = lanes.weighted[0][k];
+            let scale = lanes.weighted[k];
             let columns = Overlaps::along(child_lo.x, child_cell.x, lo.x, cell.x, per.x);
             let rows = Overlaps::along(child_lo.y, child_cell.y, lo.y, cell.y, per.y);
             for (j, row_codes) in lanes.codes(k).chunks_exact(GRID_SIDE).enumerate() {
@@ -195,6 +197,9 @@ mod tests {
     #[test]
     fn unbounded_lights_add_up() {
         let mut lanes = MappedLanes::EMPTY;
+        let mut everywhere = LaneBounds::EMPTY;
+        everywhere.footprint = [DVec2::NEG_INFINITY, DVec2::INFINITY];
+        lanes.set_bounds(&[everywhere; 4]);
         for (k, (w, c)) in [
             (1.0, DVec3::new(0.0, 0.0, 1.0)),
             (3.0, DVec3::new(4.0, 0.0, 1.0)),

@@ -8,10 +8,10 @@ use crate::scene::geometry_term;
 use crate::spatial::{LaneBounds, LaneReach};
 
 /// A node's four lanes over spots and ranges as the descent reads them: each lane's
-/// footprint, map, peak intensity and unbounded lights side by side (by field, so the four
-/// lanes evaluate together, [`MappedLanes::weights`]), the codes of the lanes that hold
-/// lights, and for a node with a lane whose footprint is unbounded the box, cones and
-/// ranges that cull it.
+/// footprint, map and peak intensity side by side (by field, so the four lanes evaluate
+/// together, [`MappedLanes::weights`]), the codes of the lanes that hold lights, and for a
+/// node with a lane whose footprint is unbounded what such lanes need besides
+/// ([`UnboundedLanes`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct MappedLanes {
     /// Each lane's footprint box ([`LaneBounds::footprint`]) as `lo.x, lo.y, hi.x,
@@ -21,25 +21,36 @@ pub struct MappedLanes {
     pub map: [[f64; 4]; 5],
     /// Each lane's `Σ p_i·g_i`, its share of the mixture.
     pub intensity: [f64; 4],
-    /// Each lane's unbounded lights: `Σ p_i·g_i` and their centroid `x, y, z`.
-    pub unbounded: [[f64; 4]; 4],
     /// Lanes (bits) with intensity whose footprint is unbounded: their range and cone tests
-    /// ([`LaneReach::reach`]) run beside the footprint's.
+    /// ([`LaneReach::reach`]) run beside the footprint's, and their unbounded lights add
+    /// their representative light.
     pub unbounded_lanes: u8,
-    /// Each lane's box, cones and ranges ([`LaneBounds::geometry`]), kept only where some
-    /// lane's footprint is unbounded (a bounded footprint holds every point its lights
-    /// light, so elsewhere they would never be read).
-    pub reach: Option<Box<[LaneReach; 4]>>,
+    /// What lanes whose footprint is unbounded need, kept only where some lane's is (a
+    /// bounded footprint holds every point its lights light, and holds no unbounded light).
+    pub unbounded: Option<Box<UnboundedLanes>>,
     /// Where each lane's map is in `codes`, [`NO_MAP`] for a lane that keeps none.
     map_of: [u8; 4],
     /// The cell codes of the lanes that keep a map, in lane order
     /// ([`MappedLanes::keep_maps`]): a lane without lights would keep 256 zeros (a quarter
     /// of the lanes of `lightpick bench`'s 10^5 spots).
     codes: Vec<[u8; GRID_CELLS]>,
-    /// Each lane's map scale and unbounded lights' `Σ w_i·g_i` in the weights it was mapped
-    /// with ([`LaneGrid::of_weighted`]): `map[4]` and `unbounded[0]` are these over the
-    /// weights' sum ([`MappedLanes::normalize`]).
-    pub weighted: [[f64; 4]; 2],
+    /// Each lane's map scale in the weights it was mapped with ([`LaneGrid::of_weighted`]):
+    /// `map[4]` is this over the weights' sum ([`MappedLanes::normalize`]).
+    pub weighted: [f64; 4],
+}
+
+/// What the lanes of a node need where some lane's footprint is unbounded (a spot reaching
+/// the horizon without a range, a point light among spots), beside [`MappedLanes`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct UnboundedLanes {
+    /// Each lane's box, cones and ranges ([`LaneBounds::geometry`]).
+    pub reach: [LaneReach; 4],
+    /// Each lane's unbounded lights (mapped without a region): `Σ p_i·g_i` and their
+    /// centroid `x, y, z`.
+    pub lights: [[f64; 4]; 4],
+    /// Each lane's unbounded lights' `Σ w_i·g_i` in the weights it was mapped with:
+    /// `lights[0]` is this over the weights' sum.
+    pub weighted: [f64; 4],
 }
 
 /// [`MappedLanes`]' mark of a lane that keeps no map.
@@ -56,12 +67,11 @@ impl MappedLanes {
         ],
         map: [[0.0; 4]; 5],
         intensity: [0.0; 4],
-        unbounded: [[0.0; 4], [0.0; 4], [0.0; 4], [1.0; 4]],
         unbounded_lanes: 0,
-        reach: None,
+        unbounded: None,
         map_of: [NO_MAP; 4],
         codes: Vec::new(),
-        weighted: [[0.0; 4]; 2],
+        weighted: [0.0; 4],
     };
 
     /// The lanes of `grids` (mapped in normalized powers, each keeping its map), with their
@@ -69,10 +79,10 @@ impl MappedLanes {
     pub fn new(bounds: &[LaneBounds; 4], grids: &[LaneGrid; 4]) -> Self {
         let mut m = MappedLanes::EMPTY;
         m.keep_maps([true; 4]);
+        m.set_bounds(bounds);
         for (k, g) in grids.iter().enumerate() {
             m.set_map(k, g);
         }
-        m.set_bounds(bounds);
         m.normalize(1.0);
         m
     }
@@ -99,25 +109,34 @@ impl MappedLanes {
     pub fn heap_bytes(&self) -> usize {
         self.codes.capacity() * GRID_CELLS
             + self
-                .reach
+                .unbounded
                 .as_ref()
-                .map_or(0, |_| std::mem::size_of::<[LaneReach; 4]>())
+                .map_or(0, |_| std::mem::size_of::<UnboundedLanes>())
     }
 
     /// Lane `k`'s map `grid`, in the weights it was mapped with (until
     /// [`MappedLanes::normalize`]); a lane that keeps no map ([`MappedLanes::keep_maps`])
-    /// takes only an empty grid.
+    /// takes only an empty grid, and a node without unbounded lanes
+    /// ([`MappedLanes::set_bounds`], called first) only a grid without unbounded lights.
     pub fn set_map(&mut self, k: usize, grid: &LaneGrid) {
         self.map[0][k] = grid.lo.x;
         self.map[1][k] = grid.lo.y;
         self.map[2][k] = grid.cells_per_unit.x;
         self.map[3][k] = grid.cells_per_unit.y;
-        self.weighted[0][k] = grid.scale;
-        self.weighted[1][k] = grid.unbounded_intensity;
-        let c = grid.unbounded_centroid;
-        self.unbounded[1][k] = c.x;
-        self.unbounded[2][k] = c.y;
-        self.unbounded[3][k] = c.z;
+        self.weighted[k] = grid.scale;
+        match &mut self.unbounded {
+            Some(u) => {
+                u.weighted[k] = grid.unbounded_intensity;
+                let c = grid.unbounded_centroid;
+                u.lights[1][k] = c.x;
+                u.lights[2][k] = c.y;
+                u.lights[3][k] = c.z;
+            }
+            None => debug_assert!(
+                grid.unbounded_intensity == 0.0,
+                "lane {k}: unbounded lights in a node of bounded lanes"
+            ),
+        }
         match self.codes.get_mut(usize::from(self.map_of[k])) {
             Some(codes) => *codes = grid.codes,
             None => debug_assert!(grid.codes == [0; GRID_CELLS], "lane {k} keeps no map"),
@@ -135,7 +154,13 @@ impl MappedLanes {
             self.footprint[3][k] = hi.y;
         }
         let unbounded = (0..4).any(|k| self.is_unbounded(k));
-        self.reach = unbounded.then(|| Box::new(bounds.map(|b| b.geometry)));
+        self.unbounded = unbounded.then(|| {
+            Box::new(UnboundedLanes {
+                reach: bounds.map(|b| b.geometry),
+                lights: [[0.0; 4], [0.0; 4], [0.0; 4], [1.0; 4]],
+                weighted: [0.0; 4],
+            })
+        });
         for (k, b) in bounds.iter().enumerate() {
             self.set_intensity(k, b.intensity);
         }
@@ -175,8 +200,8 @@ impl MappedLanes {
         if !(x >= lo_x[k] && y >= lo_y[k] && x <= hi_x[k] && y <= hi_y[k]) {
             return 0.0;
         }
-        match &self.reach {
-            Some(reach) if self.is_unbounded(k) => reach[k].reach(point_on_plane),
+        match &self.unbounded {
+            Some(u) if self.is_unbounded(k) => u.reach[k].reach(point_on_plane),
             _ => 1.0,
         }
     }
@@ -186,13 +211,17 @@ impl MappedLanes {
     /// the map of `Σ p_i·…` up to rounding).
     pub fn normalize(&mut self, sum: f64) {
         for k in 0..4 {
-            self.map[4][k] = self.weighted[0][k] / sum;
-            self.unbounded[0][k] = self.weighted[1][k] / sum;
+            self.map[4][k] = self.weighted[k] / sum;
+        }
+        if let Some(u) = &mut self.unbounded {
+            for k in 0..4 {
+                u.lights[0][k] = u.weighted[k] / sum;
+            }
         }
     }
 
     /// Each lane's importance and share at `point_on_plane`: 0 and 0 for a lane whose
-    /// footprint (and, where it is unbounded, range and cones: [`MappedLanes::reach`])
+    /// footprint (and, where it is unbounded, range and cones: [`MappedLanes::reaches`])
     /// excludes the point; else its map's value plus its unbounded lights' representative
     /// light ([`LaneGrid::importance`]), and its `Σ p_i·g_i`.
     #[inline]
@@ -221,19 +250,16 @@ impl MappedLanes {
             importance[k] = if inside & in_map { mapped } else { 0.0 };
             share[k] = if inside { self.intensity[k] } else { 0.0 };
         }
-        if self.unbounded_lanes != 0 {
-            let [w, c_x, c_y, c_z] = &self.unbounded;
+        if self.unbounded_lanes != 0
+            && let Some(u) = &self.unbounded
+        {
+            let [w, c_x, c_y, c_z] = &u.lights;
             for k in 0..4 {
                 if w[k] > 0.0 && share[k] > 0.0 {
                     importance[k] +=
                         w[k] * geometry_term(DVec3::new(c_x[k], c_y[k], c_z[k]), point_on_plane);
                 }
-                if self.unbounded_lanes & (1 << k) != 0
-                    && self
-                        .reach
-                        .as_ref()
-                        .is_some_and(|r| r[k].reach(point_on_plane) == 0.0)
-                {
+                if self.unbounded_lanes & (1 << k) != 0 && u.reach[k].reach(point_on_plane) == 0.0 {
                     importance[k] = 0.0;
                     share[k] = 0.0;
                 }
@@ -337,5 +363,13 @@ mod tests {
         let (importance, share) = lanes.weights(x);
         assert_eq!(importance, [0.0, 0.0, 0.0, 2.0 * decode(grid.codes[cell])]);
         assert_eq!(share, [0.0, 0.0, 0.0, 1.0]);
+    }
+
+    /// What every node of a spot tree holds beside its maps, as `heap_bytes` documents
+    /// it: 392 bytes, and 544 more only where a lane's footprint is unbounded.
+    #[test]
+    fn a_nodes_lanes_hold_what_the_docs_say() {
+        assert_eq!(std::mem::size_of::<MappedLanes>(), 392);
+        assert_eq!(std::mem::size_of::<UnboundedLanes>(), 544);
     }
 }

@@ -143,33 +143,26 @@ impl LightTree {
         use rayon::prelude::*;
         let mut mapped = std::mem::take(&mut self.mapped);
         mapped.resize(self.nodes.len(), MappedLanes::EMPTY);
-        if bounds.is_some() {
-            // A build: maps for the lanes that hold lights (a refit keeps them).
+        if let Some(bounds) = bounds {
+            // A build: maps for the lanes that hold lights (a refit keeps them), and the
+            // lanes' footprints and peak intensities, before their maps.
             mapped
                 .par_iter_mut()
                 .zip(self.nodes.par_iter())
+                .zip(bounds.par_iter())
                 .with_min_len(1 << 6)
-                .for_each(|(lanes, node)| {
+                .for_each(|((lanes, node), bounds)| {
                     lanes.keep_maps(node.child.map(|c| c.get() != Child::Empty));
+                    lanes.set_bounds(bounds);
                 });
         }
         // Every tree over spots has weights.
         if let Some(w) = self.weights.as_deref() {
             map_fill::map_subtree(self, w, &mut mapped, 0, bounds.is_none());
-            match bounds {
-                Some(bounds) => mapped
-                    .par_iter_mut()
-                    .zip(bounds.par_iter())
-                    .with_min_len(1 << 6)
-                    .for_each(|(lanes, bounds)| {
-                        lanes.set_bounds(bounds);
-                        lanes.normalize(sum);
-                    }),
-                None => mapped
-                    .par_iter_mut()
-                    .with_min_len(1 << 6)
-                    .for_each(|lanes| lanes.normalize(sum)),
-            }
+            mapped
+                .par_iter_mut()
+                .with_min_len(1 << 6)
+                .for_each(|lanes| lanes.normalize(sum));
         }
         self.mapped = mapped;
     }

@@ -260,11 +260,11 @@ impl LightTree {
     /// light (4), and for lights with emission profiles what their factors are evaluated with
     /// (72 bytes, [`EmissionShape`]: not the profiles as given, and not their footprints,
     /// which the tree computes when it needs them), their weights (8 bytes,
-    /// [`crate::PmfScale::weight`]) and each node's mapped lanes ([`MappedLanes`]: 552
-    /// bytes, a 16 × 16 map of 256 bytes for each lane holding lights, and 384 bytes more
-    /// for the boxes, cones and ranges of a node with an unbounded lane): for 10^6 point
-    /// lights (87 381 nodes of mostly two to four leaf clusters) about 50 bytes per light,
-    /// for 10^5 spots over the unit square about 270.
+    /// [`crate::PmfScale::weight`]) and each node's mapped lanes ([`MappedLanes`]: 392
+    /// bytes, a 16 × 16 map of 256 bytes for each lane holding lights, and 544 bytes more
+    /// for a node with an unbounded lane, [`super::UnboundedLanes`]): for 10^6 point lights
+    /// (87 381 nodes of mostly two to four leaf clusters) about 50 bytes per light, for 10^5
+    /// spots over the unit square about 255.
     pub fn heap_bytes(&self) -> usize {
         use std::mem::size_of;
         self.nodes.capacity() * size_of::<TreeNode>()
