@@ -99,16 +99,10 @@ pub(crate) fn map_large_allocations() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     #[allow(unsafe_code)]
     {
-        /// glibc's `M_MMAP_THRESHOLD` parameter of `mallopt`.
-        const M_MMAP_THRESHOLD: std::ffi::c_int = -3;
-        unsafe extern "C" {
-            /// glibc: sets a malloc tuning parameter; returns 1 on success.
-            fn mallopt(param: std::ffi::c_int, value: std::ffi::c_int) -> std::ffi::c_int;
-        }
         // SAFETY: `mallopt` only changes the allocator's policy for later allocations; it
         // takes the allocator's lock itself and touches no memory the program holds.
         unsafe {
-            mallopt(M_MMAP_THRESHOLD, MMAP_THRESHOLD_BYTES);
+            libc::mallopt(libc::M_MMAP_THRESHOLD, MMAP_THRESHOLD_BYTES);
         }
     }
 }
@@ -120,15 +114,10 @@ fn release_free_memory() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     #[allow(unsafe_code)]
     {
-        unsafe extern "C" {
-            /// glibc: releases free memory at the top of the heap and, since 2.8, free
-            /// pages inside every arena; returns 1 when some memory was released.
-            fn malloc_trim(pad: usize) -> std::ffi::c_int;
-        }
         // SAFETY: `malloc_trim` only returns pages of free chunks to the kernel; it takes
         // the arenas' locks itself and touches no memory the program holds.
         unsafe {
-            malloc_trim(0);
+            libc::malloc_trim(0);
         }
     }
 }

@@ -11,19 +11,11 @@ pub(super) fn end_quietly_on_closed_output() {
     #[cfg(unix)]
     #[allow(unsafe_code)]
     {
-        /// `SIGPIPE`'s number on Linux, the BSDs and macOS.
-        const SIGPIPE: std::ffi::c_int = 13;
-        /// `SIG_DFL`, the default action, as the handler word.
-        const SIG_DFL: usize = 0;
-        unsafe extern "C" {
-            /// POSIX: sets the action for `signum`; returns the previous one.
-            fn signal(signum: std::ffi::c_int, handler: usize) -> usize;
-        }
         // SAFETY: `signal` only sets the process's action for `SIGPIPE`, to the default
         // one, which runs no code of this program; it is called before any thread of the
-        // subcommand starts, and `SIG_DFL` (0) is the handler word POSIX defines for it.
+        // subcommand starts.
         unsafe {
-            signal(SIGPIPE, SIG_DFL);
+            libc::signal(libc::SIGPIPE, libc::SIG_DFL);
         }
     }
 }
