@@ -15,7 +15,8 @@ pub const TREE_WIDTH: usize = 4;
 ///
 /// Measured at 16 (the child word's count one bit wider; `tile_cuts` example, the cuts as
 /// built, against 8 in the same hour; `lightpick bench --no-gpu --presets none --sizes
-/// 100000`): a tree over 10^5 spots held 238 bytes a light instead of 349 (half the nodes)
+/// 100000`): a tree over 10^5 spots held 238 bytes a light instead of 349 (half the nodes;
+/// measured before the nodes dropped their lanes' full bounds and empty lanes' maps, 253 now)
 /// and refitted in 207 ms instead of 249, the variances moved within ±15 % (`stage` 415× →
 /// 356× below power sampling, `gallery` 2620× → 2965×, `random` 289× → 285×, `arena`
 /// 526× → 525×, `heavy-tail` 1233× → 1242×), but a pick over spots evaluates twice the
