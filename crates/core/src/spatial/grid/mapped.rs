@@ -144,7 +144,8 @@ impl MappedLanes {
     }
 
     /// The lanes' footprints, peak intensities and unbounded lanes from their bounds, with
-    /// their geometry where some lane's footprint is unbounded.
+    /// their geometry where some lane's footprint is unbounded. Before the maps
+    /// ([`MappedLanes::set_map`]): it starts the unbounded lanes' lights afresh.
     pub fn set_bounds(&mut self, bounds: &[LaneBounds; 4]) {
         for (k, b) in bounds.iter().enumerate() {
             let [lo, hi] = b.footprint;
