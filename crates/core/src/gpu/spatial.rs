@@ -7,7 +7,7 @@ use super::emission::{GpuShape, emission_source, shapes_layout};
 use super::scheme::{SCHEME_SPATIAL_EXACT, SCHEME_SPATIAL_TREE};
 use super::split::{Access, ArrayLayout, SplitArray, SplitShape, check_bindings, declarations};
 use super::{GpuContext, GpuError};
-use crate::spatial::{LaneReach, MappedLanes, SpatialLight, SpatialSampler, TREE_WIDTH};
+use crate::spatial::{MappedLanes, SpatialLight, SpatialSampler, TREE_WIDTH, UnboundedLanes};
 
 pub(crate) const SPATIAL_WGSL: &str = include_str!("spatial.wgsl");
 pub(crate) const SPATIAL_BOUNDS_WGSL: &str = include_str!("spatial_bounds.wgsl");
@@ -32,18 +32,12 @@ impl GpuNodeBounds {
     /// like the CPU, never asks for).
     fn of(mapped: &MappedLanes) -> Self {
         let mut v = [Vec4::ZERO; 28];
-        let (reach, unbounded) = mapped.unbounded.as_deref().map_or(
-            (
-                [LaneReach::EVERYWHERE; TREE_WIDTH],
-                [[0.0; 4], [0.0; 4], [0.0; 4], [1.0; 4]],
-            ),
-            |u| (u.reach, u.lights),
-        );
-        for (k, b) in reach.iter().enumerate() {
+        let unbounded = mapped.unbounded.as_deref().unwrap_or(&UnboundedLanes::NONE);
+        for (k, b) in unbounded.reach.iter().enumerate() {
             let [lo, hi] = mapped.footprint_of(k);
             let intensity = mapped.intensity[k];
             let [map_x, map_y, per_x, per_y, scale] = mapped.map;
-            let [weight, c_x, c_y, c_z] = unbounded;
+            let [weight, c_x, c_y, c_z] = unbounded.lights;
             // Every bound rounded outwards into f32, so the f32 lane still reaches every
             // point the f64 one does: the box grows, the range grows, and the cones' cosines
             // drop by more than the axis's own rounding can turn it (3 f32 ulps of a unit

@@ -40,8 +40,8 @@ use crate::spatial::importance::{
     GRID_CELL, IMPORTANCE_CAP, branch_probabilities, lane_importances, pick_on_grid,
 };
 use crate::spatial::{
-    Child, ChildRef, ExactSampler, LightTree, MappedLanes, REACH_SLACK, SpatialLight,
-    SpatialSampler, TREE_WIDTH, unit24,
+    Child, ChildRef, ExactSampler, LightTree, MappedLanes, SpatialLight, SpatialSampler,
+    TREE_WIDTH, unit24,
 };
 
 /// Why a lane of a node has no probability at the shading point.
@@ -50,15 +50,18 @@ pub enum Culled {
     /// The lane holds no light.
     Empty,
     /// The point lies outside the lane's footprint box on the plane
-    /// ([`LaneBounds::footprint`](crate::spatial::LaneBounds::footprint)), outside which none of its lights gives anything.
+    /// ([`LaneBounds::footprint`](crate::spatial::LaneBounds::footprint)), outside which
+    /// none of its lights gives anything.
     OutsideFootprint,
     /// The point is farther from the box of the lane's lights than their longest range
-    /// (tested, as in [`LaneBounds::reach`](crate::spatial::LaneBounds::reach), only where the footprint is unbounded; a range
-    /// bounds a light's footprint, so such a lane holds a light without one, its longest
-    /// range is infinite, and with today's footprints this reason does not occur).
+    /// (tested, as in [`LaneBounds::reach`](crate::spatial::LaneBounds::reach), only where
+    /// the footprint is unbounded; a range bounds a light's footprint, so such a lane holds
+    /// a light without one, its longest range is infinite, and with today's footprints this
+    /// reason does not occur).
     BeyondRange,
     /// No spot direction of the lane's cone comes within its widest outer cone of the
-    /// point's direction (pbrt-v4's cone test, [`LaneBounds::reach`](crate::spatial::LaneBounds::reach)).
+    /// point's direction (pbrt-v4's cone test,
+    /// [`LaneBounds::reach`](crate::spatial::LaneBounds::reach)).
     OutsideCone,
     /// The lane holds lights but no weight: all of them have power 0 (they stay in the tree,
     /// so that new powers refit it). Lights on or below the plane never enter the tree, so
@@ -471,13 +474,10 @@ fn cull_reason(child: Child, lanes: Option<(&MappedLanes, usize)>, x: DVec2) -> 
         return Culled::OutsideFootprint;
     }
     // A bounded footprint holds every point the lane's cones and ranges reach.
-    let geometry = m.unbounded.as_deref().map(|u| u.reach[lane]);
-    let Some(g) = geometry.filter(|_| !(lo.is_finite() && hi.is_finite())) else {
+    let Some(g) = m.reach_of(lane) else {
         return Culled::NoPower;
     };
-    let p = x.extend(0.0);
-    let outside = (g.min - p).max(p - g.max).max(glam::DVec3::ZERO);
-    if outside.length_squared() > g.range * g.range * (1.0 + REACH_SLACK) {
+    if g.beyond_range(x) {
         return Culled::BeyondRange;
     }
     if g.reach(x) == 0.0 {

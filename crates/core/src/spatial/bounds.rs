@@ -154,12 +154,10 @@ impl LaneReach {
     /// angles of [`LaneBounds::reach`]).
     #[inline]
     pub fn reach(&self, point_on_plane: DVec2) -> f64 {
-        let p = point_on_plane.extend(0.0);
-        let outside = (self.min - p).max(p - self.max).max(DVec3::ZERO);
-        // Culled only beyond the rounding of both sides (a few ulps), by a relative margin.
-        if outside.length_squared() > self.range * self.range * (1.0 + REACH_SLACK) {
+        if self.beyond_range(point_on_plane) {
             return 0.0;
         }
+        let p = point_on_plane.extend(0.0);
         if self.cos_spread <= -1.0 || self.cos_emission <= -1.0 {
             return 1.0;
         }
@@ -185,6 +183,18 @@ impl LaneReach {
         } else {
             1.0
         }
+    }
+}
+
+impl LaneReach {
+    /// Whether `point_on_plane` lies farther from the box of the lane's lights than their
+    /// longest range: [`LaneReach::reach`]'s first test, culling only beyond the rounding
+    /// of both sides (a few ulps), by a relative margin.
+    #[inline]
+    pub fn beyond_range(&self, point_on_plane: DVec2) -> bool {
+        let p = point_on_plane.extend(0.0);
+        let outside = (self.min - p).max(p - self.max).max(DVec3::ZERO);
+        outside.length_squared() > self.range * self.range * (1.0 + REACH_SLACK)
     }
 }
 

@@ -183,7 +183,6 @@ pub mod grid;
 pub mod importance;
 mod tree;
 
-pub(crate) use bounds::REACH_SLACK;
 pub use bounds::{LaneBounds, LaneReach};
 pub use exact::ExactSampler;
 pub use grid::{LaneGrid, MappedLanes, UnboundedLanes};

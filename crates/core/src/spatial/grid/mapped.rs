@@ -53,6 +53,17 @@ pub struct UnboundedLanes {
     pub weighted: [f64; 4],
 }
 
+impl UnboundedLanes {
+    /// What a node without an unbounded lane stands for: reaches that cull nothing and no
+    /// unbounded lights (what the GPU reads for such a node, and where a node with one
+    /// starts before its maps).
+    pub const NONE: UnboundedLanes = UnboundedLanes {
+        reach: [LaneReach::EVERYWHERE; 4],
+        lights: [[0.0; 4], [0.0; 4], [0.0; 4], [1.0; 4]],
+        weighted: [0.0; 4],
+    };
+}
+
 /// [`MappedLanes`]' mark of a lane that keeps no map.
 const NO_MAP: u8 = u8::MAX;
 
@@ -158,8 +169,7 @@ impl MappedLanes {
         self.unbounded = unbounded.then(|| {
             Box::new(UnboundedLanes {
                 reach: bounds.map(|b| b.geometry),
-                lights: [[0.0; 4], [0.0; 4], [0.0; 4], [1.0; 4]],
-                weighted: [0.0; 4],
+                ..UnboundedLanes::NONE
             })
         });
         for (k, b) in bounds.iter().enumerate() {
@@ -192,19 +202,24 @@ impl MappedLanes {
             && !self.footprint.iter().all(|side| side[k].is_finite())
     }
 
+    /// Lane `k`'s box, cones and ranges where its footprint is unbounded (`None` where it is
+    /// bounded: it then holds every point they reach).
+    pub fn reach_of(&self, k: usize) -> Option<&LaneReach> {
+        self.unbounded
+            .as_deref()
+            .filter(|_| self.is_unbounded(k))
+            .map(|u| &u.reach[k])
+    }
+
     /// 0 where no light of lane `k` can light `point_on_plane`, else 1: outside its
     /// footprint, or, where that is unbounded, beyond its ranges or outside its cones
     /// ([`LaneBounds::reach`] from what the node keeps).
     pub fn reaches(&self, k: usize, point_on_plane: DVec2) -> f64 {
-        let (x, y) = (point_on_plane.x, point_on_plane.y);
-        let [lo_x, lo_y, hi_x, hi_y] = &self.footprint;
-        if !(x >= lo_x[k] && y >= lo_y[k] && x <= hi_x[k] && y <= hi_y[k]) {
+        let [lo, hi] = self.footprint_of(k);
+        if !(point_on_plane.cmpge(lo).all() && point_on_plane.cmple(hi).all()) {
             return 0.0;
         }
-        match &self.unbounded {
-            Some(u) if self.is_unbounded(k) => u.reach[k].reach(point_on_plane),
-            _ => 1.0,
-        }
+        self.reach_of(k).map_or(1.0, |r| r.reach(point_on_plane))
     }
 
     /// The maps' scales and unbounded intensities as the descent reads them: the weighted
@@ -243,11 +258,7 @@ impl MappedLanes {
             // Within 0..16 after the clamp (NaN gives 0): a 32-bit conversion is exact.
             let cell = (cy.clamp(0.0, last) as i32 * GRID_SIDE as i32 + cx.clamp(0.0, last) as i32)
                 as usize;
-            let code = self
-                .codes
-                .get(usize::from(self.map_of[k]))
-                .map_or(0, |c| c[cell & (GRID_CELLS - 1)]);
-            let mapped = scale[k] * decode(code);
+            let mapped = scale[k] * decode(self.codes(k)[cell & (GRID_CELLS - 1)]);
             importance[k] = if inside & in_map { mapped } else { 0.0 };
             share[k] = if inside { self.intensity[k] } else { 0.0 };
         }

@@ -44,11 +44,11 @@
 //! A tree over lights with emission profiles is laid out by where the lights shine, not by
 //! where they hang: a surface-area heuristic over their footprints on the plane
 //! ([`footprint_split`]), so a lane holds spots that light one part of the plane. Each lane
-//! is bounded by a [`LaneBounds`](super::LaneBounds) (pbrt-v4's `LightBounds`: the box of its lights, the cone
-//! of their spot axes, their widest outer cone and longest range, the box of their
-//! footprints) and keeps a map of what its lights give the plane ([`super::grid`]: the mean
-//! irradiance per cell of a 16 × 16 raster over its footprints). Of the bounds a node keeps
-//! its lanes' footprint boxes and intensities beside their maps
+//! is bounded by a [`LaneBounds`](super::LaneBounds) (pbrt-v4's `LightBounds`: the box of
+//! its lights, the cone of their spot axes, their widest outer cone and longest range, the
+//! box of their footprints) and keeps a map of what its lights give the plane
+//! ([`super::grid`]: the mean irradiance per cell of a 16 × 16 raster over its footprints).
+//! Of the bounds a node keeps its lanes' footprint boxes and intensities beside their maps
 //! ([`super::grid::MappedLanes`]), and the rest ([`super::LaneReach`]) only where a lane's
 //! footprint is unbounded (a cone reaching the horizon without a range): a bounded
 //! footprint already holds every point the lane's cones and ranges reach, so elsewhere the
