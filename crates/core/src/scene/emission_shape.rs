@@ -70,6 +70,11 @@ impl EmissionShape {
         self.axis
     }
 
+    /// `cos θi` (1 without a spot).
+    pub fn cos_inner(&self) -> f64 {
+        self.cos_inner
+    }
+
     /// `cos θo` (−1 without a spot).
     pub fn cos_outer(&self) -> f64 {
         self.cos_outer

@@ -49,7 +49,7 @@ pub(crate) fn four_pi_r_cubed(r2: f64) -> f64 {
 
 /// `4π r² · r` from `r²` and `r = √r²`: [`four_pi_r_cubed`] with its square root given.
 #[inline]
-fn four_pi_r2_times(r2: f64, r: f64) -> f64 {
+pub(crate) fn four_pi_r2_times(r2: f64, r: f64) -> f64 {
     4.0 * std::f64::consts::PI * r2 * r
 }
 
@@ -102,8 +102,10 @@ pub fn light_term(
 /// range is dark where `r²/r_max² > 1 + 2^-40`, so that the computed `r/r_max ≥ 1` and the
 /// window is 0. Anything else (NaN, an overflowing or underflowing square) takes the full
 /// evaluation. Evaluating both the tests and the term in every case and letting the tests
-/// pick (no branch) was measured slower: `stage`, `gallery` and `random.json` 67, 84 and 95
-/// → 76, 94 and 102 ns a pixel sample (the `pass_order` example, samples in a row).
+/// pick (no branch), light by light, was measured slower: `stage`, `gallery` and
+/// `random.json` 67, 84 and 95 → 76, 94 and 102 ns a pixel sample (the `pass_order` example,
+/// samples in a row). A leaf cluster evaluates its lights lane by lane instead, packed, the
+/// same bits (`spatial::tree::leaf_terms`); this serves single lights and the maps.
 #[inline]
 pub(crate) fn light_term_culled(
     light_in_world: DVec3,

@@ -31,7 +31,7 @@ pub use emission_shape::EmissionShape;
 pub use error::SceneError;
 pub use generator::{Dominant, Generator, MAX_LIGHTS, Placement, PowerDistribution};
 pub(crate) use geometry::light_term_culled;
-pub(crate) use geometry::{distance_squared, four_pi_r_cubed};
+pub(crate) use geometry::{distance_squared, four_pi_r_cubed, four_pi_r2_times};
 pub use geometry::{geometry_term, light_term, pixel_center};
 pub use import::{
     IMPORT_PLANE_PIXELS, ImportReport, LoadOptions, Loaded, SceneFormat, SkippedLight,

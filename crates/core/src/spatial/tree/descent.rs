@@ -16,12 +16,12 @@ use glam::DVec2;
 
 use super::LightTree;
 use super::cut_words::{pick_in, prefetch_pick};
+use super::leaf_terms::{point_contributions, shaped_contributions};
 use super::node::{Child, ChildRef, LEAF_SIZE, TREE_WIDTH, TreeNode};
 use super::prefetch::{CUT_PREFETCH_MIN_LIGHTS, PREFETCH_MIN_LIGHTS, prefetch, prefetch_all};
 use crate::rng::Rng;
-use crate::scene::{distance_squared, four_pi_r_cubed};
+use crate::spatial::SpatialPick;
 use crate::spatial::importance::{GRID, GRID_CELL, grid_masses, pick_on_grid};
-use crate::spatial::{SpatialLight, SpatialPick};
 
 impl LightTree {
     /// The grid masses of node `k`'s lanes at `x` (by its mapped lanes when the lights have
@@ -106,10 +106,7 @@ impl LightTree {
         if self.emission.is_empty() {
             point_contributions(lights, x, &mut c);
         } else {
-            let emission = &self.emission[first..first + count];
-            for ((cj, light), e) in c.iter_mut().zip(lights).zip(emission) {
-                *cj = light.contribution_culled(e, x);
-            }
+            shaped_contributions(lights, &self.emission[first..first + count], x, &mut c);
         }
         c
     }
@@ -425,36 +422,6 @@ impl LightTree {
                 }
                 Child::Empty => return 0.0,
             }
-        }
-    }
-}
-
-/// `c_j = p_j·G_j(x)` of point lights `lights` (at most [`LEAF_SIZE`]) into `c`, bit for bit
-/// [`crate::spatial::SpatialLight::contribution`]: `G`'s own `r²` and `4π r³`, laid out over
-/// all [`LEAF_SIZE`] lanes without a branch (so that they evaluate together),
-/// the rare lanes where `G`'s own rule differs (a light on or below the plane, `r³`
-/// underflowing) then taken from it.
-#[inline]
-fn point_contributions(lights: &[SpatialLight], x: DVec2, c: &mut [f64; LEAF_SIZE]) {
-    let (mut lx, mut ly, mut lz, mut power) = (
-        [0.0; LEAF_SIZE],
-        [0.0; LEAF_SIZE],
-        [1.0; LEAF_SIZE],
-        [0.0; LEAF_SIZE],
-    );
-    for (j, light) in lights.iter().enumerate() {
-        let at = light.position_in_world;
-        (lx[j], ly[j], lz[j], power[j]) = (at.x, at.y, at.z, light.power);
-    }
-    let mut denominator = [0.0; LEAF_SIZE];
-    for j in 0..LEAF_SIZE {
-        let r2 = distance_squared(lx[j] - x.x, ly[j] - x.y, lz[j]);
-        denominator[j] = four_pi_r_cubed(r2);
-        c[j] = power[j] * (lz[j] / denominator[j]);
-    }
-    for (j, light) in lights.iter().enumerate() {
-        if !(lz[j] > 0.0 && denominator[j] >= f64::MIN_POSITIVE) {
-            c[j] = light.contribution(x);
         }
     }
 }

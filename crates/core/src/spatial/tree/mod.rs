@@ -74,6 +74,7 @@ mod descent;
 mod fill;
 mod footprint_split;
 mod layout;
+mod leaf_terms;
 mod map_fill;
 mod node;
 mod prefetch;
