@@ -190,7 +190,7 @@ mod tests {
             position_in_world: DVec3::new(uniform(rng, -2.0, 2.0), uniform(rng, -2.0, 2.0), height),
             power: uniform(rng, 0.001, 1.0),
         };
-        let spot = (rng.next_u32() % 4 != 0).then(|| {
+        let spot = (!rng.next_u32().is_multiple_of(4)).then(|| {
             let outer = uniform(rng, 0.01, std::f64::consts::FRAC_PI_2);
             Spot {
                 direction: DVec3::new(
@@ -202,7 +202,7 @@ mod tests {
                 outer_cone: outer,
             }
         });
-        let range = (rng.next_u32() % 3 == 0).then(|| uniform(rng, 0.05, 3.0));
+        let range = (rng.next_u32().is_multiple_of(3)).then(|| uniform(rng, 0.05, 3.0));
         let emission = match Emission::new(spot, range) {
             Ok(e) => e,
             // A direction drawn as zero: a bare light instead.
@@ -221,7 +221,7 @@ mod tests {
                 (0..count).map(|_| random_light(&mut rng)).unzip();
             let shapes: Vec<EmissionShape> = emission.iter().map(|e| *e.shape()).collect();
             // A point under a light now and then, else anywhere around the leaf.
-            let x = if leaf % 7 == 0 {
+            let x = if leaf.is_multiple_of(7) {
                 lights[0].position_in_world.truncate()
             } else {
                 DVec2::new(uniform(&mut rng, -3.0, 3.0), uniform(&mut rng, -3.0, 3.0))
