@@ -19,25 +19,12 @@ use super::LEAF_SIZE;
 use crate::scene::{EmissionShape, distance_squared, four_pi_r_cubed, four_pi_r2_times};
 use crate::spatial::SpatialLight;
 
-/// `c_j = p_j·light_term(light_j, e_j, x)` of lights with emission profiles `emission`
-/// (at most [`LEAF_SIZE`]) at `point_on_plane` into `c`, **bit for bit**
-/// [`SpatialLight::contribution_culled`] (which equals [`crate::scene::light_term`]'s
-/// product wherever that is finite).
-///
-/// Every lane evaluates the whole formula, `S = g · t² · w` with each factor a selection
-/// rather than a branch:
-/// - `t² = 1` where `cos α ≥ cos θi`, `0` where `cos α ≤ cos θo`, `((cos α − cos θo)·s)²`
-///   between, and `1` for a light without a spot (`s = 0`);
-/// - `w = clamp(1 − (r/r_max)⁴, 0, 1)`, which is exactly 1 for a light without a range
-///   (`1/r_max = 0`);
-///
-/// and multiplying by an exact 1 changes no bit, so each lane's product is the one the
-/// branching evaluation forms. A dark lane (a cone or range that leaves `x` unlit) gives
-/// `+0` as the culled evaluation does. The lanes where `light_term`'s own rule
-/// differs (a light on or below the plane, `4π r³` below the least normal `f64`) or where
-/// the product is not finite (an `∞·0` the culled evaluation avoids) are taken from
-/// [`SpatialLight::contribution_culled`] itself, one by one. Lanes beyond `lights.len()`
-/// give 0 (a light of no power).
+/// `c_j = p_j·G_j(x)·S_j(x)` of lights with emission profiles `emission` (at most
+/// [`LEAF_SIZE`]) at `point_on_plane` into `c`, **bit for bit**
+/// [`SpatialLight::contribution_culled`], each light one lane
+/// ([`shaped_lane`]; the lanes where that is not the light's own
+/// value are then taken from it, one by one). Lanes beyond `lights.len()` give 0 (a light
+/// of no power).
 ///
 /// Compiled for AVX2 where the processor has it (checked at run time; the same bits, as
 /// every operation is an IEEE one rounded once and none is fused), else for the baseline.
@@ -88,49 +75,110 @@ fn shaped_contributions_in(
     let mut ly = [point_on_plane.y; LEAF_SIZE];
     let mut lz = [1.0; LEAF_SIZE];
     let mut power = [0.0; LEAF_SIZE];
-    let (mut ax, mut ay, mut az) = ([0.0; LEAF_SIZE], [0.0; LEAF_SIZE], [0.0; LEAF_SIZE]);
-    let (mut cos_inner, mut cos_outer) = ([1.0; LEAF_SIZE], [-1.0; LEAF_SIZE]);
-    let (mut cone_scale, mut gain, mut inv_range) =
-        ([0.0; LEAF_SIZE], [1.0; LEAF_SIZE], [0.0; LEAF_SIZE]);
+    let mut shape = [LaneShape::POINT; LEAF_SIZE];
     for (j, (light, e)) in lights.iter().zip(emission).enumerate() {
-        let (at, axis) = (light.position_in_world, e.axis());
+        let at = light.position_in_world;
         (lx[j], ly[j], lz[j], power[j]) = (at.x, at.y, at.z, light.power);
-        (ax[j], ay[j], az[j]) = (axis.x, axis.y, axis.z);
-        (cos_inner[j], cos_outer[j]) = (e.cos_inner(), e.cos_outer());
-        (cone_scale[j], gain[j], inv_range[j]) = (e.cone_scale(), e.gain(), e.inv_range());
+        shape[j] = LaneShape::of(e);
     }
-    let mut denominator = [0.0; LEAF_SIZE];
+    let mut own = [true; LEAF_SIZE];
     for j in 0..LEAF_SIZE {
-        // `to_light = (dx, dy, z)`, `to_point = −to_light`: as `light_term` forms them.
-        let (dx, dy, z) = (lx[j] - point_on_plane.x, ly[j] - point_on_plane.y, lz[j]);
-        let r2 = distance_squared(dx, dy, z);
-        let r = r2.sqrt();
-        denominator[j] = four_pi_r2_times(r2, r);
-        let g = z / denominator[j];
-        // `axis · to_point`, summed as `DVec3::dot` sums it.
-        let cos_alpha = ((ax[j] * -dx + ay[j] * -dy) + az[j] * -z) / r;
-        let t = (cos_alpha - cos_outer[j]) * cone_scale[j];
-        let in_cone = if cos_alpha <= cos_outer[j] {
-            0.0
-        } else {
-            t * t
-        };
-        let cone = if cos_alpha >= cos_inner[j] {
-            1.0
-        } else {
-            in_cone
-        };
-        let falloff = if cone_scale[j] == 0.0 { 1.0 } else { cone };
-        let q = r * inv_range[j];
-        let q2 = q * q;
-        let window = (1.0 - q2 * q2).clamp(0.0, 1.0);
-        c[j] = power[j] * (g * ((gain[j] * falloff) * window));
+        let (dx, dy) = (lx[j] - point_on_plane.x, ly[j] - point_on_plane.y);
+        (c[j], own[j]) = shaped_lane(dx, dy, lz[j], shape[j], power[j]);
     }
     for (j, (light, e)) in lights.iter().zip(emission).enumerate() {
-        if !(lz[j] > 0.0 && denominator[j] >= f64::MIN_POSITIVE && c[j].is_finite()) {
+        if !own[j] {
             c[j] = light.contribution_culled(e, point_on_plane);
         }
     }
+}
+
+/// The constants of a light's emission factor `S = g·t²·w` as a lane reads them
+/// ([`EmissionShape`]'s, without the range itself).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct LaneShape {
+    /// The unit spot axis (zero without a spot).
+    axis: [f64; 3],
+    /// `cos θi` (1 without a spot).
+    cos_inner: f64,
+    /// `cos θo` (−1 without a spot).
+    cos_outer: f64,
+    /// `1/(cos θi − cos θo)` (0 without a spot).
+    cone_scale: f64,
+    /// `g = 4π/Ω` (1 without a spot).
+    gain: f64,
+    /// `1/r_max` (0 without a range).
+    inv_range: f64,
+}
+
+impl LaneShape {
+    /// A bare point light's: `S ≡ 1`.
+    const POINT: LaneShape = LaneShape {
+        axis: [0.0; 3],
+        cos_inner: 1.0,
+        cos_outer: -1.0,
+        cone_scale: 0.0,
+        gain: 1.0,
+        inv_range: 0.0,
+    };
+
+    /// The lane constants of `e`.
+    #[inline]
+    fn of(e: &EmissionShape) -> LaneShape {
+        LaneShape {
+            axis: e.axis().to_array(),
+            cos_inner: e.cos_inner(),
+            cos_outer: e.cos_outer(),
+            cone_scale: e.cone_scale(),
+            gain: e.gain(),
+            inv_range: e.inv_range(),
+        }
+    }
+}
+
+/// `c = p·G·S` of a light `(dx, dy, z)` from the point (`to_light`, as
+/// [`crate::scene::light_term`] forms it) with power `power` and shape `s`, every factor a
+/// selection rather than a branch, and whether that is the light's own value: `false` where
+/// `light_term`'s own rule differs (a light on or below the plane, `4π r³` below the least
+/// normal `f64`) or where the product is not finite (an `∞·0` the culled evaluation
+/// avoids): there the caller takes [`SpatialLight::contribution_culled`] itself.
+///
+/// - `t² = 1` where `cos α ≥ cos θi`, `0` where `cos α ≤ cos θo`, `((cos α − cos θo)·s)²`
+///   between, and `1` for a light without a spot (`s = 0`);
+/// - `w = clamp(1 − (r/r_max)⁴, 0, 1)`, exactly 1 for a light without a range
+///   (`1/r_max = 0`);
+///
+/// and multiplying by an exact 1 changes no bit, so the product is the one the branching
+/// evaluation forms, operation for operation (none fused). A dark lane (a cone or range
+/// that leaves the point unlit) gives `+0`, as the culled evaluation does.
+#[allow(
+    clippy::inline_always,
+    reason = "inlined into the loops it is a lane of, which widen only then"
+)]
+#[inline(always)]
+fn shaped_lane(dx: f64, dy: f64, z: f64, s: LaneShape, power: f64) -> (f64, bool) {
+    let r2 = distance_squared(dx, dy, z);
+    let r = r2.sqrt();
+    let denominator = four_pi_r2_times(r2, r);
+    let g = z / denominator;
+    // `axis · to_point` with `to_point = −to_light`, summed as `DVec3::dot` sums it.
+    let cos_alpha = ((s.axis[0] * -dx + s.axis[1] * -dy) + s.axis[2] * -z) / r;
+    let t = (cos_alpha - s.cos_outer) * s.cone_scale;
+    let in_cone = if cos_alpha <= s.cos_outer { 0.0 } else { t * t };
+    let cone = if cos_alpha >= s.cos_inner {
+        1.0
+    } else {
+        in_cone
+    };
+    let falloff = if s.cone_scale == 0.0 { 1.0 } else { cone };
+    let q = r * s.inv_range;
+    let q2 = q * q;
+    let window = (1.0 - q2 * q2).clamp(0.0, 1.0);
+    let c = power * (g * ((s.gain * falloff) * window));
+    (
+        c,
+        z > 0.0 && denominator >= f64::MIN_POSITIVE && c.is_finite(),
+    )
 }
 
 /// `c_j = p_j·G_j(x)` of point lights `lights` (at most [`LEAF_SIZE`]) into `c`, bit for bit
@@ -242,7 +290,7 @@ mod tests {
                 let Some(light) = lights.get(j) else { continue };
                 let e = &shapes[j];
                 let at = light.position_in_world;
-                if at.z <= 0.0 || at.z < 1e-100 {
+                if at.z < 1e-100 {
                     own_rule += 1;
                 } else if own > 0.0 {
                     lit += 1;
