@@ -95,25 +95,17 @@ impl EmissionShape {
         self.has_range().then_some(self.range)
     }
 
-    /// The spot falloff `t²` for `cos α` (1 without a spot).
+    /// The spot falloff `t²` for `cos α`: 1 from `cos θi` on, 0 up to `cos θo`,
+    /// `((cos α − cos θo)/(cos θi − cos θo))²` between, 1 without a spot.
     #[inline]
     pub fn falloff(&self, cos_alpha: f64) -> f64 {
-        if !self.has_spot() || cos_alpha >= self.cos_inner {
-            1.0
-        } else if cos_alpha <= self.cos_outer {
-            0.0
-        } else {
-            let t = (cos_alpha - self.cos_outer) * self.cone_scale;
-            t * t
-        }
+        spot_falloff(cos_alpha, self.cos_inner, self.cos_outer, self.cone_scale)
     }
 
     /// The range window `clamp(1 − (d/r)⁴, 0, 1)` at distance `d` (1 without a range).
     #[inline]
     pub fn window(&self, distance: f64) -> f64 {
-        let q = distance * self.inv_range;
-        let q2 = q * q;
-        (1.0 - q2 * q2).clamp(0.0, 1.0)
+        range_window(distance, self.inv_range)
     }
 
     /// `S(x) = g · t² · w` for the light at `light_in_world` and the point `point_on_plane`
@@ -259,4 +251,29 @@ impl Default for EmissionShape {
     fn default() -> Self {
         EmissionShape::POINT
     }
+}
+
+/// A spot's falloff `t²` at `cos α` from its `cos θi`, `cos θo` and
+/// `s = 1/(cos θi − cos θo)`: 1 from `cos θi` on, 0 up to `cos θo`, `((cos α − cos θo)·s)²`
+/// between, and 1 for a light without a spot (`s = 0`). Written as selections rather than
+/// branches, so that the light tree's leaves evaluate it lane by lane (the same values).
+#[inline]
+pub(crate) fn spot_falloff(cos_alpha: f64, cos_inner: f64, cos_outer: f64, cone_scale: f64) -> f64 {
+    let t = (cos_alpha - cos_outer) * cone_scale;
+    let below_inner = if cos_alpha <= cos_outer { 0.0 } else { t * t };
+    let cone = if cos_alpha >= cos_inner {
+        1.0
+    } else {
+        below_inner
+    };
+    if cone_scale == 0.0 { 1.0 } else { cone }
+}
+
+/// The range window `clamp(1 − (d·(1/r))⁴, 0, 1)` at distance `d` from `1/r`: exactly 1
+/// for a light without a range (`1/r = 0`).
+#[inline]
+pub(crate) fn range_window(distance: f64, inv_range: f64) -> f64 {
+    let q = distance * inv_range;
+    let q2 = q * q;
+    (1.0 - q2 * q2).clamp(0.0, 1.0)
 }

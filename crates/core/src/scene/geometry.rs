@@ -105,7 +105,8 @@ pub fn light_term(
 /// pick (no branch), light by light, was measured slower: `stage`, `gallery` and
 /// `random.json` 67, 84 and 95 → 76, 94 and 102 ns a pixel sample (the `pass_order` example,
 /// samples in a row). A leaf cluster evaluates its lights lane by lane instead, packed, the
-/// same bits (`spatial::tree::leaf_terms`); this serves single lights and the maps.
+/// same bits (`spatial::tree::leaf_terms`), and takes this for its rare lanes; the maps'
+/// integration takes it at every point.
 #[inline]
 pub(crate) fn light_term_culled(
     light_in_world: DVec3,

@@ -28,6 +28,7 @@ mod presets;
 
 pub use emission::{Emission, EmissionError, Spot};
 pub use emission_shape::EmissionShape;
+pub(crate) use emission_shape::{range_window, spot_falloff};
 pub use error::SceneError;
 pub use generator::{Dominant, Generator, MAX_LIGHTS, Placement, PowerDistribution};
 pub(crate) use geometry::light_term_culled;

@@ -16,7 +16,9 @@
 use glam::DVec2;
 
 use super::LEAF_SIZE;
-use crate::scene::{EmissionShape, distance_squared, four_pi_r_cubed, four_pi_r2_times};
+use crate::scene::{
+    EmissionShape, distance_squared, four_pi_r_cubed, four_pi_r2_times, range_window, spot_falloff,
+};
 use crate::spatial::SpatialLight;
 
 /// `c_j = p_j·G_j(x)·S_j(x)` of lights with emission profiles `emission` (at most
@@ -143,13 +145,11 @@ impl LaneShape {
 /// normal `f64`) or where the product is not finite (an `∞·0` the culled evaluation
 /// avoids): there the caller takes [`SpatialLight::contribution_culled`] itself.
 ///
-/// - `t² = 1` where `cos α ≥ cos θi`, `0` where `cos α ≤ cos θo`, `((cos α − cos θo)·s)²`
-///   between, and `1` for a light without a spot (`s = 0`);
-/// - `w = clamp(1 − (r/r_max)⁴, 0, 1)`, exactly 1 for a light without a range
-///   (`1/r_max = 0`);
-///
-/// and multiplying by an exact 1 changes no bit, so the product is the one the branching
-/// evaluation forms, operation for operation (none fused). A dark lane (a cone or range
+/// The factors are the shape's own, [`spot_falloff`] (`t² = 1` for a light without a spot)
+/// and [`range_window`] (`w = 1` exactly for a light without a range); `light_term`
+/// multiplies by one only where the light has it, and multiplying by an exact 1 changes no
+/// bit, so the product is the one the branching evaluation forms, operation for operation
+/// (none fused). A dark lane (a cone or range
 /// that leaves the point unlit) gives `+0`, as the culled evaluation does.
 #[allow(
     clippy::inline_always,
@@ -163,17 +163,8 @@ fn shaped_lane(dx: f64, dy: f64, z: f64, s: LaneShape, power: f64) -> (f64, bool
     let g = z / denominator;
     // `axis · to_point` with `to_point = −to_light`, summed as `DVec3::dot` sums it.
     let cos_alpha = ((s.axis[0] * -dx + s.axis[1] * -dy) + s.axis[2] * -z) / r;
-    let t = (cos_alpha - s.cos_outer) * s.cone_scale;
-    let in_cone = if cos_alpha <= s.cos_outer { 0.0 } else { t * t };
-    let cone = if cos_alpha >= s.cos_inner {
-        1.0
-    } else {
-        in_cone
-    };
-    let falloff = if s.cone_scale == 0.0 { 1.0 } else { cone };
-    let q = r * s.inv_range;
-    let q2 = q * q;
-    let window = (1.0 - q2 * q2).clamp(0.0, 1.0);
+    let falloff = spot_falloff(cos_alpha, s.cos_inner, s.cos_outer, s.cone_scale);
+    let window = range_window(r, s.inv_range);
     let c = power * (g * ((s.gain * falloff) * window));
     (
         c,
