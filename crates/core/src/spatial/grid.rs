@@ -105,8 +105,10 @@
 use glam::{DVec2, DVec3};
 
 mod from_lanes;
+mod integrate;
 mod mapped;
 
+use integrate::add_light;
 pub use mapped::{MappedLanes, UnboundedLanes};
 
 use super::SpatialLight;
@@ -151,14 +153,46 @@ pub fn decode(code: u8) -> f64 {
     DECODED[code as usize]
 }
 
+/// `2^((2k − 1)/16)` for `k = 1..=8`, each rounded up to the next `f64`: where the
+/// rounding of `8·log2(m)` (`m ∈ [1, 2)`) reaches `k` (a test checks them in integers).
+const HALF_EIGHTH_OCTAVES: [f64; 8] = [
+    1.044_273_782_427_414,
+    1.138_788_634_756_691_8,
+    1.241_857_812_073_484_2,
+    1.354_255_546_936_892_9,
+    1.476_826_145_939_499_3,
+    1.610_490_331_949_254_5,
+    1.756_252_160_373_299_7,
+    1.915_206_561_397_147_4,
+];
+
 /// The code of `value` on a map whose largest value is `scale` (`value ≤ scale`): the
-/// nearest code on the logarithmic scale, at least 1 for any positive value.
+/// nearest code on the logarithmic scale, `255 + round(8·log2(value/scale))` clamped to
+/// `1 ..= 255`, at least 1 for any positive value ([`encode_ratio`]).
 pub fn encode(value: f64, scale: f64) -> u8 {
     if !(value > 0.0 && scale > 0.0) {
         return 0;
     }
-    let octaves = 8.0 * (value / scale).log2();
-    (255.0 + octaves.round()).clamp(1.0, 255.0) as u8
+    encode_ratio(value / scale)
+}
+
+/// The code of a value `ratio` times the map's largest: `255 + round(8·log2(ratio))`
+/// clamped to `1 ..= 255` for a positive ratio, 0 for 0, a negative ratio or NaN. Taken from
+/// the ratio's bits without a branch or a logarithm, exactly: its binary exponent `e` gives
+/// `8e`, and its significand `m ∈ [1, 2)` the rounding of `8·log2(m)`, by how many of
+/// [`HALF_EIGHTH_OCTAVES`] it reaches (below `2^-1022` the clamp gives 1 whatever `m`).
+#[inline]
+fn encode_ratio(ratio: f64) -> u8 {
+    const SIGNIFICAND: u64 = (1 << 52) - 1;
+    let bits = ratio.to_bits();
+    let exponent = ((bits >> 52) & 0x7ff) as i32 - 1023;
+    let significand = f64::from_bits((bits & SIGNIFICAND) | (1023 << 52));
+    let mut eighths = 0;
+    for t in HALF_EIGHTH_OCTAVES {
+        eighths += i32::from(significand >= t);
+    }
+    let code = (255 + 8 * exponent + eighths).clamp(1, 255) as u8;
+    if ratio > 0.0 { code } else { 0 }
 }
 
 /// A lane's map of what its lights give the plane (module docs), and the representative
@@ -260,15 +294,25 @@ impl LaneGrid {
     fn set_integral(&mut self, lo: DVec2, size: DVec2, integral: &[f64; GRID_CELLS]) {
         let cell = size / GRID_SIDE as f64;
         let area = cell.x * cell.y;
-        let scale = integral.iter().fold(0.0f64, |m, &v| m.max(v)) / area;
+        let largest = largest_of(integral);
+        let scale = largest / area;
         if !(scale > 0.0 && scale.is_finite()) {
             return;
         }
         self.lo = lo;
         self.cells_per_unit = DVec2::splat(GRID_SIDE as f64) / size;
         self.scale = scale;
-        for (code, &v) in self.codes.iter_mut().zip(integral) {
-            *code = encode(v / area, scale);
+        // Each cell's mean over the largest, `(v/area)/(largest/area)`, as `v·(1/largest)`
+        // where that reciprocal is finite (a largest integral below `2^-1024` divides).
+        let inverse = 1.0 / largest;
+        if inverse.is_finite() {
+            for (code, &v) in self.codes.iter_mut().zip(integral) {
+                *code = encode_ratio(v * inverse);
+            }
+        } else {
+            for (code, &v) in self.codes.iter_mut().zip(integral) {
+                *code = encode_ratio(v / largest);
+            }
         }
     }
 
@@ -297,115 +341,22 @@ impl LaneGrid {
     }
 }
 
-/// Midpoints along each side of a light's part of a cell, at most.
-const SAMPLES_PER_SIDE: usize = 4;
-
-/// Midpoints per length on which a light's irradiance changes (module docs of
-/// [`add_light`]): 8 measured within 4 % of 16 on `stage`, `gallery`, `random` and `arena`,
-/// 4 up to 27 % below.
-const POINTS_PER_SCALE: f64 = 8.0;
-
-/// `⌈v⌉` clamped to `1 ..=` [`SAMPLES_PER_SIDE`] (1 for NaN), without a call to `ceil`
-/// (the baseline x86-64 target has no rounding instruction, and this runs once a cell
-/// part).
-#[inline]
-fn points_per_side(v: f64) -> usize {
-    const _: () = assert!(SAMPLES_PER_SIDE == 4);
-    if v.is_nan() || v <= 1.0 {
-        1
-    } else if v <= 2.0 {
-        2
-    } else if v <= 3.0 {
-        3
-    } else {
-        4
-    }
-}
-
-/// Adds light `l`'s integral over each cell of the map (from `lo`, cells of size `cell`)
-/// that its mapped area `[a, b]` overlaps: a midpoint rule over the overlap, with points
-/// spaced by at most an eighth ([`POINTS_PER_SCALE`]) of the length on which the light's
-/// irradiance changes there (the smaller of its mapped extent and its distance: its height
-/// under it, the horizontal distance farther out), up to [`SAMPLES_PER_SIDE`] a side.
-fn add_light(
-    integral: &mut [f64; GRID_CELLS],
-    lo: DVec2,
-    cell: DVec2,
-    l: &SpatialLight,
-    e: &EmissionShape,
-    [a, b]: [DVec2; 2],
-) {
-    let last = GRID_SIDE as f64 - 1.0;
-    let first_cell = ((a - lo) / cell)
-        .floor()
-        .clamp(DVec2::ZERO, DVec2::splat(last));
-    let last_cell = ((b - lo) / cell)
-        .floor()
-        .clamp(DVec2::ZERO, DVec2::splat(last));
-    let extent = b - a;
-    let foot = l.position_in_world.truncate();
-    let height = l.position_in_world.z;
-    let per_side = |overlap: f64, scale: f64| points_per_side(POINTS_PER_SCALE * overlap / scale);
-    for cy in first_cell.y as usize..=last_cell.y as usize {
-        for cx in first_cell.x as usize..=last_cell.x as usize {
-            let cell_lo = lo + cell * DVec2::new(cx as f64, cy as f64);
-            let o_lo = a.max(cell_lo);
-            let o = b.min(cell_lo + cell) - o_lo;
-            if !(o.x > 0.0 && o.y > 0.0) {
-                continue;
-            }
-            // G changes on the scale of the distance to the light: its height under it,
-            // the horizontal distance farther out.
-            let near = foot.clamp(o_lo, o_lo + o);
-            let reach = height.max(near.distance(foot));
-            let scale = extent
-                .min(DVec2::splat(reach))
-                .max(DVec2::splat(f64::MIN_POSITIVE));
-            let (nx, ny) = (per_side(o.x, scale.x), per_side(o.y, scale.y));
-            let step = o / DVec2::new(nx as f64, ny as f64);
-            let mut sum = 0.0;
-            for j in 0..ny {
-                for i in 0..nx {
-                    let y = o_lo + step * DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
-                    // Dark points skipped cheaply: a footprint's box holds a fifth or more
-                    // that its ellipse does not.
-                    sum += l.contribution_culled(e, y);
-                }
-            }
-            integral[cy * GRID_SIDE + cx] += sum * step.x * step.y;
+/// The largest of `values` and 0 (NaN ignored, as `f64::max` does), over eight running
+/// maxima rather than one chain of 256 dependent comparisons.
+fn largest_of(values: &[f64; GRID_CELLS]) -> f64 {
+    let mut largest = [0.0f64; 8];
+    for chunk in values.chunks_exact(8) {
+        for (m, &v) in largest.iter_mut().zip(chunk) {
+            *m = m.max(v);
         }
     }
+    largest.into_iter().fold(0.0, f64::max)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::scene::Emission;
-
-    /// The points a side takes are the written rule `⌈v⌉` clamped to `1 ..= 4` (NaN to 1,
-    /// as `as usize` saturates it to 0), at every integer and its neighbours an ulp away,
-    /// zeros, negatives, infinities and values far past the clamp.
-    #[test]
-    fn points_per_side_is_the_clamped_ceiling() {
-        let written = |v: f64| (v.ceil() as usize).clamp(1, SAMPLES_PER_SIDE);
-        let mut values = vec![
-            0.0,
-            -0.0,
-            -1.0,
-            1e-300,
-            f64::NAN,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            1e300,
-        ];
-        for k in 0..=6 {
-            let v = f64::from(k);
-            values.extend([v, v.next_up(), v.next_down(), v + 0.5]);
-        }
-        for v in values {
-            assert_eq!(points_per_side(v), written(v), "v = {v:e}");
-        }
-    }
 
     /// A point light 10 above a 4 × 3 region, mapped over it: each cell's value is its mean
     /// of `p·G`, within the midpoint rule's error and half an eighth octave of rounding.
@@ -484,6 +435,107 @@ mod tests {
         let value = grid.importance(at);
         let wide_only = 2.0 * wide.contribution(at);
         assert!(value > 1e3 * wide_only, "{value} vs {wide_only}");
+    }
+
+    /// `a·b` of little-endian 64-bit limbs, exactly.
+    fn times(a: &[u64], b: &[u64]) -> Vec<u64> {
+        let mut out = vec![0u64; a.len() + b.len()];
+        for (i, &x) in a.iter().enumerate() {
+            let mut carry = 0u128;
+            for (j, &y) in b.iter().enumerate() {
+                let t = u128::from(x) * u128::from(y) + u128::from(out[i + j]) + carry;
+                out[i + j] = t as u64;
+                carry = t >> 64;
+            }
+            out[i + b.len()] = carry as u64;
+        }
+        out
+    }
+
+    /// Whether the integer `a` (limbs) is at least `2^power`.
+    fn at_least_power_of_two(a: &[u64], power: usize) -> bool {
+        let top = a
+            .iter()
+            .rposition(|&l| l != 0)
+            .map_or(0, |i| 64 * i + 64 - a[i].leading_zeros() as usize);
+        top > power
+    }
+
+    /// Each threshold `T_k` is the least `f64` with `T_k^16 ≥ 2^(2k−1)`, in integers:
+    /// `T = M·2^-52` and `M^16` against `2^(2k−1+832)`, for `T` and the `f64` just below.
+    #[test]
+    fn half_eighth_octaves_are_the_least_doubles_past_their_powers() {
+        let sixteenth = |m: u64| {
+            let mut x = vec![m];
+            for _ in 0..4 {
+                x = times(&x, &x);
+            }
+            x
+        };
+        for (k, &t) in (1..).zip(&HALF_EIGHTH_OCTAVES) {
+            let power = 2 * k - 1 + 16 * 52;
+            let m = |x: f64| (x * (1u64 << 52) as f64) as u64;
+            assert!(
+                at_least_power_of_two(&sixteenth(m(t)), power),
+                "T_{k} too small"
+            );
+            assert!(
+                !at_least_power_of_two(&sixteenth(m(t.next_down())), power),
+                "T_{k} not the least"
+            );
+        }
+    }
+
+    /// The codes from the ratio's bits are `255 + round(8·log2(ratio))` clamped, as the
+    /// logarithm gives it wherever its rounding is not within `10^-9` of a tie, over ratios
+    /// from `2^-40` to 1 and past them.
+    #[test]
+    fn codes_are_the_rounded_logarithm() {
+        let written = |v: f64, s: f64| {
+            let octaves = 8.0 * (v / s).log2();
+            (255.0 + octaves.round()).clamp(1.0, 255.0) as u8
+        };
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut compared = 0;
+        for _ in 0..200_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let exponent = -42.0 * (state >> 11) as f64 / (1u64 << 53) as f64;
+            let ratio = exponent.exp2();
+            let scale = 1.0 + (state & 0xff) as f64;
+            let value = ratio * scale;
+            let eighths = 8.0 * (value / scale).log2();
+            if (eighths - eighths.floor() - 0.5).abs() < 1e-9 {
+                continue;
+            }
+            compared += 1;
+            assert_eq!(
+                encode(value, scale),
+                written(value, scale),
+                "{value} / {scale}"
+            );
+        }
+        assert!(compared > 190_000);
+        for (v, s, code) in [
+            (2.0, 1.0, 255),
+            (1.0, 1.0, 255),
+            (f64::MIN_POSITIVE, 1.0, 1),
+            (5e-324, 1.0, 1),
+            (0.0, 1.0, 0),
+            (-1.0, 1.0, 0),
+            (f64::NAN, 1.0, 0),
+            (f64::INFINITY, f64::INFINITY, 0),
+            (1.0, 0.0, 0),
+        ] {
+            assert_eq!(encode(v, s), code, "{v} / {s}");
+        }
+        // Each threshold and the double below it, on either side of a code.
+        for (k, &t) in (1..).zip(&HALF_EIGHTH_OCTAVES) {
+            let at = encode(t / 2.0, 1.0);
+            assert_eq!(at, (247 + k) as u8);
+            assert_eq!(encode(t.next_down() / 2.0, 1.0), at - 1);
+        }
     }
 
     #[test]
