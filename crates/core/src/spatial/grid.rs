@@ -21,9 +21,12 @@
 //! The integral over a cell is a midpoint rule over the part of each light's footprint that
 //! falls in the cell, with up to 4 × 4 points scaled to that part: a narrow spot in a large
 //! cell is sampled where it shines (never missed between the cell's points), a wide one over
-//! small cells by one point per cell. The map is an estimate, not a bound; what keeps the
-//! descent unbiased is that every lane the lane bounds do not cull ([`super::LaneBounds`])
-//! keeps a share of the probability ([`super::importance`]'s mixture).
+//! small cells by one point per cell. A light's points form a separable lattice (each column
+//! of cells takes its points along `x`, each row along `y`), evaluated a row at a time in
+//! the light's own units, eight points a vector (`integrate`'s docs). The map is an
+//! estimate, not a bound; what keeps the descent unbiased is that every lane the lane bounds
+//! do not cull ([`super::LaneBounds`]) keeps a share of the probability
+//! ([`super::importance`]'s mixture).
 //!
 //! # Storage
 //! Cell values are stored as 8-bit codes on a logarithmic scale below the map's largest
@@ -57,19 +60,25 @@
 //! (or the largest power's binary exponent `e`) changes, so a refit maps again only the
 //! lanes over a light whose weight changed (its leaf cluster's lane from its lights, the
 //! lanes above from their children) and divides every other lane's by the new sum: the same
-//! bits as a fresh build. An evaluation that a test of squares finds dark (a footprint's box
-//! holds a fifth or more that its ellipse does not) skips the square root and the
-//! divisions, and a cell part counts its points by comparisons rather than two calls to
-//! `ceil` (which the baseline x86-64 target makes library calls). A light costs about 130–190
-//! evaluations (2.6–4.3 µs on one thread) in its leaf cluster's lane; when every lane
-//! integrated all of its lights, it paid that at every depth (fourteen in the tree of
-//! `lightpick bench`'s 10^5 spots). Measured at those 10^5 spots on two threads, a refit
-//! keeping the bounds' geometry and summing only their intensities again: every power
-//! 241–243 ms (`tree-refit-spots`; 1.25 s with every lane integrating its lights), one
-//! light's 3.0–3.1 ms (`tree-refit-spots-one`; 145 ms). Three quarters of a full refit is
-//! the leaf lanes' integration (`perf` over twenty refits of a file of 10^5 spots with new
-//! powers: `add_light` 75 %, the lanes above resampled from their children's 10 %, the
-//! cells' codes 6 %).
+//! bits as a fresh build.
+//!
+//! A light costs about 200 midpoints in its leaf cluster's lane at `lightpick bench`'s 10^5
+//! spots (a footprint over some 140 of the lane's cells, most cell parts taking one point);
+//! when every lane integrated all of its lights, it paid that at every depth (fourteen
+//! there). Measured at those 10^5 spots on two threads, a refit keeping the bounds'
+//! geometry and summing only their intensities again took 241–243 ms for every power
+//! (`tree-refit-spots`; 1.25 s with every lane integrating its lights) and 3.0–3.1 ms for
+//! one light's (`tree-refit-spots-one`; 145 ms), three quarters of it the leaf lanes'
+//! integration, each point's `p·G·S` in `f64` one after another behind a test of squares
+//! for dark points, each cell part sizing its points with a square root and a division.
+//! With the separable lattice evaluated eight points a vector in `f32`, the codes taken
+//! from the ratios' bits rather than a logarithm and the lanes above resampled a row of
+//! vectors at a time: 80–96 ms (277–330 ms for the version before in the same runs; 0.9–1.2
+//! ms at 10^3, 3.1–3.8 before), the exact variances within 4 % (`tree_variance`: `stage`,
+//! `gallery` and `arena` the same to three digits, `random` 271× → 281×). What is left, on
+//! one thread (`perf` over twenty refits): the lanes above resampled 18 %, each light's
+//! lattice laid out 18 % and summed into its cells 19 %, the points' shapes 16 %, the codes
+//! 10 %.
 //!
 //! # Measured: importances and splits for spots
 //! Exact variances `Σ c_i²/P_i − E²` (mean over 37 × 37 shading points, over power
@@ -168,7 +177,7 @@ const HALF_EIGHTH_OCTAVES: [f64; 8] = [
 
 /// The code of `value` on a map whose largest value is `scale` (`value ≤ scale`): the
 /// nearest code on the logarithmic scale, `255 + round(8·log2(value/scale))` clamped to
-/// `1 ..= 255`, at least 1 for any positive value ([`encode_ratio`]).
+/// `1 ..= 255`, at least 1 for any positive value: from the ratio's bits, exactly, without a logarithm.
 pub fn encode(value: f64, scale: f64) -> u8 {
     if !(value > 0.0 && scale > 0.0) {
         return 0;
@@ -181,7 +190,11 @@ pub fn encode(value: f64, scale: f64) -> u8 {
 /// the ratio's bits without a branch or a logarithm, exactly: its binary exponent `e` gives
 /// `8e`, and its significand `m ∈ [1, 2)` the rounding of `8·log2(m)`, by how many of
 /// [`HALF_EIGHTH_OCTAVES`] it reaches (below `2^-1022` the clamp gives 1 whatever `m`).
-#[inline]
+#[inline(always)]
+#[allow(
+    clippy::inline_always,
+    reason = "inlined into each compilation of the cells' loop"
+)]
 fn encode_ratio(ratio: f64) -> u8 {
     const SIGNIFICAND: u64 = (1 << 52) - 1;
     let bits = ratio.to_bits();
@@ -306,9 +319,7 @@ impl LaneGrid {
         // where that reciprocal is finite (a largest integral below `2^-1024` divides).
         let inverse = 1.0 / largest;
         if inverse.is_finite() {
-            for (code, &v) in self.codes.iter_mut().zip(integral) {
-                *code = encode_ratio(v * inverse);
-            }
+            encode_cells(&mut self.codes, integral, inverse);
         } else {
             for (code, &v) in self.codes.iter_mut().zip(integral) {
                 *code = encode_ratio(v / largest);
@@ -338,6 +349,37 @@ impl LaneGrid {
             0.0
         };
         mapped + unbounded
+    }
+}
+
+/// `codes[c] = encode_ratio(integral[c]·inverse)` for every cell; compiled for AVX2 where
+/// the processor has it (checked at run time; the same codes).
+#[allow(unsafe_code)]
+fn encode_cells(codes: &mut [u8; GRID_CELLS], integral: &[f64; GRID_CELLS], inverse: f64) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2, checked just above.
+        return unsafe { encode_cells_avx2(codes, integral, inverse) };
+    }
+    encode_cells_in(codes, integral, inverse);
+}
+
+/// [`encode_cells`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn encode_cells_avx2(codes: &mut [u8; GRID_CELLS], integral: &[f64; GRID_CELLS], inverse: f64) {
+    encode_cells_in(codes, integral, inverse);
+}
+
+/// [`encode_cells`]' body, inlined into each of its compilations.
+#[allow(
+    clippy::inline_always,
+    reason = "compiled into the AVX2 instance too, where its loop widens"
+)]
+#[inline(always)]
+fn encode_cells_in(codes: &mut [u8; GRID_CELLS], integral: &[f64; GRID_CELLS], inverse: f64) {
+    for (code, &v) in codes.iter_mut().zip(integral) {
+        *code = encode_ratio(v * inverse);
     }
 }
 
@@ -517,6 +559,23 @@ mod tests {
             );
         }
         assert!(compared > 190_000);
+        // A map's cells: both compilations of the loop give every cell the same code.
+        let mut integral = [0.0; GRID_CELLS];
+        for v in &mut integral {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            *v = (-40.0 * (state >> 11) as f64 / (1u64 << 53) as f64).exp2();
+        }
+        integral[7] = 0.0;
+        let (mut dispatched, mut baseline) = ([0; GRID_CELLS], [0; GRID_CELLS]);
+        encode_cells(&mut dispatched, &integral, 1.0);
+        encode_cells_in(&mut baseline, &integral, 1.0);
+        assert_eq!(dispatched, baseline);
+        assert_eq!(dispatched[7], 0);
+        for (&code, &v) in dispatched.iter().zip(&integral) {
+            assert_eq!(code, encode(v, 1.0));
+        }
         for (v, s, code) in [
             (2.0, 1.0, 255),
             (1.0, 1.0, 255),
