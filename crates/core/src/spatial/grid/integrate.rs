@@ -112,8 +112,13 @@ impl UnitShape {
         let dot = ax * u + ay * v - az;
         let (cx, cy, cz) = (-ay - az * v, az * u + ax, ax * v - ay * u);
         let cross2 = cx * cx + cy * cy + cz * cz;
-        // 1 − cos α = |a × d|² / (n·(n + a·d)); NaN only on the axis reversed (dark).
-        let off_axis = cross2 / (n2 + n * dot);
+        // 1 − cos α = |a × d|² / (n·(n + a·d)) where the point lies within 90° of the axis
+        // (`a·d > 0`: no cancellation); beyond, 2, dark for every cone (θo ≤ 90°).
+        let off_axis = if dot > 0.0 {
+            cross2 / (n2 + n * dot)
+        } else {
+            2.0
+        };
         let t = (self.outer - off_axis) * self.cone_scale;
         let partial = if off_axis < self.outer { t * t } else { 0.0 };
         let cone = if off_axis <= self.inner { 1.0 } else { partial };
@@ -307,7 +312,10 @@ mod tests {
     fn random_emission(state: &mut u64, z: f64) -> Emission {
         let spot = (next(state) < 0.75).then(|| {
             let outer = 1e-3 * (1.57e3f64).powf(next(state));
-            let (tilt, turn) = (1.4 * next(state), std::f64::consts::TAU * next(state));
+            // One in five aimed anywhere, up to straight up (lighting the plane behind it
+            // only through a wide cone, and mapped only with a range).
+            let most_tilt = if next(state) < 0.2 { 3.1 } else { 1.4 };
+            let (tilt, turn) = (most_tilt * next(state), std::f64::consts::TAU * next(state));
             Spot {
                 direction: DVec3::new(
                     tilt.sin() * turn.cos(),
@@ -332,7 +340,7 @@ mod tests {
     #[test]
     fn the_shape_in_heights_is_the_light_term_within_its_rounding() {
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let (mut lit, mut falloff, mut dark, mut window) = (0, 0, 0, 0);
+        let (mut lit, mut falloff, mut dark, mut window, mut behind) = (0, 0, 0, 0, 0);
         for _ in 0..4000 {
             let z = 10f64.powf(6.0 * next(&mut state) - 3.0);
             let e = random_emission(&mut state, z);
@@ -346,7 +354,17 @@ mod tests {
             for x in &mut u {
                 *x = (reach * (2.0 * next(&mut state) - 1.0)) as f32;
             }
-            let v = (reach * (2.0 * next(&mut state) - 1.0)) as f32;
+            let mut v = (reach * (2.0 * next(&mut state) - 1.0)) as f32;
+            // A spot aimed up: the row through the point straight behind it, where
+            // `1 − cos α` is `0/0` from the cross product, and its neighbours.
+            let axis = e.shape().axis();
+            if axis.z > 0.05 {
+                v = (-axis.y / axis.z) as f32;
+                u[0] = (-axis.x / axis.z) as f32;
+                u[1] = u[0].next_up();
+                u[2] = u[0].next_down();
+                behind += 1;
+            }
             let (mut values, mut baseline) = ([0.0f32; 16], [0.0f32; 16]);
             shape_row(&shape, &u, v, &mut values);
             shape_row_in(&shape, &u, v, &mut baseline);
@@ -388,6 +406,7 @@ mod tests {
         ] {
             assert!(count > 1000, "{case}: {count}");
         }
+        assert!(behind > 100, "spots aimed up: {behind}");
     }
 
     /// A light's map from the `f32` shapes against the same lattice evaluated in `f64`
