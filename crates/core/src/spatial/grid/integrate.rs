@@ -14,7 +14,9 @@
 //! `2^-24` where the map's codes round to half an eighth of an octave (`2^(1/16)`, 4.4 %). The cone
 //! is tested on `1 − cos α = |a × d|²/(n·(n + a·d))` (`d = (u, v, −1)`, `a` the unit axis),
 //! which keeps its relative precision next to the axis, where `cos α` itself rounds to 1
-//! in `f32` within `3.5·10^-4` rad: a spot of a milliradian keeps its falloff.
+//! in `f32` within `3.5·10^-4` rad: a spot of a milliradian keeps its falloff. A point more
+//! than 90° off the axis (`a·d ≤ 0`, where that quotient nears `0/0` straight behind the
+//! spot) is dark, as for every cone (`θo ≤ 90°`).
 //!
 //! A light whose factor or offsets leave that range (a height below the least normal
 //! `f64`, offsets over `2^20` heights, a cone whose `1/(cos θi − cos θo)` is no `f32`)
