@@ -46,7 +46,7 @@ use crate::scene::EmissionShape;
 use crate::spatial::SpatialLight;
 
 /// Midpoints along each side of a light's part of a cell, at most.
-pub(super) const SAMPLES_PER_SIDE: usize = 4;
+const SAMPLES_PER_SIDE: usize = 4;
 
 /// Midpoints per length on which a light's irradiance changes ([`add_light`]): 8 measured
 /// within 4 % of 16 on `stage`, `gallery`, `random` and `arena`, 4 up to 27 % below.
@@ -103,7 +103,7 @@ impl UnitShape {
     #[inline(always)]
     #[allow(
         clippy::inline_always,
-        reason = "inlined into each compilation of the batch's loop, where it widens"
+        reason = "inlined into each compilation of the row's loop, where it widens"
     )]
     fn at(&self, u: f32, v: f32) -> f32 {
         let [ax, ay, az] = self.axis;
