@@ -23,6 +23,22 @@ pub const TREE_WIDTH: usize = 4;
 /// lights where it lands in a cluster: `stage` 2.8× → 4.6× an alias pick's time, `gallery`
 /// 2.9× → 3.2×, `random` 3.8× → 4.1×, `arena` 3.8× → 4.0× (`heavy-tail` unchanged). Not
 /// kept: the time per pick is the goal furthest from met.
+///
+/// Measured at 4 over spots and ranges alone (the footprint split stopping at four lights,
+/// a cluster of at most four evaluated as one vector of four lanes under AVX2; `lightpick
+/// bench --no-gpu --presets stage,gallery --scene random.json --scene arena.json --sizes
+/// 1000`, two runs alternating with 8): a spatial sample over an alias one `stage` 3.94×,
+/// 3.41× → 2.95×, 2.74×, `gallery` 4.63×, 3.64× → 3.23×, 3.53×, `random` 5.84×, 6.51× →
+/// 5.72×, 5.60×, `arena` 5.77×, 5.91× → 4.48×, 5.24×; efficiency over the alias table's
+/// 5–25 % higher on each; the exact variances (`tree_variance` example) 5–8 % higher
+/// (`stage` 477× → 453× below power sampling, `gallery` 2510× → 2377×, `random` 281× →
+/// 260×, `arena` 537× → 509×). But twice the nodes: the tree's heap 253 → 368 bytes a light
+/// over 10^5 spots (245 → 360 at 10^3), a full refit 103–107 → 124 ms, and the GPU twin
+/// (without the tiles' cuts) 231–247 → 365–373 bytes a light on these four scenes. Not
+/// kept: the twin must stay no larger than it is, and the bytes a light are the goal
+/// furthest from met after the time per pick. Evaluating only the first four lanes of a
+/// cluster of at most four in these trees of eight (a branch on the count) gained nothing
+/// measurable on the same scenes (`pass_order` example).
 pub const LEAF_SIZE: usize = 8;
 
 /// What a child lane of a node holds, in one `u32` (the word the GPU reads too): an internal
