@@ -116,6 +116,7 @@
 //! guarantees do not depend on the split. Tested on pools of 1, 2, 3 and 16 threads.
 
 pub mod atomic_file;
+mod avx2;
 mod cpu_lights;
 #[cfg(feature = "draw")]
 pub mod draw;

@@ -3,6 +3,7 @@
 //! nothing; a value takes the nearest code, read from its ratio's bits.
 
 use super::GRID_CELLS;
+use crate::avx2::avx2_dispatch;
 
 /// `2^(−r/8)` for `r = 0..8`: the fractional octave of a code.
 const EIGHTH_OCTAVES: [f64; 8] = [
@@ -83,27 +84,14 @@ pub(super) fn encode_ratio(ratio: f64) -> u8 {
     if ratio > 0.0 { code } else { 0 }
 }
 
-/// `codes[c] = encode_ratio(integral[c]·inverse)` for every cell; compiled for AVX2 where
-/// the processor has it (checked at run time; the same codes).
-#[allow(unsafe_code)]
-pub(super) fn encode_cells(
-    codes: &mut [u8; GRID_CELLS],
-    integral: &[f64; GRID_CELLS],
-    inverse: f64,
-) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the processor has AVX2, checked just above.
-        return unsafe { encode_cells_avx2(codes, integral, inverse) };
-    }
-    encode_cells_in(codes, integral, inverse);
-}
-
-/// [`encode_cells`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn encode_cells_avx2(codes: &mut [u8; GRID_CELLS], integral: &[f64; GRID_CELLS], inverse: f64) {
-    encode_cells_in(codes, integral, inverse);
+avx2_dispatch! {
+    /// `codes[c] = encode_ratio(integral[c]·inverse)` for every cell; compiled for AVX2
+    /// where the processor has it (checked at run time; the same codes).
+    pub(super) fn encode_cells(
+        codes: &mut [u8; GRID_CELLS],
+        integral: &[f64; GRID_CELLS],
+        inverse: f64,
+    ) => encode_cells_in;
 }
 
 /// [`encode_cells`]' body, inlined into each of its compilations.

@@ -4,42 +4,30 @@
 use glam::{DVec2, DVec3};
 
 use super::{GRID_CELLS, GRID_SIDE, LaneGrid, MappedLanes, decode};
+use crate::avx2::avx2_dispatch;
 
 impl LaneGrid {
-    /// The map of a lane over a node, from that node's four lanes `lanes` as mapped (in the
-    /// weights their maps were integrated in, [`MappedLanes::weighted`]; the normalization
-    /// is not read).
-    ///
-    /// The map spans the box of the four maps' boxes. A child map is a mean value `v_c` on
-    /// each of its cells `c`, so its integral over this map's cell `C` is
-    /// `Σ_c v_c·|c ∩ C|`, and `C`'s mean is the four maps' sum of those over `|C|`:
-    ///
-    /// `M(C) = (1/|C|) Σ_lanes Σ_c v_c·|c ∩ C|`,
-    ///
-    /// each overlap a product of its `x` and `y` lengths. Every child cell's integral lands
-    /// in the cells it overlaps, so the map's integral is the children's (up to rounding),
-    /// and it is as fine as they are wherever a cell here holds several of theirs. The
-    /// lanes' unbounded lights add up: their `Σ w_i·g_i` summed, their centroids weighed by
-    /// it. `O(cells)` a lane, whatever its number of lights.
-    ///
-    /// Compiled for AVX2 where the processor has it (checked at run time; the same bits:
-    /// every operation is an IEEE one rounded once, none fused).
-    #[allow(unsafe_code)]
-    pub fn of_lanes(lanes: &MappedLanes) -> Self {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the processor has AVX2, checked just above.
-            return unsafe { of_lanes_avx2(lanes) };
-        }
-        of_lanes_in(lanes)
+    avx2_dispatch! {
+        /// The map of a lane over a node, from that node's four lanes `lanes` as mapped (in the
+        /// weights their maps were integrated in, [`MappedLanes::weighted`]; the normalization
+        /// is not read).
+        ///
+        /// The map spans the box of the four maps' boxes. A child map is a mean value `v_c` on
+        /// each of its cells `c`, so its integral over this map's cell `C` is
+        /// `Σ_c v_c·|c ∩ C|`, and `C`'s mean is the four maps' sum of those over `|C|`:
+        ///
+        /// `M(C) = (1/|C|) Σ_lanes Σ_c v_c·|c ∩ C|`,
+        ///
+        /// each overlap a product of its `x` and `y` lengths. Every child cell's integral lands
+        /// in the cells it overlaps, so the map's integral is the children's (up to rounding),
+        /// and it is as fine as they are wherever a cell here holds several of theirs. The
+        /// lanes' unbounded lights add up: their `Σ w_i·g_i` summed, their centroids weighed by
+        /// it. `O(cells)` a lane, whatever its number of lights.
+        ///
+        /// Compiled for AVX2 where the processor has it (checked at run time; the same bits:
+        /// every operation is an IEEE one rounded once, none fused).
+        pub fn of_lanes(lanes: &MappedLanes) -> LaneGrid => of_lanes_in;
     }
-}
-
-/// [`LaneGrid::of_lanes`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn of_lanes_avx2(lanes: &MappedLanes) -> LaneGrid {
-    of_lanes_in(lanes)
 }
 
 /// [`LaneGrid::of_lanes`]' body, inlined into each of its compilations.

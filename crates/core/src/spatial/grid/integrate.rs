@@ -42,6 +42,7 @@
 use glam::DVec2;
 
 use super::{GRID_CELLS, GRID_SIDE};
+use crate::avx2::avx2_dispatch;
 use crate::scene::EmissionShape;
 use crate::spatial::SpatialLight;
 
@@ -131,24 +132,12 @@ impl UnitShape {
     }
 }
 
-/// `out[i] =` the shape at `(u[i], v)`, for lengths a multiple of 8; compiled for AVX2
-/// where the processor has it (checked at run time; the same bits: every operation is an
-/// IEEE one rounded once, none fused).
-#[allow(unsafe_code)]
-fn shape_row(shape: &UnitShape, u: &[f32], v: f32, out: &mut [f32]) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the processor has AVX2, checked just above.
-        return unsafe { shape_row_avx2(shape, u, v, out) };
-    }
-    shape_row_in(shape, u, v, out);
-}
-
-/// [`shape_row`] compiled for AVX2 (eight lanes a vector where the baseline packs four).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn shape_row_avx2(shape: &UnitShape, u: &[f32], v: f32, out: &mut [f32]) {
-    shape_row_in(shape, u, v, out);
+avx2_dispatch! {
+    /// `out[i] =` the shape at `(u[i], v)`, for lengths a multiple of 8; compiled for AVX2
+    /// where the processor has it (checked at run time; eight lanes a vector where the
+    /// baseline packs four; the same bits: every operation is an IEEE one rounded once, none
+    /// fused).
+    fn shape_row(shape: &UnitShape, u: &[f32], v: f32, out: &mut [f32]) => shape_row_in;
 }
 
 /// [`shape_row`]'s body, inlined into each of its compilations.

@@ -23,47 +23,30 @@
 use glam::DVec2;
 
 use super::LEAF_SIZE;
+use crate::avx2::avx2_dispatch;
 use crate::scene::{
     EmissionShape, distance_squared, four_pi_r_cubed, four_pi_r2_times, range_window, spot_falloff,
 };
 use crate::spatial::SpatialLight;
 
-/// `c_j = p_j·G_j(x)·S_j(x)` of lights with emission profiles `emission` (at most
-/// [`LEAF_SIZE`]) at `point_on_plane` into `c`, **bit for bit**
-/// [`SpatialLight::contribution_culled`], each light one lane
-/// ([`shaped_lane`]; the lanes where that is not the light's own
-/// value are then taken from it, one by one). Lanes beyond `lights.len()` give 0 (a light
-/// of no power).
-///
-/// Compiled for AVX2 where the processor has it (checked at run time; the same bits, as
-/// every operation is an IEEE one rounded once and none is fused), else for the baseline.
-#[inline]
-#[allow(unsafe_code)]
-pub(super) fn shaped_contributions(
-    lights: &[SpatialLight],
-    emission: &[EmissionShape],
-    point_on_plane: DVec2,
-    c: &mut [f64; LEAF_SIZE],
-) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the processor has AVX2, checked just above.
-        return unsafe { shaped_contributions_avx2(lights, emission, point_on_plane, c) };
-    }
-    shaped_contributions_in(lights, emission, point_on_plane, c);
-}
-
-/// [`shaped_contributions`] compiled for AVX2 (four lanes a vector where the baseline packs
-/// two).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn shaped_contributions_avx2(
-    lights: &[SpatialLight],
-    emission: &[EmissionShape],
-    point_on_plane: DVec2,
-    c: &mut [f64; LEAF_SIZE],
-) {
-    shaped_contributions_in(lights, emission, point_on_plane, c);
+avx2_dispatch! {
+    /// `c_j = p_j·G_j(x)·S_j(x)` of lights with emission profiles `emission` (at most
+    /// [`LEAF_SIZE`]) at `point_on_plane` into `c`, **bit for bit**
+    /// [`SpatialLight::contribution_culled`], each light one lane
+    /// ([`shaped_lane`]; the lanes where that is not the light's own
+    /// value are then taken from it, one by one). Lanes beyond `lights.len()` give 0 (a light
+    /// of no power).
+    ///
+    /// Compiled for AVX2 where the processor has it (checked at run time; four lanes a
+    /// vector where the baseline packs two; the same bits, as every operation is an IEEE one
+    /// rounded once and none is fused), else for the baseline.
+    #[inline]
+    pub(super) fn shaped_contributions(
+        lights: &[SpatialLight],
+        emission: &[EmissionShape],
+        point_on_plane: DVec2,
+        c: &mut [f64; LEAF_SIZE],
+    ) => shaped_contributions_in;
 }
 
 /// [`shaped_contributions`]' body, inlined into each of its compilations.
