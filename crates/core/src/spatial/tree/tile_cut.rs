@@ -40,12 +40,16 @@
 //! whose footprint box misses the tile (none of its lights gives the tile anything); a leaf
 //! cluster into its lights, leaving out a light whose footprint misses the tile or whose
 //! cone or range provably misses all of it, when each other light's contribution at every
-//! weighing point is positive and at least a tenth of its largest (else the cluster stays
-//! whole, narrowed to its lights from the first that can light the tile to the last). A
-//! pick that takes a single light evaluates that light alone. A spot dark at every weighing point but lit between them (its cone's
-//! edge crossing the tile) keeps its cluster whole, whose pick weighs it at the pixel; one
-//! lit at every point enters alone even where an edge crosses a corner of the tile (see
-//! "Which clusters split" in `cut_growth.rs`). Its entries are weighed
+//! weighing point is positive and at least a tenth of its largest. Otherwise the cluster's
+//! **core**, its lights from the first that is not that flat to the last, stays whole
+//! (weighed by their summed estimates) and the flat lights before and after it enter alone,
+//! where the core is lit at a weighing point; else the whole cluster stays whole, narrowed
+//! to its lights from the first that can light the tile to the last. A pick that takes a
+//! single light evaluates that light alone, one that takes a core or a cluster each of its
+//! lights. A spot dark at every weighing point but lit between them (its cone's edge
+//! crossing the tile) keeps its cluster whole, whose pick weighs it at the pixel; one lit
+//! at every point enters alone even where an edge crosses a corner of the tile (see "Which
+//! clusters split" and "A cluster's flat ends" in `cut_growth.rs`). Its entries are weighed
 //!
 //! `w_e = (1 − ε)·((1 − β)·q̃_e / Σ q̃ + β·t̃_e / Σ t̃) + ε·Φ_e / Σ Φ`,  `ε =` [`POWER_SHARE`],
 //! `β =` [`CUT_TREE_SHARE`] `= 0`,
