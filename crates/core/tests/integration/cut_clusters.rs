@@ -74,8 +74,10 @@ fn cuts_take_single_spots_only_where_each_is_lit_across_its_tile() {
     let cuts = tree.tile_cuts().expect("cuts");
     let singles = single_lights(&tree);
     assert!(singles.len() > 50, "{} single spots", singles.len());
-    let single_at: std::collections::HashSet<(usize, usize)> =
-        singles.iter().map(|(tile, first, _)| (*tile, *first)).collect();
+    let single_at: std::collections::HashSet<(usize, usize)> = singles
+        .iter()
+        .map(|(tile, first, _)| (*tile, *first))
+        .collect();
     let (mut alone, mut cores) = (0, 0);
     for (tile, first, cluster) in singles {
         let light = tree.order()[first] as usize;
