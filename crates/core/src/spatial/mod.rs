@@ -127,7 +127,13 @@
 //! variance at 4.6 alias picks, now 0.19× at 2.5; `stage` 0.58× at 4.2, now 0.37× at 3.2;
 //! `random` 0.93× at 6.8, now 0.59× at 4.9; `arena` 0.44× at 5.7, now 0.42× at 4.6;
 //! `gallery` 1.71× at 3.8, now 1.71× at 3.3; every point-light scene but `grid` kept its
-//! variance and its time. A pick that takes a single light then evaluates that light
+//! variance and its time. Since then a cluster that does not split keeps only its core
+//! whole (its lights from the first that is not that flat to the last, lit at a weighing
+//! point), its flat lights before and after the core entering alone: `stage` 477× → 535×
+//! below power, `random` 281× → 389×, `arena` 537× → 519×, `gallery` 2510× → 2398×
+//! (`tree_variance` example), a pick evaluating 1.6–1.8 lights of the cut's clusters
+//! where it evaluated 3.1 on `stage` and `arena` ("A cluster's flat ends" in
+//! `cut_growth.rs`). A pick that takes a single light then evaluates that light
 //! alone, without a leaf cluster's arrays of masses and contributions (the same draws and
 //! bits): `equal` from 36 ns a pixel sample in the table's run to 27–28 in two later runs
 //! (1.5 alias picks), `grid` from 48 ns to 39–40 (2.1). A leaf's spots are then tested
