@@ -302,7 +302,7 @@ fn flat(c: &Candidate) -> bool {
     largest > 0.0 && c.estimate.iter().all(|&r| r >= LEAF_FLATNESS * largest)
 }
 
-/// A leaf cluster that is not [`flat_on_tile`], its lights that can light the tile in
+/// A leaf cluster of `tree` that is not [`flat_on_tile`], its lights that can light the tile in
 /// `out[start..]` (leaf order, one [`Candidate`] each): its **core**, the lights from the
 /// first that is not [`flat`] to the last, stays whole, and the flat lights before and
 /// after it enter the cut alone. The core takes the sums of its lights' estimates, tree
@@ -313,7 +313,7 @@ fn flat(c: &Candidate) -> bool {
 /// light is peeled (the core is the whole cluster) or where the core's estimate is 0 at
 /// every weighing point (lit only between them: kept with the whole cluster, whose pick
 /// weighs it at the pixel).
-fn peel_flat_ends(out: &mut Vec<Candidate>, start: usize) -> bool {
+fn peel_flat_ends(tree: &LightTree, out: &mut Vec<Candidate>, start: usize) -> bool {
     let lights = &out[start..];
     let (Some(a), Some(b)) = (
         lights.iter().position(|c| !flat(c)),
@@ -332,7 +332,7 @@ fn peel_flat_ends(out: &mut Vec<Candidate>, start: usize) -> bool {
         }
         core.power += c.power;
     }
-    let (Some(from), Some(to)) = (first_light(lights[a].at), first_light(lights[b].at)) else {
+    let (Some(from), Some(to)) = (tree.first_of(lights[a].at), tree.first_of(lights[b].at)) else {
         return false;
     };
     if core.estimate.iter().all(|&e| e <= 0.0) {
@@ -342,14 +342,6 @@ fn peel_flat_ends(out: &mut Vec<Candidate>, start: usize) -> bool {
     out[start + a] = core;
     out.drain(start + a + 1..=start + b);
     true
-}
-
-/// The first light (leaf order) of a leaf entry.
-fn first_light(at: ChildRef) -> Option<usize> {
-    match at.get() {
-        Child::Leaf { first, .. } => Some(first),
-        _ => None,
-    }
 }
 
 /// Whether light `i` (leaf order) of `tree` can light any point of the rectangle `rect`:
@@ -435,7 +427,7 @@ fn split_into(
             }
             return match lit {
                 Some(_) if flat_on_tile(&out[start..]) => Split::Children,
-                Some(_) if peel_flat_ends(out, start) => Split::Children,
+                Some(_) if peel_flat_ends(tree, out, start) => Split::Children,
                 Some((from, to)) => {
                     out.truncate(start);
                     Split::Whole(ChildRef::leaf(first + from, to + 1 - from))
